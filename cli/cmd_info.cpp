@@ -1,0 +1,16 @@
+// TODO(owner of this command): replace this placeholder with the real command.
+#include <iostream>
+
+#include "cli/commands.h"
+
+namespace c3d::cli {
+
+void register_info(CLI::App& app) {
+  auto* cmd = app.add_subcommand("info", "(not implemented yet)");
+  cmd->callback([] {
+    std::cerr << "cadastre3d info: not implemented yet\n";
+    exit_code() = kExitError;
+  });
+}
+
+}  // namespace c3d::cli

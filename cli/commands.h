@@ -1,0 +1,27 @@
+#pragma once
+// Each sub-command lives in its own cli/cmd_<name>.cpp and registers itself here.
+// Exit codes (documented in README): 0 ok, 1 bad input / failed command,
+// 2 usage error, 3 batch finished but some parcels failed.
+#include <CLI/CLI.hpp>
+
+namespace c3d::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitPartial = 3;
+
+void register_info(CLI::App& app);
+void register_sample(CLI::App& app);
+void register_clip(CLI::App& app);
+void register_batch(CLI::App& app);
+void register_evaluate(CLI::App& app);
+void register_report(CLI::App& app);
+void register_export(CLI::App& app);
+void register_validate(CLI::App& app);
+void register_optimize(CLI::App& app);
+
+// Set by a command's callback; returned by main.
+int& exit_code();
+
+}  // namespace c3d::cli

@@ -1,0 +1,75 @@
+#pragma once
+// The run configuration: one TOML file (config/cadastre3d.toml is the documented
+// default). core/config.cpp is the only place that parses it; every stage gets
+// its own plain section struct.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+struct ParcelFields {
+  std::string id;             // empty: use the feature id
+  std::string right_type = "TIPEHAK";
+  std::string official_area = "LUASTERTUL";
+};
+
+struct ClipParams {
+  double overhang_buffer_m = 1.6;  // points this far outside a parcel are still clipped to it
+};
+
+struct ReconstructionParams {
+  double voxel_m = 0.0;                    // 0: no down-sampling
+  int outlier_neighbours = 12;             // statistical outlier removal
+  double outlier_std = 2.5;
+  double roof_smoothness_deg = 45.0;       // region growing, individual roofs
+  double component_smoothness_deg = 6.0;   // region growing, planar components
+  double component_curvature = 0.05;
+  int min_component_points = 30;
+  double min_component_area_m2 = 2.0;
+  double plane_inlier_m = 0.15;            // robust plane fit
+  double outline_cell_m = 0.25;            // labelling grid for roof partition
+  double default_overhang_m = 0.5;         // when no wall is seen at all
+  double storey_height_m = 3.0;
+  double ownership_share = 0.8;            // a component goes whole to a parcel holding this share
+};
+
+struct ElementCost {
+  double unit_cost = 0;  // currency per m2
+};
+
+struct ZoneRule {
+  std::string name;
+  double land_price_per_m2 = 0;
+};
+
+struct ValuationParams {
+  std::string currency = "IDR";
+  std::map<std::string, double> unit_cost;   // element type name -> cost per m2
+  double depreciation_per_year = 0.0;        // share per year of age
+  double max_depreciation = 0.0;
+  double building_age_years = 0.0;
+  std::string default_zone;
+  std::map<std::string, double> land_price;  // zone -> price per m2
+  double tax_rate = 0.0;                     // PBB: tax = rate * (NJOP - NJOPTKP)
+  double tax_exemption = 0.0;                // NJOPTKP
+  double gross_floor_cost_per_m2 = 0.0;      // optional, 0 = element costs only
+};
+
+struct Config {
+  std::string source;  // file it came from, or "(defaults)"
+  ClassMapping classes;
+  ParcelFields fields;
+  ClipParams clip;
+  ReconstructionParams reconstruction;
+  ValuationParams valuation;
+};
+
+// Reads and checks a config file; throws InputError naming the file and key.
+Config load_config(const std::string& path);
+// The built-in defaults (same values as config/cadastre3d.toml).
+Config default_config();
+
+}  // namespace c3d

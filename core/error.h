@@ -1,0 +1,15 @@
+#pragma once
+// One exception type for bad input: the message always names the file (or the
+// parcel) and the problem, so the CLI can print it as one clear line.
+#include <stdexcept>
+#include <string>
+
+namespace c3d {
+
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& where, const std::string& problem)
+      : std::runtime_error(where + ": " + problem) {}
+};
+
+}  // namespace c3d

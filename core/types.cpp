@@ -1,0 +1,56 @@
+#include "core/types.h"
+
+#include <algorithm>
+
+namespace c3d {
+
+const char* to_string(ElementType t) {
+  switch (t) {
+    case ElementType::Roof: return "roof";
+    case ElementType::Wall: return "wall";
+    case ElementType::PartyWall: return "party_wall";
+    case ElementType::Ground: return "ground";
+    case ElementType::OuterCeiling: return "outer_ceiling";
+  }
+  return "?";
+}
+
+const char* to_string(WallEvidence e) {
+  switch (e) {
+    case WallEvidence::None: return "none";
+    case WallEvidence::Measured: return "measured";
+    case WallEvidence::Propagated: return "propagated";
+    case WallEvidence::Default: return "default";
+  }
+  return "?";
+}
+
+const char* to_string(ParcelStatus s) {
+  switch (s) {
+    case ParcelStatus::Ok: return "ok";
+    case ParcelStatus::Empty: return "empty";
+    case ParcelStatus::Failed: return "failed";
+  }
+  return "?";
+}
+
+bool Dtm::covers(double x, double y) const {
+  double fx = (x - x0) / dx, fy = (y - y0) / dy;
+  return fx >= -0.5 && fy >= -0.5 && fx <= nx - 0.5 && fy <= ny - 0.5;
+}
+
+double Dtm::height_at(double x, double y) const {
+  if (nx == 0 || ny == 0 || !covers(x, y)) return kNaN;
+  double fx = std::clamp((x - x0) / dx, 0.0, double(nx - 1));
+  double fy = std::clamp((y - y0) / dy, 0.0, double(ny - 1));
+  int ix = std::min(int(fx), nx - 2 < 0 ? 0 : nx - 2);
+  int iy = std::min(int(fy), ny - 2 < 0 ? 0 : ny - 2);
+  int ix1 = std::min(ix + 1, nx - 1), iy1 = std::min(iy + 1, ny - 1);
+  double tx = fx - ix, ty = fy - iy;
+  auto at = [&](int i, int j) { return double(z[size_t(j) * nx + i]); };
+  double a = at(ix, iy) * (1 - tx) + at(ix1, iy) * tx;
+  double b = at(ix, iy1) * (1 - tx) + at(ix1, iy1) * tx;
+  return a * (1 - ty) + b * ty;
+}
+
+}  // namespace c3d

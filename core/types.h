@@ -1,0 +1,163 @@
+#pragma once
+// Plain data passed between the pipeline stages. World coordinates (UTM, metres)
+// are kept in double; the batch subtracts one LocalFrame origin so that every
+// stage after ingest works in small local numbers (float-safe for PCL).
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace c3d {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Ring2 = std::vector<Vec2>;  // closed implicitly: last vertex != first
+using Ring3 = std::vector<Vec3>;  // closed implicitly
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// world = local + origin
+struct LocalFrame {
+  Vec3 origin = Vec3::Zero();
+  Vec3 to_local(const Vec3& w) const { return w - origin; }
+  Vec3 to_world(const Vec3& l) const { return l + origin; }
+  Vec2 to_local(const Vec2& w) const { return w - origin.head<2>(); }
+  Vec2 to_world(const Vec2& l) const { return l + origin.head<2>(); }
+};
+
+// A point cloud as read from a file: world coordinates, raw class codes.
+struct PointCloud {
+  std::string source;                 // file it came from
+  std::vector<Vec3> points;           // world coordinates (double)
+  std::vector<std::uint8_t> classes;  // one per point, or empty when the format has none
+  std::string crs_wkt;                // empty when the file carries no CRS
+};
+
+// Which raw classification codes mean roof, wall and ground.
+struct ClassMapping {
+  std::vector<int> roof{6};
+  std::vector<int> wall{64};
+  std::vector<int> ground{2};
+};
+
+struct Polygon2 {
+  Ring2 outer;               // counter-clockwise
+  std::vector<Ring2> holes;  // clockwise
+};
+using MultiPolygon2 = std::vector<Polygon2>;
+
+// One cadastral parcel (land parcel, LADM la_spatialunit).
+struct Parcel {
+  int index = 0;                   // position in the layer (0-based)
+  std::string id;                  // parcel id (field value or feature id)
+  std::string right_type;          // e.g. "Hak Milik"
+  double official_area = kNaN;     // certified area from the layer, m2
+  MultiPolygon2 shape;             // world coordinates
+  std::string repair_note;         // non-empty when an invalid polygon was repaired
+};
+
+struct ParcelLayer {
+  std::string source;
+  std::string crs_wkt;
+  std::vector<std::string> fields;
+  std::vector<Parcel> parcels;
+};
+
+// Digital terrain model on a regular grid, world coordinates, holes filled.
+struct Dtm {
+  std::string source;
+  std::string crs_wkt;
+  double x0 = 0, y0 = 0;     // world coordinates of the centre of cell (0,0)
+  double dx = 1, dy = -1;    // cell size (dy negative for north-up rasters)
+  int nx = 0, ny = 0;
+  std::vector<float> z;      // row-major, ny rows of nx
+  double nodata_share = 0;   // share of cells that were NoData before filling
+  // Bilinear height at a world position; NaN outside the grid.
+  double height_at(double x, double y) const;
+  bool covers(double x, double y) const;
+};
+
+// ---- Building model ------------------------------------------------------
+
+enum class ElementType { Roof, Wall, PartyWall, Ground, OuterCeiling };
+enum class WallEvidence { None, Measured, Propagated, Default };
+
+const char* to_string(ElementType t);
+const char* to_string(WallEvidence e);
+
+// A planar polygon in local coordinates, oriented counter-clockwise when seen
+// from outside the building (normal points outward / downward for ground).
+struct Face {
+  Ring3 ring;
+  std::vector<Ring3> holes;
+};
+
+// One building element (one roof plane, one wall, the ground floor, ...).
+struct Element {
+  ElementType type = ElementType::Roof;
+  std::vector<Face> faces;
+  double area = 0;          // true 3D area, m2 (outer ceiling: plan area, see DESIGN.md)
+  double plan_area = 0;     // horizontal projection, m2
+  double slope_deg = 0;
+  double azimuth_deg = 0;   // direction the surface faces, clockwise from grid north
+  double sigma_area = 0;    // 1-sigma uncertainty of area, m2
+  int support_points = 0;   // points that supported the plane
+  double rmse = 0;          // plane-fit RMSE, m
+  WallEvidence evidence = WallEvidence::None;
+};
+
+struct Deviation {
+  long n = 0;
+  double max = 0, mean = 0, std = 0, rmse = 0;
+};
+
+struct Building {
+  std::string id;                 // "<parcel id>_b<k>"
+  std::vector<Element> elements;
+  double volume = 0;              // m3, closed solid of walls, ground, roof underside
+  double eave_height = 0;         // above terrain, m
+  double ridge_height = 0;        // above terrain, m
+  double terrain_z = 0;           // local z of the ground floor
+  int storeys = 1;
+  bool solid_valid = false;       // closed, 2-manifold, outward oriented
+  std::string solid_problem;      // why not valid
+  Deviation roof_deviation, wall_deviation;
+  // The closed solid: shell faces (ground, walls, roof inside the walls).
+  std::vector<Face> solid;
+};
+
+struct Timing {
+  std::string stage;
+  double seconds = 0;
+};
+
+enum class ParcelStatus { Ok, Empty, Failed };
+const char* to_string(ParcelStatus s);
+
+struct ParcelResult {
+  int parcel_index = 0;
+  std::string parcel_id;
+  ParcelStatus status = ParcelStatus::Empty;
+  std::string reason;
+  std::vector<Building> buildings;
+  std::vector<Timing> timings;
+  long roof_points = 0, wall_points = 0;
+};
+
+}  // namespace c3d
+
+namespace c3d {
+
+// Everything a batch produced, as the store, the exports and the report see it.
+struct BatchModel {
+  LocalFrame frame;              // local = world - frame.origin
+  std::string crs_wkt;
+  int epsg = 0;                  // 0 when the CRS has no EPSG code
+  std::vector<Parcel> parcels;   // world coordinates, layer order
+  std::vector<ParcelResult> results;  // same order; building geometry in local coordinates
+};
+
+}  // namespace c3d

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs every Debian package Cadastre3D needs to build, test and run its demo.
+# Idempotent; works as root or through sudo. Only apt and npm are used.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config ccache git
+  libpcl-dev libeigen3-dev libgeos-dev libgeos++-dev libgdal-dev gdal-bin python3-gdal
+  libcgal-dev libocct-foundation-dev libocct-modeling-data-dev
+  libocct-modeling-algorithms-dev libocct-data-exchange-dev
+  libvulkan-dev mesa-vulkan-drivers glslc vulkan-tools
+  libsqlite3-dev sqlite3 libgtest-dev libgmock-dev
+  nlohmann-json3-dev libtomlplusplus-dev libcli11-dev
+  libxml2-utils libifcplusplus-dev chromium
+)
+# Node.js may already come from elsewhere (e.g. nodesource); Debian's npm conflicts with it.
+if ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup: installing ${#missing[@]} Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  if ! command -v eatmydata >/dev/null; then $SUDO apt-get install -y -qq eatmydata >/dev/null || true; fi
+  EMD=""; command -v eatmydata >/dev/null && EMD="eatmydata"
+  $SUDO env DEBIAN_FRONTEND=noninteractive $EMD apt-get install -y -qq --no-install-recommends \
+    -o Dpkg::Options::=--force-unsafe-io "${missing[@]}"
+else
+  echo "setup: all Debian packages present"
+fi
+
+# npm tools for independent validation of exports (CityJSON schema, IFC reader).
+if [ -f tests/js/package.json ] && [ ! -d tests/js/node_modules ]; then
+  echo "setup: installing npm packages for the export checks"
+  (cd tests/js && npm install --no-audit --no-fund --silent)
+fi
+echo "setup: done"

@@ -1,0 +1,52 @@
+#include <gtest/gtest.h>
+
+#include "core/geometry.h"
+
+using namespace c3d;
+
+TEST(Geometry, SquareAreasAndOrientation) {
+  Ring2 sq{{0, 0}, {4, 0}, {4, 3}, {0, 3}};
+  EXPECT_DOUBLE_EQ(signed_area(sq), 12.0);
+  Ring2 cw(sq.rbegin(), sq.rend());
+  EXPECT_DOUBLE_EQ(signed_area(cw), -12.0);
+  Polygon2 p{sq, {{{1, 1}, {1, 2}, {2, 2}, {2, 1}}}};
+  EXPECT_DOUBLE_EQ(area(p), 11.0);
+}
+
+TEST(Geometry, SlopedFaceTrueAndPlanArea) {
+  // A 30 degree roof plane over a 4 x 3 rectangle: true area = plan / cos(30).
+  double t = std::tan(30.0 * M_PI / 180.0);
+  Face f{{{0, 0, 0}, {4, 0, 0}, {4, 3, 3 * t}, {0, 3, 3 * t}}, {}};
+  EXPECT_NEAR(plan_area(f), 12.0, 1e-12);
+  EXPECT_NEAR(area(f), 12.0 / std::cos(30.0 * M_PI / 180.0), 1e-12);
+  EXPECT_GT(unit_normal(f).z(), 0.0);
+}
+
+TEST(Geometry, LargeCoordinatesKeepPrecision) {
+  // UTM-sized coordinates: the Newell sum is taken relative to a vertex.
+  Face f{{{781000.0, 9240000.0, 790}, {781010, 9240000.0, 790}, {781010, 9240010, 790},
+          {781000, 9240010, 790}}, {}};
+  EXPECT_NEAR(area(f), 100.0, 1e-9);
+}
+
+TEST(Geometry, TotalsSumElementsAndCombineSigma) {
+  Building b;
+  Element r1; r1.type = ElementType::Roof; r1.area = 10; r1.plan_area = 8; r1.sigma_area = 3;
+  Element r2 = r1; r2.sigma_area = 4;
+  Element w; w.type = ElementType::Wall; w.area = 5; w.sigma_area = 1;
+  b.elements = {r1, r2, w};
+  auto t = totals(b);
+  EXPECT_DOUBLE_EQ(t.roof, 20);
+  EXPECT_DOUBLE_EQ(t.roof_plan, 16);
+  EXPECT_DOUBLE_EQ(t.sigma_roof, 5);
+  EXPECT_EQ(t.roof_planes, 2);
+  EXPECT_DOUBLE_EQ(t.wall, 5);
+}
+
+TEST(Dtm, BilinearAndOutside) {
+  Dtm d;
+  d.x0 = 0.5; d.y0 = 9.5; d.dx = 1; d.dy = -1; d.nx = 2; d.ny = 2;
+  d.z = {0, 1, 2, 3};
+  EXPECT_NEAR(d.height_at(1.0, 9.0), 1.5, 1e-12);
+  EXPECT_TRUE(std::isnan(d.height_at(5, 5)));
+}

@@ -1,0 +1,22 @@
+#pragma once
+// Helpers shared by the tests: where the shared data is, temp dirs, running the CLI.
+#include <string>
+
+namespace c3d::test {
+
+// ../shared/data/cimahi beside the checkout, or "" when absent (tests then skip).
+std::string cimahi_dir();
+std::string schemas_dir();
+// A fresh empty directory under the build's temp area.
+std::string temp_dir(const std::string& name);
+// Runs the cadastre3d binary with the given argument string; returns the exit
+// code and fills output with stdout+stderr.
+int run_cli(const std::string& args, std::string* output = nullptr);
+
+}  // namespace c3d::test
+
+#define C3D_REQUIRE_CIMAHI()                                                    \
+  do {                                                                          \
+    if (c3d::test::cimahi_dir().empty())                                        \
+      GTEST_SKIP() << "../shared/data/cimahi not found beside the checkout";    \
+  } while (0)
