@@ -1,15 +1,65 @@
-// TODO(owner of this command): replace this placeholder with the real command.
+// cadastre3d export --store OUT/cadastre.gpkg --out DIR [--formats gml,cityjson,ifc,obj,step]
+// Reads the model from a store (or a CityJSON file this tool wrote) and writes the
+// requested exchange formats.
+#include <chrono>
 #include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
 
+#include "cadastre/store.h"
 #include "cli/commands.h"
+#include "ifc_citygml/export.h"
 
 namespace c3d::cli {
+namespace {
+
+bool is_cityjson(const std::string& path) {
+  return path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item == "citygml" ? "gml" : item);
+  return out;
+}
+
+}  // namespace
 
 void register_export(CLI::App& app) {
-  auto* cmd = app.add_subcommand("export", "(not implemented yet)");
-  cmd->callback([] {
-    std::cerr << "cadastre3d export: not implemented yet\n";
-    exit_code() = kExitError;
+  struct Args {
+    std::string store, out, formats = "gml,cityjson,ifc,obj,step";
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "export", "Write CityGML 2.0, CityJSON 2.0, IFC4, OBJ and STEP from a store");
+  cmd->add_option("--store", args->store, "Cadastre3D store (.gpkg) or a CityJSON file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", args->out, "Output directory")->required();
+  cmd->add_option("--formats", args->formats, "Comma-separated: gml,cityjson,ifc,obj,step")
+      ->check([](const std::string& s) {
+        for (const auto& f : split(s))
+          if (f != "gml" && f != "cityjson" && f != "ifc" && f != "obj" && f != "step")
+            return "unknown format '" + f + "'";
+        return std::string();
+      });
+  cmd->callback([args] {
+    BatchModel model = is_cityjson(args->store) ? read_cityjson(args->store)
+                                                : load_batch_model(args->store);
+    size_t buildings = 0;
+    for (const auto& r : model.results) buildings += r.buildings.size();
+    for (const auto& f : split(args->formats)) {
+      auto t0 = std::chrono::steady_clock::now();
+      auto files = export_formats(model, args->out, {f});
+      double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::cout << "export " << f << ": " << files.size() << " file(s), " << buildings
+                << " buildings, " << s << " s" << (files.size() == 1 ? " -> " + files[0] : "")
+                << "\n";
+    }
+    exit_code() = kExitOk;
   });
 }
 

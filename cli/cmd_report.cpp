@@ -1,15 +1,36 @@
-// TODO(owner of this command): replace this placeholder with the real command.
+// cadastre3d report --store OUT/cadastre.gpkg --out DIR [--config FILE]
+// Writes DIR/report.html and DIR/report.csv from the store alone. With --config
+// the stored model is valued again with that file's valuation section.
+#include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include "cli/commands.h"
+#include "core/config.h"
+#include "valuation/report.h"
 
 namespace c3d::cli {
 
 void register_report(CLI::App& app) {
-  auto* cmd = app.add_subcommand("report", "(not implemented yet)");
-  cmd->callback([] {
-    std::cerr << "cadastre3d report: not implemented yet\n";
-    exit_code() = kExitError;
+  struct Args {
+    std::string store, out, config;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("report", "Write report.html and report.csv from a store");
+  cmd->add_option("--store", args->store, "Cadastre3D store (cadastre.gpkg)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", args->out, "Output directory")->required();
+  cmd->add_option("--config", args->config, "Re-value with this config (TOML)")
+      ->check(CLI::ExistingFile);
+  cmd->callback([args] {
+    bool revalue = !args->config.empty();
+    Config cfg = revalue ? load_config(args->config) : default_config();
+    write_report_from_store(args->store, args->out, cfg, revalue);
+    namespace fs = std::filesystem;
+    std::cout << "report: " << (fs::path(args->out) / "report.html").string() << "\n"
+              << "csv:    " << (fs::path(args->out) / "report.csv").string() << "\n";
+    exit_code() = kExitOk;
   });
 }
 

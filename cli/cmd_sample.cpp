@@ -1,15 +1,98 @@
-// TODO(owner of this command): replace this placeholder with the real command.
+// cadastre3d sample: a synthetic town with exact ground truth (core/sample_town.h).
+#include <chrono>
 #include <iostream>
+#include <map>
+#include <memory>
 
 #include "cli/commands.h"
+#include "core/sample_town.h"
 
 namespace c3d::cli {
 
+namespace {
+
+struct SampleArgs {
+  std::string out;
+  std::string format = "gpkg";
+  SampleOptions opt;
+};
+
+void run_sample(const SampleArgs& a) {
+  using clock = std::chrono::steady_clock;
+  auto t0 = clock::now();
+  SampleOptions opt = a.opt;
+  if (opt.parcels >= 200)
+    opt.progress = [](const char* stage, int done, int total) {
+      std::cerr << "\r" << stage << " " << done << "/" << total << "   " << std::flush;
+      if (done == total) std::cerr << "\n";
+    };
+  SampleTown town = make_sample_town(opt);
+  auto t1 = clock::now();
+  auto files = write_sample_town(town, a.out,
+                                 a.format == "geojson" ? ParcelFormat::GeoJson : ParcelFormat::GeoPackage);
+  auto t2 = clock::now();
+  std::map<std::string, int> counts;
+  int buildings = 0;
+  for (size_t i = 0; i < town.parcels.size(); ++i) {
+    ++counts[to_string(town.layouts[i])];
+    buildings += int(town.truth[i].size());
+  }
+  long cls[3] = {0, 0, 0};
+  for (auto c : town.cloud.classes) cls[c == 6 ? 0 : c == 64 ? 1 : 2]++;
+  auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
+  std::cout << "sample town, seed " << town.seed << ", EPSG:" << town.epsg << "\n"
+            << "  parcels   " << files.parcels << "  (" << town.parcels.size() << " parcels, "
+            << buildings << " buildings)\n"
+            << "  dtm       " << files.dtm << "  (" << town.dtm.nx << " x " << town.dtm.ny
+            << " cells of 1 m, " << int(town.dtm.nodata_share * 1000) / 10.0 << " % NoData)\n";
+  if (!files.cloud.empty())
+    std::cout << "  cloud     " << files.cloud << "  (" << town.cloud.points.size() << " points: "
+              << cls[0] << " roof, " << cls[1] << " wall, " << cls[2] << " ground)\n";
+  std::cout << "  truth     " << files.truth << "\n  layouts  ";
+  for (const auto& [k, n] : counts) std::cout << " " << k << " " << n;
+  std::cout << "\n  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
+}
+
+}  // namespace
+
 void register_sample(CLI::App& app) {
-  auto* cmd = app.add_subcommand("sample", "(not implemented yet)");
-  cmd->callback([] {
-    std::cerr << "cadastre3d sample: not implemented yet\n";
-    exit_code() = kExitError;
+  auto a = std::make_shared<SampleArgs>();
+  auto* cmd = app.add_subcommand(
+      "sample", "Generate a synthetic town with exact ground truth (parcels, DTM, LAS, truth.json)");
+  cmd->add_option("--out", a->out, "Output directory (created when missing)")->required();
+  cmd->add_option("--parcels", a->opt.parcels, "Number of parcels (blocks of 2 x 5)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--seed", a->opt.seed, "Random seed (same seed, same town)")->capture_default_str();
+  cmd->add_option("--density", a->opt.roof_density, "Roof points per m2 (UAV)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--wall-density", a->opt.wall_density, "Wall points per m2 (handheld)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--noise", a->opt.roof_noise, "Roof point noise sigma, m")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--wall-noise", a->opt.wall_noise, "Wall point noise sigma, m")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--outliers", a->opt.outlier_share, "Share of roof points that are outliers")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--format", a->format, "Parcel file format")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"gpkg", "geojson"}));
+  cmd->add_option("--epsg", a->opt.epsg, "UTM EPSG code of the output")->capture_default_str();
+  cmd->add_option("--easting", a->opt.origin_easting, "Easting of the town's south-west corner")
+      ->capture_default_str();
+  cmd->add_option("--northing", a->opt.origin_northing, "Northing of the town's south-west corner")
+      ->capture_default_str();
+  cmd->callback([a] {
+    run_sample(*a);
+    exit_code() = kExitOk;
   });
 }
 

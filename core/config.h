@@ -45,6 +45,14 @@ struct ZoneRule {
   double land_price_per_m2 = 0;
 };
 
+// Per-parcel valuation facts the parcel layer does not carry (config
+// [valuation.parcels."<id>"]); empty / NaN fields fall back to the defaults.
+struct ParcelValuationOverride {
+  std::string zone;
+  std::string quality;
+  double age_years = kNaN;
+};
+
 struct ValuationParams {
   std::string currency = "IDR";
   std::map<std::string, double> unit_cost;   // element type name -> cost per m2
@@ -56,6 +64,10 @@ struct ValuationParams {
   double tax_rate = 0.0;                     // PBB: tax = rate * (NJOP - NJOPTKP)
   double tax_exemption = 0.0;                // NJOPTKP
   double gross_floor_cost_per_m2 = 0.0;      // optional, 0 = element costs only
+  // Quality classes multiply the element unit costs (e.g. permanent 1.0).
+  std::map<std::string, double> quality_factor;
+  std::string default_quality;               // empty: factor 1
+  std::map<std::string, ParcelValuationOverride> parcels;  // parcel id -> override
 };
 
 struct Config {

@@ -3,6 +3,7 @@
 // are kept in double; the batch subtracts one LocalFrame origin so that every
 // stage after ingest works in small local numbers (float-safe for PCL).
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products are used everywhere
 #include <cmath>
 #include <cstdint>
 #include <limits>

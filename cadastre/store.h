@@ -1,0 +1,88 @@
+#pragma once
+// The LADM-style cadastre store: one GeoPackage (OUT/cadastre.gpkg) written with
+// SQLite directly. Tables use ISO 19152 names (la_party, la_baunit, la_rrr,
+// la_spatialunit, vm_valuationunit, vm_valuation) plus building,
+// building_element, vm_cost_item, run, run_input and parcel_job. Geometries are
+// GeoPackage blobs in world coordinates (parcels 2D MultiPolygon, buildings and
+// elements MultiPolygonZ), so QGIS and GDAL open every layer.
+//
+// Each parcel is written in one transaction that first deletes that parcel's
+// earlier rows (foreign keys cascade): a rerun is idempotent and a crash leaves
+// whole parcels only.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "valuation/valuation_types.h"
+
+namespace c3d {
+
+struct InputFile {
+  std::string path;
+  std::string sha256;
+  std::int64_t bytes = 0;
+};
+
+struct RunRecord {
+  std::int64_t id = 0;
+  std::string tool_version, parameters, started, finished;  // parameters: JSON text
+  int epsg = 0;
+  Vec3 origin = Vec3::Zero();
+  int parcels_ok = 0, parcels_empty = 0, parcels_failed = 0;
+  std::vector<InputFile> inputs;
+};
+
+struct JobRecord {
+  std::string parcel_id;
+  int layer_index = 0;
+  std::string status;  // pending | ok | empty | failed
+  std::string reason, inputs_key, updated;
+  std::int64_t run_id = 0;
+};
+
+class Store {
+ public:
+  Store();
+  ~Store();
+  Store(const Store&) = delete;
+  Store& operator=(const Store&) = delete;
+
+  // Creates the GeoPackage (or opens an existing one, whose CRS must match).
+  // epsg 0 with a WKT registers a custom CRS; both empty: undefined Cartesian.
+  void open(const std::string& path, const std::string& crs_wkt, int epsg);
+  // Starts a run record: parameters (JSON text), input files (SHA-256 taken
+  // here), the batch's local frame. Returns the run id.
+  std::int64_t begin_run(const std::string& params_json, const std::vector<std::string>& input_files,
+                         const LocalFrame& frame = {});
+  // Marks parcels pending (one transaction) unless already done with the same key.
+  void mark_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& inputs_keys);
+  // True when the parcel was stored ok/empty from the same inputs (for --resume).
+  bool parcel_done(const std::string& parcel_id, const std::string& inputs_key);
+  // Replaces every row of this parcel in one transaction. Geometry in result is
+  // local; frame gives local -> world.
+  void write_parcel(const Parcel& parcel, const ParcelResult& result,
+                    const ParcelValuation& valuation, const LocalFrame& frame,
+                    const std::string& inputs_key = "");
+  // Closes the run record (end time, counts) and refreshes layer extents.
+  void end_run();
+  void close();
+  bool is_open() const;
+  int srs_id() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Everything the report and the exports need, read back from a store alone.
+// Parcels in layer order; building geometry in local coordinates of the frame
+// of the latest run. Throws InputError when the file is not a Cadastre3D store.
+BatchModel load_batch_model(const std::string& path);
+// One valuation per parcel, same order as load_batch_model().parcels.
+std::vector<ParcelValuation> load_valuations(const std::string& path);
+std::vector<JobRecord> load_jobs(const std::string& path);
+std::vector<RunRecord> load_runs(const std::string& path);
+
+}  // namespace c3d

@@ -1,0 +1,119 @@
+#include "cli/outputs.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "cadastre/store.h"
+#include "core/evaluate.h"
+#include "core/geometry.h"
+#include "ifc_citygml/export.h"
+#if __has_include("valuation/report.h")
+#include "valuation/report.h"
+#define C3D_HAVE_REPORT 1
+#endif
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace c3d::cli {
+namespace {
+
+json to_json(const Deviation& d) {
+  return {{"n", d.n}, {"max", d.max}, {"mean", d.mean}, {"std", d.std}, {"rmse", d.rmse}};
+}
+
+double r4(double v) { return std::round(v * 1e4) / 1e4; }
+
+json building_json(const Building& b) {
+  BuildingTotals t = totals(b);
+  return {{"building_id", b.id},
+          {"roof_area_m2", r4(t.roof)},
+          {"roof_plan_area_m2", r4(t.roof_plan)},
+          {"wall_area_m2", r4(t.wall)},
+          {"party_wall_area_m2", r4(t.party_wall)},
+          {"ground_area_m2", r4(t.ground)},
+          {"outer_ceiling_area_m2", r4(t.outer_ceiling)},
+          {"volume_m3", r4(b.volume)},
+          {"eave_height_m", r4(b.eave_height)},
+          {"ridge_height_m", r4(b.ridge_height)},
+          {"storeys", b.storeys},
+          {"roof_planes", t.roof_planes},
+          {"sigma",
+           {{"roof_area_m2", r4(t.sigma_roof)},
+            {"wall_area_m2", r4(t.sigma_wall)},
+            {"party_wall_area_m2", r4(t.sigma_party_wall)},
+            {"ground_area_m2", r4(t.sigma_ground)},
+            {"outer_ceiling_area_m2", r4(t.sigma_outer_ceiling)}}},
+          {"solid_valid", b.solid_valid},
+          {"solid_problem", b.solid_problem},
+          {"roof_deviation", to_json(b.roof_deviation)},
+          {"wall_deviation", to_json(b.wall_deviation)}};
+}
+
+}  // namespace
+
+void write_summary(const std::string& store_path, const std::string& path,
+                   const OutputTimings& timings) {
+  BatchModel model = load_batch_model(store_path);
+  json parcels = json::array();
+  std::vector<Deviation> roof_devs, wall_devs;
+  int ok = 0, empty = 0, failed = 0;
+  for (size_t i = 0; i < model.parcels.size(); ++i) {
+    const ParcelResult& r = model.results[i];
+    json buildings = json::array();
+    for (const auto& b : r.buildings) {
+      buildings.push_back(building_json(b));
+      roof_devs.push_back(b.roof_deviation);
+      wall_devs.push_back(b.wall_deviation);
+    }
+    ok += r.status == ParcelStatus::Ok;
+    empty += r.status == ParcelStatus::Empty;
+    failed += r.status == ParcelStatus::Failed;
+    parcels.push_back({{"parcel_index", i},
+                       {"parcel_id", model.parcels[i].id},
+                       {"status", to_string(r.status)},
+                       {"reason", r.reason},
+                       {"buildings", buildings}});
+  }
+  json stages = json::object();
+  for (const auto& [k, v] : timings.stages) stages[k] = v;
+  json j = {{"tool", "cadastre3d " C3D_VERSION},
+            {"crs_epsg", model.epsg},
+            {"parcels_total", model.parcels.size()},
+            {"parcels_ok", ok},
+            {"parcels_empty", empty},
+            {"parcels_failed", failed},
+            {"pooled_roof_deviation", to_json(pool(roof_devs))},
+            {"pooled_wall_deviation", to_json(pool(wall_devs))},
+            {"timings_s",
+             {{"ingest_and_clip", timings.ingest_s},
+              {"reconstruct_and_store", timings.reconstruct_s},
+              {"stages_cpu", stages}}},
+            {"parcels", parcels}};
+  std::ofstream f(path);
+  f << j.dump(2) << "\n";
+  if (!f) throw std::runtime_error(path + ": cannot write");
+}
+
+void write_outputs(const std::string& store_path, const std::string& out_dir, const Config& cfg,
+                   const std::vector<std::string>& formats, const OutputTimings& timings,
+                   bool quiet) {
+  write_summary(store_path, (fs::path(out_dir) / "summary.json").string(), timings);
+#ifdef C3D_HAVE_REPORT
+  write_report_from_store(store_path, out_dir, cfg);
+#endif
+  BatchModel model = load_batch_model(store_path);
+  auto files = export_formats(model, out_dir, formats);
+  if (!quiet) {
+    std::cout << "summary: " << (fs::path(out_dir) / "summary.json").string() << "\n"
+              << "store:   " << store_path << "\n"
+              << "report:  " << (fs::path(out_dir) / "report.html").string() << "\n";
+    for (const auto& f : files) std::cout << "export:  " << f << "\n";
+  }
+}
+
+}  // namespace c3d::cli

@@ -1,0 +1,29 @@
+#pragma once
+// Digital terrain models: any GDAL raster, or a grid built from ground points.
+// NoData holes (typically under buildings) are always filled, so that walls can
+// be extruded down to the terrain everywhere.
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+// Band 1 of any raster GDAL opens; NoData filled by GDALFillNodata, then any
+// remaining hole by its nearest valid cell. Throws InputError on unreadable,
+// rotated or all-NoData rasters.
+Dtm read_dtm(const std::string& path);
+
+enum class DtmCell { Min, Mean };
+
+// Grid of the ground points' min (or mean) z with the given cell size; empty
+// cells filled like read_dtm. source names the data for error messages.
+Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt,
+                    double cell_m = 1.0, DtmCell stat = DtmCell::Min,
+                    const std::string& source = "ground points");
+
+// Throws InputError naming the DTM file and the first parcel with a vertex
+// outside the grid.
+void check_dtm_covers(const Dtm& dtm, const ParcelLayer& parcels);
+
+}  // namespace c3d

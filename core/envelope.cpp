@@ -1,0 +1,436 @@
+#include "core/envelope.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "core/geometry.h"
+#include "core/polygon_ops.h"
+
+namespace c3d {
+namespace {
+
+Vec2 outward(const Vec2& d) { return Vec2(d.y(), -d.x()); }  // for counter-clockwise rings
+
+struct EdgeInfo {
+  Vec2 a, b;
+  double overhang = 0;
+  double sigma = 0.3;   // of the wall position, m
+  int support = 0;
+  bool party = false;
+  WallEvidence evidence = WallEvidence::Default;
+};
+
+struct Piece {
+  int region = 0;
+  bool inside = true;   // inside the walls (part of the solid) or hanging
+  Polygon2 plan;
+};
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
+  const Ring2& ring = in.outline.outer;
+  std::vector<EdgeInfo> edges(ring.size());
+  std::vector<double> measured;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    EdgeInfo& e = edges[i];
+    e.a = ring[i];
+    e.b = ring[(i + 1) % ring.size()];
+    e.party = i < in.party_edge.size() && in.party_edge[i];
+    if (e.party) {  // on the parcel boundary, shared with the neighbour
+      e.evidence = WallEvidence::None;
+      e.sigma = 0.05;
+      continue;
+    }
+    Vec2 mid = 0.5 * (e.a + e.b);
+    double tz = in.terrain(mid.x(), mid.y());
+    WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3);
+    if (fit.found && -fit.offset < 2.5) {
+      e.overhang = std::max(0.0, -fit.offset);
+      e.evidence = WallEvidence::Measured;
+      e.support = fit.support;
+      e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support));
+      measured.push_back(e.overhang);
+    }
+  }
+  double spread = 0.3;
+  double typical = in.default_overhang;
+  WallEvidence fill = WallEvidence::Default;
+  if (!measured.empty()) {
+    typical = median(measured);
+    std::vector<double> dev;
+    for (double m : measured) dev.push_back(std::abs(m - typical));
+    spread = std::max(0.05, 1.4826 * median(dev));
+    fill = WallEvidence::Propagated;
+  }
+  for (auto& e : edges)
+    if (!e.party && e.evidence != WallEvidence::Measured) {
+      e.overhang = typical;
+      e.evidence = fill;
+      e.sigma = spread;
+    }
+  return edges;
+}
+
+// Each outline edge moved inward by its overhang; corners where the moved lines meet.
+Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in) {
+  Ring2 ring;
+  size_t n = edges.size();
+  for (size_t i = 0; i < n; ++i) {
+    const EdgeInfo& p = edges[(i + n - 1) % n];
+    const EdgeInfo& c = edges[i];
+    Vec2 dp = (p.b - p.a).normalized(), dc = (c.b - c.a).normalized();
+    Vec2 op = p.a - outward(dp) * p.overhang, oc = c.a - outward(dc) * c.overhang;
+    double den = dp.x() * dc.y() - dp.y() * dc.x();
+    if (std::abs(den) < 1e-6) {
+      ring.push_back(oc);
+      continue;
+    }
+    Vec2 w = oc - op;
+    double t = (w.x() * dc.y() - w.y() * dc.x()) / den;
+    ring.push_back(op + t * dp);
+  }
+  MultiPolygon2 valid = poly::drop_small(poly::make_valid({Polygon2{ring, {}}}), 0.5);
+  valid = poly::intersect(valid, {in.outline});
+  if (valid.empty()) valid = poly::buffer({in.outline}, -in.default_overhang);
+  if (valid.empty()) throw std::runtime_error("roof outline too small for a footprint");
+  Polygon2 best = *std::max_element(valid.begin(), valid.end(),
+                                    [](const auto& a, const auto& b) { return area(a) < area(b); });
+  best.holes.clear();
+  return best;
+}
+
+double mean_terrain(const Polygon2& fp, const std::function<double(double, double)>& terrain) {
+  Vec2 lo = fp.outer[0], hi = lo;
+  for (const auto& p : fp.outer) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  double sum = 0;
+  int n = 0;
+  MultiPolygon2 mp{fp};
+  for (double x = lo.x() + 0.25; x < hi.x(); x += 0.5)
+    for (double y = lo.y() + 0.25; y < hi.y(); y += 0.5) {
+      if (!poly::covers(mp, {x, y})) continue;
+      double z = terrain(x, y);
+      if (!std::isnan(z)) sum += z, ++n;
+    }
+  for (const auto& p : fp.outer) {
+    double z = terrain(p.x(), p.y());
+    if (!std::isnan(z)) sum += z, ++n;
+  }
+  if (n == 0) throw std::runtime_error("the terrain model does not cover the building");
+  return sum / n;
+}
+
+// z of every (piece, vertex): its plane, welded with the other pieces' heights
+// at the same vertex when they agree within 2 mm (numerically the same line).
+class Heights {
+ public:
+  void add(const Vec2& v, double z) { at_[key(v)].push_back(z); }
+  double get(const Vec2& v, double z) const {
+    auto it = at_.find(key(v));
+    if (it == at_.end()) return z;
+    double sum = 0;
+    int n = 0;
+    for (double o : it->second)
+      if (std::abs(o - z) < 0.002) sum += o, ++n;
+    return n ? sum / n : z;
+  }
+
+ private:
+  static std::pair<double, double> key(const Vec2& v) { return {v.x(), v.y()}; }
+  std::map<std::pair<double, double>, std::vector<double>> at_;
+};
+
+Ring3 lift(const Ring2& r, const Plane& plane, const Heights& h) {
+  Ring3 out;
+  for (const auto& v : r) out.emplace_back(v.x(), v.y(), h.get(v, plane.z_at(v.x(), v.y())));
+  return out;
+}
+
+Ring3 flat(const Ring2& r, double z, bool downward) {
+  Ring3 out;
+  for (const auto& v : r) out.emplace_back(v.x(), v.y(), z);
+  if (downward) std::reverse(out.begin(), out.end());
+  return out;
+}
+
+struct ProfileSegment {
+  double t0, z0, t1, z1;
+};
+
+// The roof underside along a footprint edge, from the inside pieces' edges on it.
+std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
+                                         const std::vector<Face>& inside_faces) {
+  Vec2 d = b - a;
+  double len = d.norm();
+  d /= len;
+  Vec2 n = outward(d);
+  std::vector<ProfileSegment> segs;
+  for (const auto& f : inside_faces) {
+    const Ring3& r = f.ring;
+    for (size_t i = 0; i < r.size(); ++i) {
+      const Vec3& p = r[i];
+      const Vec3& q = r[(i + 1) % r.size()];
+      Vec2 p2 = p.head<2>() - a, q2 = q.head<2>() - a;
+      if (std::abs(n.dot(p2)) > 1e-5 || std::abs(n.dot(q2)) > 1e-5) continue;
+      double tp = d.dot(p2), tq = d.dot(q2);
+      if (std::min(tp, tq) < -1e-5 || std::max(tp, tq) > len + 1e-5) continue;
+      if (std::abs(tp - tq) < 1e-7) continue;
+      if (tp < tq) segs.push_back({tp, p.z(), tq, q.z()});
+      else segs.push_back({tq, q.z(), tp, p.z()});
+    }
+  }
+  std::sort(segs.begin(), segs.end(), [](auto& x, auto& y) { return x.t0 > y.t0; });
+  return segs;
+}
+
+Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
+               const std::vector<ProfileSegment>& profile) {
+  Vec2 d = (b - a).normalized();
+  Face f;
+  f.ring.emplace_back(a.x(), a.y(), ground_z);
+  f.ring.emplace_back(b.x(), b.y(), ground_z);
+  auto push = [&](double t, double z) {
+    Vec3 v(a.x() + t * d.x(), a.y() + t * d.y(), z);
+    if ((f.ring.back() - v).norm() > 1e-7) f.ring.push_back(v);
+  };
+  for (const auto& s : profile) {  // from b back to a
+    push(s.t1, s.z1);
+    push(s.t0, s.z0);
+  }
+  if ((f.ring.back() - f.ring.front()).norm() < 1e-7) f.ring.pop_back();
+  return f;
+}
+
+// Vertical faces where two inside roof pieces meet at different heights.
+std::vector<Face> step_walls(const std::vector<Face>& inside) {
+  std::map<std::pair<std::pair<double, double>, std::pair<double, double>>, std::pair<int, int>> edge_at;
+  auto key = [](const Vec3& p, const Vec3& q) {
+    return std::make_pair(std::make_pair(p.x(), p.y()), std::make_pair(q.x(), q.y()));
+  };
+  for (size_t f = 0; f < inside.size(); ++f)
+    for (size_t i = 0; i < inside[f].ring.size(); ++i)
+      edge_at[key(inside[f].ring[i], inside[f].ring[(i + 1) % inside[f].ring.size()])] = {int(f), int(i)};
+  std::vector<Face> out;
+  for (size_t f = 0; f < inside.size(); ++f) {
+    const Ring3& r = inside[f].ring;
+    for (size_t i = 0; i < r.size(); ++i) {
+      const Vec3& p = r[i];
+      const Vec3& q = r[(i + 1) % r.size()];
+      auto it = edge_at.find(key(q, p));
+      if (it == edge_at.end() || it->second.first == int(f)) continue;
+      const Ring3& o = inside[it->second.first].ring;
+      const Vec3& oq = o[it->second.second];
+      const Vec3& op = o[(it->second.second + 1) % o.size()];
+      double dp = p.z() - op.z(), dq = q.z() - oq.z();
+      if (dp < -1e-6 || dq < -1e-6 || (dp < 1e-6 && dq < 1e-6)) continue;  // we are not the higher side
+      Face w;
+      w.ring.push_back(op);
+      w.ring.push_back(oq);
+      if (dq > 1e-6) w.ring.push_back(q);
+      if (dp > 1e-6) w.ring.push_back(p);
+      if (w.ring.size() >= 3) out.push_back(std::move(w));
+    }
+  }
+  return out;
+}
+
+double perimeter(const Ring2& r) {
+  double p = 0;
+  for (size_t i = 0; i < r.size(); ++i) p += (r[(i + 1) % r.size()] - r[i]).norm();
+  return p;
+}
+
+Element make_element(ElementType type, std::vector<Face> faces) {
+  Element e;
+  e.type = type;
+  e.faces = std::move(faces);
+  for (const auto& f : e.faces) {
+    e.area += area(f);
+    e.plan_area += plan_area(f);
+  }
+  if (type == ElementType::OuterCeiling) e.area = e.plan_area;
+  return e;
+}
+
+// Footprint edge -> outline edge it came from (parallel and nearest).
+const EdgeInfo& source_edge(const std::vector<EdgeInfo>& edges, const Vec2& a, const Vec2& b) {
+  Vec2 d = (b - a).normalized(), mid = 0.5 * (a + b);
+  const EdgeInfo* best = &edges[0];
+  double best_score = 1e18;
+  for (const auto& e : edges) {
+    Vec2 ed = (e.b - e.a).normalized();
+    Vec2 em = 0.5 * (e.a + e.b);
+    double off = std::abs(outward(ed).dot(mid - e.a));
+    double along = std::max(0.0, std::abs(ed.dot(mid - em)) - 0.5 * (e.b - e.a).norm());
+    double score = off + along + (ed.dot(d) < 0.98 ? 100.0 : 0.0);
+    if (score < best_score) best_score = score, best = &e;
+  }
+  return *best;
+}
+
+}  // namespace
+
+WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z) {
+  WallFit fit;
+  Vec2 d = b - a;
+  double len = d.norm();
+  if (len < 0.8) return fit;
+  d /= len;
+  Vec2 n = outward(d);
+  const double lo = -2.5, hi = 0.3, bin = 0.04;
+  std::vector<int> hist(int((hi - lo) / bin) + 1, 0);
+  std::vector<std::pair<double, double>> st;  // (s, t)
+  for (const auto& p : pts) {
+    if (p.z() < min_z) continue;
+    Vec2 q = p.head<2>() - a;
+    double t = d.dot(q), s = n.dot(q);
+    if (t < 0.1 * len || t > 0.9 * len || s < lo || s > hi) continue;
+    ++hist[int((s - lo) / bin)];
+    st.emplace_back(s, t);
+  }
+  if (st.size() < 25) return fit;
+  int peak = 0, best = -1;
+  for (size_t i = 0; i < hist.size(); ++i) {
+    int c = hist[i] + (i > 0 ? hist[i - 1] : 0) + (i + 1 < hist.size() ? hist[i + 1] : 0);
+    if (c > best) best = c, peak = int(i);
+  }
+  double centre = lo + (peak + 0.5) * bin;
+  double sum = 0, sum2 = 0;
+  int count = 0;
+  std::vector<bool> covered(size_t(len / 0.5) + 1, false);
+  for (auto& [s, t] : st)
+    if (std::abs(s - centre) < 0.08) {
+      sum += s;
+      ++count;
+      covered[size_t(t / 0.5)] = true;
+    }
+  if (count < 25) return fit;
+  double mean = sum / count;
+  for (auto& [s, t] : st)
+    if (std::abs(s - centre) < 0.08) sum2 += (s - mean) * (s - mean);
+  double coverage = double(std::count(covered.begin(), covered.end(), true)) / covered.size();
+  if (coverage < 0.3) return fit;
+  fit.found = true;
+  fit.offset = mean;
+  fit.support = count;
+  fit.rms = std::sqrt(sum2 / count);
+  return fit;
+}
+
+Building build_building(const EnvelopeInput& in) {
+  Building b;
+  b.id = in.building_id;
+  std::vector<EdgeInfo> edges = measure_edges(in);
+  Polygon2 fp = footprint_from_edges(edges, in);
+  b.terrain_z = mean_terrain(fp, in.terrain);
+
+  std::vector<Piece> pieces;
+  for (size_t r = 0; r < in.roof.size(); ++r) {
+    for (auto& p : poly::intersect(in.roof[r].plan, {fp})) pieces.push_back({int(r), true, p});
+    for (auto& p : poly::subtract(in.roof[r].plan, {fp})) pieces.push_back({int(r), false, p});
+  }
+  pieces.erase(std::remove_if(pieces.begin(), pieces.end(),
+                              [](const Piece& p) { return area(p.plan) < 1e-4; }),
+               pieces.end());
+  Polygon2 fp_copy = fp;
+  std::vector<Ring2*> rings{&fp_copy.outer};
+  for (auto& p : pieces) {
+    rings.push_back(&p.plan.outer);
+    for (auto& h : p.plan.holes) rings.push_back(&h);
+  }
+  node_rings(rings, 1e-6);
+
+  Heights heights;
+  for (const auto& p : pieces) {
+    const Plane& pl = in.roof[p.region].plane;
+    for (const auto& v : p.plan.outer) heights.add(v, pl.z_at(v.x(), v.y()));
+  }
+  std::vector<std::vector<Face>> roof_faces(in.roof.size());
+  std::vector<Face> inside, soffits;
+  for (const auto& p : pieces) {
+    const Plane& pl = in.roof[p.region].plane;
+    Face f{lift(p.plan.outer, pl, heights), {}};
+    for (const auto& h : p.plan.holes) f.holes.push_back(lift(h, pl, heights));
+    roof_faces[p.region].push_back(f);
+    if (p.inside) {
+      inside.push_back(f);
+    } else {
+      double zmin = 1e18;
+      for (const auto& v : f.ring) zmin = std::min(zmin, v.z());
+      Face s{flat(p.plan.outer, zmin, true), {}};
+      for (const auto& h : p.plan.holes) s.holes.push_back(flat(h, zmin, true));
+      soffits.push_back(std::move(s));
+    }
+  }
+
+  // Roof elements: one per plane, overhang included.
+  for (size_t r = 0; r < in.roof.size(); ++r) {
+    if (roof_faces[r].empty()) continue;
+    Element e = make_element(ElementType::Roof, roof_faces[r]);
+    const Plane& pl = in.roof[r].plane;
+    const PlaneFit& fit = in.fits[r];
+    e.slope_deg = pl.slope_deg();
+    e.azimuth_deg = pl.azimuth_deg();
+    e.support_points = fit.inliers;
+    e.rmse = fit.rmse;
+    double per = 0;
+    for (const auto& part : in.roof[r].plan) per += perimeter(part.outer);
+    double tilt = e.area * std::tan(pl.slope_deg() * M_PI / 180) * fit.sigma_normal;
+    double edge = 0.5 * per * 0.25 * in.spacing;
+    e.sigma_area = std::sqrt(tilt * tilt + edge * edge);
+    b.elements.push_back(std::move(e));
+  }
+
+  // Walls along the footprint, from the terrain up to the roof underside.
+  std::vector<Face> solid;
+  double sigma_ground2 = 0;
+  for (size_t i = 0; i < fp.outer.size(); ++i) {
+    Vec2 a = fp.outer[i], c = fp.outer[(i + 1) % fp.outer.size()];
+    auto profile = roof_profile(a, c, inside);
+    if (profile.empty()) continue;
+    Face f = wall_face(a, c, b.terrain_z, profile);
+    const EdgeInfo& src = source_edge(edges, a, c);
+    Element e = make_element(src.party ? ElementType::PartyWall : ElementType::Wall, {f});
+    e.evidence = src.evidence;
+    e.support_points = src.support;
+    Vec3 nrm = unit_normal(f);
+    e.azimuth_deg = std::fmod(std::atan2(nrm.x(), nrm.y()) * 180 / M_PI + 360.0, 360.0);
+    e.slope_deg = 90.0;
+    double len = (c - a).norm(), height = e.area / std::max(len, 1e-9);
+    double s_top = 0.05, s_len = src.sigma;
+    e.sigma_area = std::sqrt(std::pow(len * s_top, 2) + std::pow(height * s_len, 2));
+    sigma_ground2 += std::pow(len * src.sigma, 2);
+    solid.push_back(f);
+    b.elements.push_back(std::move(e));
+  }
+  for (auto& w : step_walls(inside)) {
+    Element e = make_element(ElementType::Wall, {w});
+    e.slope_deg = 90.0;
+    e.sigma_area = 0.05 * std::sqrt(e.area);
+    solid.push_back(w);
+    b.elements.push_back(std::move(e));
+  }
+
+  Face ground{flat(fp.outer, b.terrain_z, true), {}};
+  Element g = make_element(ElementType::Ground, {ground});
+  g.sigma_area = std::sqrt(sigma_ground2);
+  b.elements.push_back(g);
+  solid.push_back(ground);
+  solid.insert(solid.end(), inside.begin(), inside.end());
+
+  if (!soffits.empty()) {
+    Element oc = make_element(ElementType::OuterCeiling, soffits);
+    double edge = perimeter(in.outline.outer) * 0.25 * in.spacing;
+    oc.sigma_area = std::sqrt(sigma_ground2 + edge * edge);
+    b.elements.push_back(std::move(oc));
+  }
+  b.solid = std::move(solid);
+  return b;
+}
+
+}  // namespace c3d

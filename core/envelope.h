@@ -1,0 +1,45 @@
+#pragma once
+// Stage "envelope": from the partitioned roof to a building of elements.
+// Wall points move each roof-outline edge inward to the wall they show
+// (measured); edges without wall points take the building's median measured
+// overhang (propagated) or the configured default (default). Walls are
+// extruded from the roof underside down to the terrain; the ground floor is the
+// footprint at terrain level; the roof beyond the walls is the hanging roof,
+// whose underside is the outer ceiling (a horizontal soffit at the lowest
+// roof height of that piece, so its area is its plan area as DESIGN.md defines).
+#include <functional>
+#include <vector>
+
+#include "core/planes.h"
+#include "core/roof.h"
+#include "core/types.h"
+
+namespace c3d {
+
+struct EnvelopeInput {
+  std::string building_id;
+  Polygon2 outline;                   // roof outline, counter-clockwise
+  std::vector<RoofRegion> roof;       // partition of the outline
+  std::vector<PlaneFit> fits;         // plane fit per roof region (same order)
+  std::vector<Vec3> wall_points;      // local coordinates
+  std::vector<bool> party_edge;       // per outline edge i (outer[i] -> outer[i+1])
+  std::function<double(double, double)> terrain;  // local terrain z, NaN outside
+  double default_overhang = 0.5;
+  double storey_height = 3.0;
+  double spacing = 0.2;               // roof point spacing, for boundary sigma
+};
+
+Building build_building(const EnvelopeInput& in);
+
+// Wall evidence for one outline edge: offset (m, negative = inside the edge) of
+// the wall seen by the scanner, with its support. found=false without evidence.
+struct WallFit {
+  bool found = false;
+  double offset = 0;
+  int support = 0;
+  double rms = 0;
+};
+WallFit fit_wall(const std::vector<Vec3>& wall_points, const Vec2& a, const Vec2& b,
+                 double min_z);
+
+}  // namespace c3d

@@ -1,0 +1,68 @@
+#pragma once
+// Point-to-model deviation as the plane-intersection paper measures it: every
+// roof-class point against the roof surfaces of its building model (3D distance
+// to the nearest surface, and vertical distance), wall-class points against the
+// walls. A CGAL AABB tree over the triangulated faces answers the queries (CGAL
+// stays in evaluate.cpp).
+#include <memory>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+struct SurfaceHit {
+  double distance = kNaN;  // unsigned, m; NaN: no face (vertical: none above/below)
+  int owner = -1;          // owner tag of the face hit (see FaceIndex)
+  Vec3 point = Vec3::Constant(kNaN);  // closest point on the surface
+};
+
+// Nearest-surface queries over a set of planar faces. Builds in a local origin
+// (the faces' bounding-box minimum) so world coordinates keep their precision.
+class FaceIndex {
+ public:
+  // owner[i] tags faces[i] (e.g. the building index); empty: every face is 0.
+  explicit FaceIndex(const std::vector<Face>& faces, const std::vector<int>& owner = {});
+  ~FaceIndex();
+  FaceIndex(FaceIndex&&) noexcept;
+  FaceIndex& operator=(FaceIndex&&) noexcept;
+
+  bool empty() const;
+  // Closest point on any face (3D Euclidean distance).
+  SurfaceHit nearest(const Vec3& p) const;
+  // Along the vertical through p: the face crossing it closest in z;
+  // distance = |p.z - z_surface|. Vertical faces never count.
+  SurfaceHit vertical(const Vec3& p) const;
+  // Both for many points, on all hardware threads.
+  std::vector<SurfaceHit> nearest(const std::vector<Vec3>& pts) const;
+  std::vector<SurfaceHit> vertical(const std::vector<Vec3>& pts) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Statistics of |d| over the finite values: n, max, mean, std (population, so
+// that rmse^2 = mean^2 + std^2 and pooling is exact), rmse.
+Deviation deviation(const std::vector<double>& distances);
+// Exact statistics of the union of the parts from their n, max, mean, std.
+Deviation pool(const std::vector<Deviation>& parts);
+
+// Deviation of the points from the faces: 3D nearest distance, or the vertical
+// distance (points with no face above or below them are left out of n).
+Deviation deviation_to_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,
+                             bool vertical = false);
+
+// Faces of the given element types of one building.
+std::vector<Face> faces_of(const Building& b, const std::vector<ElementType>& types);
+
+// Fills roof_deviation (3D distance of the roof points to the Roof faces) and
+// wall_deviation (wall points to the Wall and PartyWall faces) of each building;
+// each point counts for the building whose surface is nearest. Pass the points
+// of one parcel (roof points with the overhang buffer, every one of them,
+// including those segmentation discarded; wall points within 2 m of the parcel),
+// in the buildings' coordinates. Buildings with no surface of a kind get n = 0.
+void evaluate_buildings(std::vector<Building>& buildings, const std::vector<Vec3>& roof_points,
+                        const std::vector<Vec3>& wall_points);
+
+}  // namespace c3d

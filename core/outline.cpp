@@ -1,0 +1,183 @@
+#include "core/outline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "core/geometry.h"
+#include "core/polygon_ops.h"
+
+namespace c3d {
+namespace {
+
+struct EdgeLine {
+  Vec2 origin;   // a point on the line
+  Vec2 dir;      // unit direction, ring order
+  double t0 = 0, t1 = 0;  // extent along dir from origin
+};
+
+Vec2 outward(const Vec2& dir) { return Vec2(dir.y(), -dir.x()); }  // CCW ring
+
+double wrap_quarter(double a) {
+  a = std::fmod(a, M_PI / 2);
+  return a < 0 ? a + M_PI / 2 : a;
+}
+
+// Snaps an edge direction to the dominant axes (0/90) or their diagonals (45).
+Vec2 snap_direction(const Vec2& dir, double dominant, double tol) {
+  double a = std::atan2(dir.y(), dir.x());
+  for (int k = -8; k <= 8; ++k) {
+    double axis = dominant + k * M_PI / 4;
+    double diff = std::remainder(a - axis, 2 * M_PI);
+    double lim = (k % 2 == 0) ? tol : tol * 0.5;  // 45 degree snaps are stricter
+    if (std::abs(diff) < lim) return Vec2(std::cos(axis), std::sin(axis));
+  }
+  return dir;
+}
+
+std::optional<Vec2> line_intersection(const EdgeLine& a, const EdgeLine& b) {
+  double den = a.dir.x() * b.dir.y() - a.dir.y() * b.dir.x();
+  if (std::abs(den) < 1e-6) return std::nullopt;
+  Vec2 w = b.origin - a.origin;
+  double t = (w.x() * b.dir.y() - w.y() * b.dir.x()) / den;
+  return Vec2(a.origin + t * a.dir);
+}
+
+// Consecutive edges with (nearly) the same snapped direction and offset are one line.
+std::vector<EdgeLine> merge_collinear(std::vector<EdgeLine> lines) {
+  bool changed = true;
+  while (changed && lines.size() > 3) {
+    changed = false;
+    for (size_t i = 0; i < lines.size(); ++i) {
+      EdgeLine& a = lines[i];
+      EdgeLine& b = lines[(i + 1) % lines.size()];
+      if (a.dir.dot(b.dir) < std::cos(2.0 * M_PI / 180)) continue;
+      double off = std::abs(outward(a.dir).dot(b.origin - a.origin));
+      if (off > 0.3) continue;
+      Vec2 start = a.origin + a.t0 * a.dir, end = b.origin + b.t1 * b.dir;
+      double la = a.t1 - a.t0, lb = b.t1 - b.t0;
+      EdgeLine m;
+      m.dir = a.dir;
+      // Offset: length-weighted mean of both lines.
+      double sb = outward(a.dir).dot(b.origin - a.origin);
+      m.origin = a.origin + outward(a.dir) * (sb * lb / (la + lb));
+      m.t0 = m.dir.dot(start - m.origin);
+      m.t1 = m.dir.dot(end - m.origin);
+      lines[i] = m;
+      lines.erase(lines.begin() + long((i + 1) % lines.size()));
+      changed = true;
+      break;
+    }
+  }
+  return lines;
+}
+
+Ring2 rebuild_ring(const std::vector<EdgeLine>& lines) {
+  Ring2 ring;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const EdgeLine& prev = lines[(i + lines.size() - 1) % lines.size()];
+    const EdgeLine& cur = lines[i];
+    if (auto p = line_intersection(prev, cur)) {
+      ring.push_back(*p);
+    } else {  // parallel: join with a short perpendicular step
+      Vec2 end = prev.origin + prev.t1 * prev.dir;
+      ring.push_back(end);
+      ring.push_back(cur.origin + cur.dir * cur.dir.dot(end - cur.origin));
+    }
+  }
+  return ring;
+}
+
+}  // namespace
+
+double dominant_direction(const Ring2& ring) {
+  // Length-weighted circular mean of 4*angle (period 90 degrees), refined once
+  // around the histogram peak so short noisy edges do not pull it.
+  std::vector<double> hist(90, 0.0);
+  for (size_t i = 0; i < ring.size(); ++i) {
+    Vec2 e = ring[(i + 1) % ring.size()] - ring[i];
+    double a = wrap_quarter(std::atan2(e.y(), e.x()));
+    hist[std::min(89, int(a * 180 / M_PI))] += e.norm();
+  }
+  int peak = int(std::max_element(hist.begin(), hist.end()) - hist.begin());
+  double sx = 0, sy = 0;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    Vec2 e = ring[(i + 1) % ring.size()] - ring[i];
+    double a = wrap_quarter(std::atan2(e.y(), e.x()));
+    double diff = std::remainder(a - (peak + 0.5) * M_PI / 180, M_PI / 2);
+    if (std::abs(diff) > 10 * M_PI / 180) continue;
+    sx += e.norm() * std::cos(4 * a);
+    sy += e.norm() * std::sin(4 * a);
+  }
+  return wrap_quarter(std::atan2(sy, sx) / 4);
+}
+
+double density_edge_offset(const std::vector<Vec2>& points, const Vec2& origin, const Vec2& dir,
+                           double t0, double t1) {
+  // For a uniform point density that stops at the edge (blurred by any
+  // symmetric noise), the points beyond a reference line inside the edge
+  // number density * (edge - reference): solve for the edge.
+  const double inner0 = -1.0, inner1 = -0.45;  // density band, m inside the current line
+  Vec2 n = outward(dir);
+  long band = 0, beyond = 0;
+  for (const auto& p : points) {
+    Vec2 q = p - origin;
+    double t = dir.dot(q);
+    if (t < t0 || t > t1) continue;
+    double s = n.dot(q);
+    if (s > 1.0) continue;
+    if (s >= inner0 && s < inner1) ++band;
+    else if (s >= inner1) ++beyond;
+  }
+  if (band < 15) return kNaN;
+  double per_metre = band / (inner1 - inner0);
+  return inner1 + beyond / per_metre;
+}
+
+Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt) {
+  if (points.size() < 10) return {};
+  MultiPolygon2 hull = poly::concave_hull(points, std::max(1.0, 5.0 * opt.spacing));
+  if (hull.empty()) return {};
+  Polygon2 biggest = *std::max_element(hull.begin(), hull.end(), [](const auto& a, const auto& b) {
+    return area(a) < area(b);
+  });
+  biggest.holes.clear();
+  MultiPolygon2 simple = poly::simplify({biggest}, std::max(0.15, 1.5 * opt.spacing));
+  if (simple.empty() || simple[0].outer.size() < 3) return {};
+  Ring2 ring = simple[0].outer;
+  double dominant = dominant_direction(ring);
+
+  std::vector<EdgeLine> lines;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    if ((b - a).norm() < 1e-6) continue;
+    EdgeLine l;
+    l.dir = snap_direction((b - a).normalized(), dominant, opt.snap_angle_deg * M_PI / 180);
+    l.origin = 0.5 * (a + b);
+    l.t0 = l.dir.dot(a - l.origin);
+    l.t1 = l.dir.dot(b - l.origin);
+    lines.push_back(l);
+  }
+  lines = merge_collinear(lines);
+  if (lines.size() < 3) return {};
+  // Move every edge to where the density says the roof ends.
+  for (auto& l : lines) {
+    double len = l.t1 - l.t0;
+    double margin = std::min(0.5, 0.2 * len);
+    double off = density_edge_offset(points, l.origin, l.dir, l.t0 + margin, l.t1 - margin);
+    if (std::isnan(off)) off = 0.5 * opt.spacing;  // too short to measure: half a spacing
+    l.origin += outward(l.dir) * off;
+  }
+  Polygon2 out{rebuild_ring(lines), {}};
+  MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
+  if (valid.empty()) return {};
+  Polygon2 best = *std::max_element(valid.begin(), valid.end(), [](const auto& a, const auto& b) {
+    return area(a) < area(b);
+  });
+  // A rebuilt outline far from the hull means the regularisation went wrong.
+  if (std::abs(area(best) - area(biggest)) > 0.3 * area(biggest)) return biggest;
+  best.holes.clear();
+  return best;
+}
+
+}  // namespace c3d

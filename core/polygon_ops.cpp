@@ -1,0 +1,230 @@
+#include "core/polygon_ops.h"
+
+#include <geos/algorithm/hull/ConcaveHull.h>
+#include <geos/geom/CoordinateArraySequence.h>
+#include <geos/geom/GeometryFactory.h>
+#include <geos/geom/LineString.h>
+#include <geos/geom/LinearRing.h>
+#include <geos/geom/MultiPoint.h>
+#include <geos/geom/MultiPolygon.h>
+#include <geos/geom/Point.h>
+#include <geos/geom/Polygon.h>
+#include <geos/operation/buffer/BufferOp.h>
+#include <geos/operation/buffer/BufferParameters.h>
+#include <geos/operation/linemerge/LineMerger.h>
+#include <geos/operation/union/UnaryUnionOp.h>
+#include <geos/operation/valid/MakeValid.h>
+#include <geos/simplify/TopologyPreservingSimplifier.h>
+
+#include <cmath>
+
+#include "core/geometry.h"
+
+namespace c3d::poly {
+
+using geos::geom::Coordinate;
+using geos::geom::CoordinateArraySequence;
+using geos::geom::Geometry;
+using geos::geom::GeometryFactory;
+using GeomPtr = std::unique_ptr<Geometry>;
+
+namespace {
+
+const GeometryFactory& factory() {
+  static GeometryFactory::Ptr f = GeometryFactory::create();
+  return *f;
+}
+
+std::unique_ptr<geos::geom::LinearRing> make_ring(const Ring2& r) {
+  auto seq = std::make_unique<CoordinateArraySequence>();
+  for (const auto& p : r) seq->add(Coordinate(p.x(), p.y()));
+  seq->add(Coordinate(r.front().x(), r.front().y()));
+  return factory().createLinearRing(std::move(seq));
+}
+
+GeomPtr to_geos(const MultiPolygon2& mp) {
+  std::vector<GeomPtr> polys;
+  for (const auto& p : mp) {
+    if (p.outer.size() < 3) continue;
+    std::vector<std::unique_ptr<geos::geom::LinearRing>> holes;
+    for (const auto& h : p.holes)
+      if (h.size() >= 3) holes.push_back(make_ring(h));
+    polys.push_back(factory().createPolygon(make_ring(p.outer), std::move(holes)));
+  }
+  return factory().createMultiPolygon(std::move(polys));
+}
+
+Ring2 from_ring(const geos::geom::LineString* ls, bool ccw) {
+  Ring2 r;
+  const auto* seq = ls->getCoordinatesRO();
+  for (size_t i = 0; i + 1 < seq->size(); ++i) r.emplace_back(seq->getX(i), seq->getY(i));
+  if ((signed_area(r) > 0) != ccw) std::reverse(r.begin(), r.end());
+  return r;
+}
+
+void collect(const Geometry* g, MultiPolygon2& out) {
+  if (!g || g->isEmpty()) return;
+  if (auto* p = dynamic_cast<const geos::geom::Polygon*>(g)) {
+    Polygon2 q;
+    q.outer = from_ring(p->getExteriorRing(), true);
+    for (size_t i = 0; i < p->getNumInteriorRing(); ++i)
+      q.holes.push_back(from_ring(p->getInteriorRingN(i), false));
+    if (q.outer.size() >= 3) out.push_back(std::move(q));
+    return;
+  }
+  for (size_t i = 0; i < g->getNumGeometries(); ++i) {
+    const Geometry* part = g->getGeometryN(i);
+    if (part != g) collect(part, out);
+  }
+}
+
+MultiPolygon2 from_geos(const Geometry* g) {
+  MultiPolygon2 out;
+  collect(g, out);
+  return drop_small(out, 1e-8);
+}
+
+// Overlay that survives GEOS topology exceptions on near-degenerate input.
+template <class Op>
+MultiPolygon2 overlay(const MultiPolygon2& a, const MultiPolygon2& b, Op op) {
+  auto ga = to_geos(a), gb = to_geos(b);
+  try {
+    return from_geos(op(ga.get(), gb.get()).get());
+  } catch (const std::exception&) {
+    auto va = ga->buffer(0), vb = gb->buffer(0);
+    return from_geos(op(va.get(), vb.get()).get());
+  }
+}
+
+}  // namespace
+
+MultiPolygon2 unite(const MultiPolygon2& a, const MultiPolygon2& b) {
+  return overlay(a, b, [](const Geometry* x, const Geometry* y) { return x->Union(y); });
+}
+
+MultiPolygon2 unite_all(const std::vector<MultiPolygon2>& parts) {
+  MultiPolygon2 all;
+  for (const auto& p : parts) all.insert(all.end(), p.begin(), p.end());
+  auto g = to_geos(all);
+  try {
+    return from_geos(g->Union().get());
+  } catch (const std::exception&) {
+    return from_geos(g->buffer(0).get());
+  }
+}
+
+MultiPolygon2 intersect(const MultiPolygon2& a, const MultiPolygon2& b) {
+  return overlay(a, b, [](const Geometry* x, const Geometry* y) { return x->intersection(y); });
+}
+
+MultiPolygon2 subtract(const MultiPolygon2& a, const MultiPolygon2& b) {
+  return overlay(a, b, [](const Geometry* x, const Geometry* y) { return x->difference(y); });
+}
+
+MultiPolygon2 buffer(const MultiPolygon2& a, double distance) {
+  geos::operation::buffer::BufferParameters params;
+  params.setJoinStyle(geos::operation::buffer::BufferParameters::JOIN_MITRE);
+  params.setMitreLimit(4.0);
+  auto g = to_geos(a);
+  return from_geos(geos::operation::buffer::BufferOp::bufferOp(g.get(), distance, params).get());
+}
+
+MultiPolygon2 buffer_line(const std::vector<Vec2>& line, double distance) {
+  auto seq = std::make_unique<CoordinateArraySequence>();
+  for (const auto& p : line) seq->add(Coordinate(p.x(), p.y()));
+  auto ls = factory().createLineString(std::move(seq));
+  return from_geos(ls->buffer(distance, 4).get());
+}
+
+MultiPolygon2 simplify(const MultiPolygon2& a, double tolerance) {
+  auto g = to_geos(a);
+  return from_geos(geos::simplify::TopologyPreservingSimplifier::simplify(g.get(), tolerance).get());
+}
+
+MultiPolygon2 make_valid(const MultiPolygon2& a) {
+  auto g = to_geos(a);
+  if (g->isValid()) return from_geos(g.get());
+  geos::operation::valid::MakeValid mv;
+  return from_geos(mv.build(g.get()).get());
+}
+
+bool is_valid(const MultiPolygon2& a) { return to_geos(a)->isValid(); }
+
+MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge) {
+  std::vector<Coordinate> coords;
+  coords.reserve(points.size());
+  for (const auto& p : points) coords.emplace_back(p.x(), p.y());
+  std::unique_ptr<geos::geom::MultiPoint> mp(factory().createMultiPoint(coords));
+  auto hull = geos::algorithm::hull::ConcaveHull::concaveHullByLength(mp.get(), max_edge);
+  return from_geos(hull.get());
+}
+
+MultiPolygon2 drop_small(const MultiPolygon2& a, double min_area) {
+  MultiPolygon2 out;
+  for (const auto& p : a) {
+    if (std::abs(signed_area(p.outer)) < min_area) continue;
+    Polygon2 q{p.outer, {}};
+    for (const auto& h : p.holes)
+      if (std::abs(signed_area(h)) >= min_area) q.holes.push_back(h);
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+
+bool covers(const MultiPolygon2& a, const Vec2& p) {
+  auto winding = [&](const Ring2& r) {
+    bool in = false;
+    for (size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
+      if ((r[i].y() > p.y()) != (r[j].y() > p.y()) &&
+          p.x() < (r[j].x() - r[i].x()) * (p.y() - r[i].y()) / (r[j].y() - r[i].y()) + r[i].x())
+        in = !in;
+    }
+    return in;
+  };
+  for (const auto& poly : a) {
+    if (!winding(poly.outer)) continue;
+    bool in_hole = false;
+    for (const auto& h : poly.holes) in_hole = in_hole || winding(h);
+    if (!in_hole) return true;
+  }
+  return false;
+}
+
+MultiPolygon2 box(const Vec2& lo, const Vec2& hi) {
+  return {Polygon2{{lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}}, {}}};
+}
+
+std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,
+                                               double tolerance) {
+  auto ga = to_geos(a), gb = to_geos(b);
+  auto ba = ga->getBoundary();
+  auto near_b = gb->buffer(tolerance, 2);
+  std::vector<std::vector<Vec2>> out;
+  GeomPtr shared;
+  try {
+    shared = ba->intersection(near_b.get());
+  } catch (const std::exception&) {
+    return out;
+  }
+  geos::operation::linemerge::LineMerger merger;
+  merger.add(shared.get());
+  for (auto& ls : merger.getMergedLineStrings()) {
+    std::vector<Vec2> line;
+    const auto* seq = ls->getCoordinatesRO();
+    for (size_t i = 0; i < seq->size(); ++i) line.emplace_back(seq->getX(i), seq->getY(i));
+    if (line.size() >= 2) out.push_back(std::move(line));
+  }
+  return out;
+}
+
+MultiPolygon2 halfplane_box(const Vec2& p, const Vec2& dir, const Vec2& side_point,
+                            double extent) {
+  Vec2 d = dir.normalized();
+  Vec2 n(-d.y(), d.x());
+  if (n.dot(side_point - p) < 0) n = -n;
+  Ring2 r{p - d * extent, p + d * extent, p + d * extent + n * extent, p - d * extent + n * extent};
+  if (signed_area(r) < 0) std::reverse(r.begin(), r.end());
+  return {Polygon2{r, {}}};
+}
+
+}  // namespace c3d::poly

@@ -1,0 +1,35 @@
+#pragma once
+// 2D polygon logic for the reconstruction, done by GEOS (kept out of this
+// header so stages only see plain Polygon2 data). Results are normalised:
+// outer rings counter-clockwise, holes clockwise, empty pieces dropped.
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d::poly {
+
+MultiPolygon2 unite(const MultiPolygon2& a, const MultiPolygon2& b);
+MultiPolygon2 unite_all(const std::vector<MultiPolygon2>& parts);
+MultiPolygon2 intersect(const MultiPolygon2& a, const MultiPolygon2& b);
+MultiPolygon2 subtract(const MultiPolygon2& a, const MultiPolygon2& b);
+// Buffer with mitred corners (keeps right angles square); negative shrinks.
+MultiPolygon2 buffer(const MultiPolygon2& a, double distance);
+// Buffer of a polyline (round ends) - corridors around boundaries.
+MultiPolygon2 buffer_line(const std::vector<Vec2>& line, double distance);
+MultiPolygon2 simplify(const MultiPolygon2& a, double tolerance);
+MultiPolygon2 make_valid(const MultiPolygon2& a);
+bool is_valid(const MultiPolygon2& a);
+// GEOS ConcaveHull of points, edges no longer than max_edge (holes not allowed).
+MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge);
+// Drops polygons (and holes) smaller than min_area.
+MultiPolygon2 drop_small(const MultiPolygon2& a, double min_area);
+// Point in polygon (boundary counts as inside).
+bool covers(const MultiPolygon2& a, const Vec2& p);
+MultiPolygon2 box(const Vec2& min, const Vec2& max);
+// Shared boundary of two polygons as line pieces (each a polyline).
+std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,
+                                               double tolerance);
+MultiPolygon2 halfplane_box(const Vec2& point_on_line, const Vec2& dir, const Vec2& side_point,
+                            double extent);
+
+}  // namespace c3d::poly

@@ -1,0 +1,273 @@
+#include "core/reconstruct.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <set>
+
+#include "core/envelope.h"
+#include "core/evaluate.h"
+#include "core/geometry.h"
+#include "core/measure.h"
+#include "core/outline.h"
+#include "core/polygon_ops.h"
+#include "core/roof.h"
+#include "core/segmentation.h"
+
+namespace c3d {
+namespace {
+
+class StageClock {
+ public:
+  explicit StageClock(std::vector<Timing>& out) : out_(out) {}
+  void lap(const std::string& stage) {
+    auto now = std::chrono::steady_clock::now();
+    double s = std::chrono::duration<double>(now - last_).count();
+    for (auto& t : out_)
+      if (t.stage == stage) {
+        t.seconds += s;
+        last_ = now;
+        return;
+      }
+    out_.push_back({stage, s});
+    last_ = now;
+  }
+
+ private:
+  std::vector<Timing>& out_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+Vec2 plan(const Vec3& p) { return p.head<2>(); }
+
+// Ownership: a component goes whole to the parcel holding most of its points;
+// when parcels share it (a roof running across the boundary of attached
+// houses), it is split at the boundary. Returns the neighbours split against.
+std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double share) {
+  std::set<int> split_with;
+  for (auto& c : seg.components) {
+    long own = 0;
+    std::vector<long> nb(s.neighbours.size(), 0);
+    std::vector<char> inside_own(c.points.size(), 0);
+    for (size_t k = 0; k < c.points.size(); ++k) {
+      Vec2 p = plan(s.roof_points[c.points[k]]);
+      if (poly::covers(s.parcel, p)) {
+        ++own;
+        inside_own[k] = 1;
+        continue;
+      }
+      for (size_t n = 0; n < s.neighbours.size(); ++n)
+        if (poly::covers(s.neighbours[n], p)) {
+          ++nb[n];
+          break;
+        }
+    }
+    long total = own + std::accumulate(nb.begin(), nb.end(), 0L);
+    long best_nb = nb.empty() ? 0 : *std::max_element(nb.begin(), nb.end());
+    if (total == 0 || (own >= best_nb && own >= share * total)) continue;  // whole
+    if (own < (1.0 - share) * total) {  // the neighbour's
+      for (int i : c.points) seg.label[i] = -1;
+      c.points.clear();
+      continue;
+    }
+    std::vector<int> kept;
+    for (size_t k = 0; k < c.points.size(); ++k) {
+      bool in_other = false;
+      if (!inside_own[k]) {
+        Vec2 p = plan(s.roof_points[c.points[k]]);
+        for (size_t n = 0; n < s.neighbours.size(); ++n)
+          if (poly::covers(s.neighbours[n], p)) in_other = true;
+      }
+      if (in_other) seg.label[c.points[k]] = -1;
+      else kept.push_back(c.points[k]);
+    }
+    c.points = kept;
+    for (size_t n = 0; n < nb.size(); ++n)
+      if (nb[n] >= (1.0 - share) * total) split_with.insert(int(n));
+  }
+  return split_with;
+}
+
+// Groups roof outlines that touch (roof levels of one building).
+std::vector<std::vector<int>> group_touching(const std::vector<Polygon2>& outlines) {
+  size_t n = outlines.size();
+  std::vector<int> group(n);
+  std::iota(group.begin(), group.end(), 0);
+  std::function<int(int)> find = [&](int i) { return group[i] == i ? i : group[i] = find(group[i]); };
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      auto a = poly::buffer({outlines[i]}, 0.25), b = poly::buffer({outlines[j]}, 0.25);
+      if (!poly::intersect(a, b).empty()) group[find(int(i))] = find(int(j));
+    }
+  std::map<int, std::vector<int>> by_root;
+  for (size_t i = 0; i < n; ++i) by_root[find(int(i))].push_back(int(i));
+  std::vector<std::vector<int>> out;
+  for (auto& [r, members] : by_root) out.push_back(members);
+  return out;
+}
+
+// Outline edges on the parcel boundary with the neighbour's roof right across.
+std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s,
+                                   const std::vector<int>& label) {
+  const Ring2& r = outline.outer;
+  std::vector<bool> party(r.size(), false);
+  for (size_t i = 0; i < r.size(); ++i) {
+    Vec2 a = r[i], b = r[(i + 1) % r.size()];
+    double len = (b - a).norm();
+    if (len < 1.0) continue;
+    Vec2 d = (b - a) / len, n(d.y(), -d.x()), m = 0.5 * (a + b);
+    if (!poly::covers(s.parcel, m - 0.15 * n) || poly::covers(s.parcel, m + 0.15 * n)) continue;
+    int across = 0;
+    for (size_t k = 0; k < s.roof_points.size(); ++k) {
+      if (label[k] >= 0) continue;
+      Vec2 q = plan(s.roof_points[k]) - a;
+      double t = d.dot(q), off = n.dot(q);
+      if (t > 0.1 * len && t < 0.9 * len && off > 0.0 && off < 1.0) ++across;
+    }
+    party[i] = across >= std::max(10.0, 2.0 * len);
+  }
+  return party;
+}
+
+Polygon2 largest(const MultiPolygon2& mp) {
+  if (mp.empty()) return {};
+  return *std::max_element(mp.begin(), mp.end(),
+                           [](const auto& a, const auto& b) { return area(a) < area(b); });
+}
+
+struct BuildingPlan {
+  Polygon2 outline;
+  std::vector<int> components;
+};
+
+std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentation& seg,
+                                         const std::set<int>& split_with) {
+  std::map<int, std::vector<int>> comps_of_roof;
+  for (size_t c = 0; c < seg.components.size(); ++c)
+    if (!seg.components[c].points.empty()) comps_of_roof[seg.components[c].roof].push_back(int(c));
+  std::vector<Polygon2> outlines;
+  std::vector<std::vector<int>> roof_comps;
+  OutlineOptions opt;
+  opt.spacing = seg.spacing;
+  for (auto& [roof, comps] : comps_of_roof) {
+    std::vector<Vec2> pts;
+    for (int c : comps)
+      for (int i : seg.components[c].points) pts.push_back(plan(s.roof_points[i]));
+    Polygon2 o = roof_outline(pts, opt);
+    if (o.outer.size() < 3 || area(o) < 4.0) continue;
+    outlines.push_back(o);
+    roof_comps.push_back(comps);
+  }
+  MultiPolygon2 cut;
+  for (int n : split_with) cut = poly::unite(cut, s.neighbours[n]);
+  std::vector<BuildingPlan> plans;
+  for (const auto& group : group_touching(outlines)) {
+    BuildingPlan bp;
+    MultiPolygon2 u;
+    for (int i : group) {
+      u = poly::unite(u, {outlines[i]});
+      bp.components.insert(bp.components.end(), roof_comps[i].begin(), roof_comps[i].end());
+    }
+    u = poly::buffer(poly::buffer(u, 0.25), -0.25);  // close gaps between roof levels
+    if (!cut.empty()) u = poly::subtract(u, cut);
+    bp.outline = largest(poly::simplify(u, 0.02));
+    bp.outline.holes.clear();
+    if (bp.outline.outer.size() >= 3 && area(bp.outline) >= 4.0) plans.push_back(bp);
+  }
+  return plans;
+}
+
+Building model_building(const ParcelScene& s, const Segmentation& seg, const BuildingPlan& bp,
+                        const ReconstructionParams& p, const std::string& id) {
+  RoofPartitionInput rp;
+  rp.outline = bp.outline;
+  rp.components = bp.components;
+  for (int c : bp.components) {
+    rp.planes.push_back(seg.components[c].fit.plane);
+    for (int i : seg.components[c].points) {
+      rp.points.push_back(plan(s.roof_points[i]));
+      rp.labels.push_back(c);
+    }
+  }
+  rp.cell = std::max(0.05, std::min(0.15, seg.spacing));
+  EnvelopeInput ei;
+  ei.building_id = id;
+  ei.outline = bp.outline;
+  ei.roof = partition_roof(rp);
+  for (const auto& r : ei.roof) ei.fits.push_back(seg.components[r.component].fit);
+  ei.wall_points = s.wall_points;
+  ei.party_edge = find_party_edges(bp.outline, s, seg.label);
+  ei.terrain = s.terrain;
+  ei.default_overhang = p.default_overhang_m;
+  ei.storey_height = p.storey_height_m;
+  ei.spacing = seg.spacing;
+  Building b = build_building(ei);
+  measure_building(b, p.storey_height_m);
+  return b;
+}
+
+}  // namespace
+
+ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams& p) {
+  ParcelResult r;
+  r.parcel_index = s.parcel_index;
+  r.parcel_id = s.parcel_id;
+  r.roof_points = long(s.roof_points.size());
+  r.wall_points = long(s.wall_points.size());
+  StageClock clock(r.timings);
+  try {
+    if (s.roof_points.size() < size_t(p.min_component_points)) {
+      r.status = ParcelStatus::Empty;
+      r.reason = s.roof_points.empty() ? "no roof points in the parcel"
+                                       : "too few roof points for a building (" +
+                                             std::to_string(s.roof_points.size()) + ")";
+      return r;
+    }
+    Segmentation seg = segment_roofs(s.roof_points, p);
+    clock.lap("segment");
+    std::set<int> split_with = apply_ownership(s, seg, p.ownership_share);
+    for (auto& c : seg.components)
+      if (int(c.points.size()) < p.min_component_points) {
+        for (int i : c.points) seg.label[i] = -1;
+        c.points.clear();
+      } else {
+        c.fit = fit_plane_robust(s.roof_points, c.points, p.plane_inlier_m);
+      }
+    clock.lap("ownership");
+    auto plans = plan_buildings(s, seg, split_with);
+    clock.lap("boundary");
+    for (size_t k = 0; k < plans.size(); ++k) {
+      std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
+      r.buildings.push_back(model_building(s, seg, plans[k], p, id));
+    }
+    clock.lap("roof+envelope");
+    if (r.buildings.empty()) {
+      r.status = ParcelStatus::Empty;
+      r.reason = "roof points form no roof plane large enough for a building";
+      return r;
+    }
+    std::vector<Vec3> inside_roof;
+    for (const auto& q : s.roof_points)
+      if (poly::covers(s.parcel, plan(q))) inside_roof.push_back(q);
+    MultiPolygon2 near = poly::buffer(s.parcel, 2.0);
+    std::vector<Vec3> near_wall;
+    for (const auto& q : s.wall_points)
+      if (poly::covers(near, plan(q))) near_wall.push_back(q);
+    evaluate_buildings(r.buildings, inside_roof, near_wall);
+    clock.lap("evaluate");
+    r.status = ParcelStatus::Ok;
+    for (const auto& b : r.buildings)
+      if (!b.solid_valid) {
+        r.reason += (r.reason.empty() ? "" : "; ") + b.id + ": solid not valid (" +
+                    b.solid_problem + ")";
+      }
+  } catch (const std::exception& e) {
+    r.status = ParcelStatus::Failed;
+    r.reason = e.what();
+    r.buildings.clear();
+  }
+  return r;
+}
+
+}  // namespace c3d

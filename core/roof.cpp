@@ -1,0 +1,322 @@
+#include "core/roof.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/geometry.h"
+#include "core/polygon_ops.h"
+
+namespace c3d {
+namespace {
+
+double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
+  double len = 0;
+  for (const auto& l : lines)
+    for (size_t i = 1; i < l.size(); ++i) len += (l[i] - l[i - 1]).norm();
+  return len;
+}
+
+// Label grid -> one region per component (row runs united by GEOS).
+std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
+  size_t k = in.components.size();
+  std::vector<MultiPolygon2> rects(k);
+  pcl::PointCloud<pcl::PointXY>::Ptr cloud(new pcl::PointCloud<pcl::PointXY>);
+  for (const auto& p : in.points) cloud->push_back(pcl::PointXY{float(p.x()), float(p.y())});
+  pcl::KdTreeFLANN<pcl::PointXY> tree;
+  tree.setInputCloud(cloud);
+  std::map<int, int> slot;
+  for (size_t i = 0; i < k; ++i) slot[in.components[i]] = int(i);
+
+  Vec2 lo = in.outline.outer[0], hi = lo;
+  for (const auto& p : in.outline.outer) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  lo -= Vec2(in.cell, in.cell);
+  hi += Vec2(in.cell, in.cell);
+  int nx = int(std::ceil((hi.x() - lo.x()) / in.cell)), ny = int(std::ceil((hi.y() - lo.y()) / in.cell));
+  std::vector<int> nn(3);
+  std::vector<float> d2(3);
+  for (int j = 0; j < ny; ++j) {
+    double y0 = lo.y() + j * in.cell;
+    int run_label = -1, run_start = 0;
+    auto flush = [&](int end) {
+      if (run_label >= 0)
+        rects[run_label].push_back(
+            poly::box({lo.x() + run_start * in.cell, y0}, {lo.x() + end * in.cell, y0 + in.cell})[0]);
+    };
+    for (int i = 0; i <= nx; ++i) {
+      int lab = -1;
+      if (i < nx) {
+        pcl::PointXY c{float(lo.x() + (i + 0.5) * in.cell), float(y0 + 0.5 * in.cell)};
+        int found = tree.nearestKSearch(c, 3, nn, d2);
+        std::map<int, int> votes;
+        for (int q = 0; q < found; ++q) ++votes[slot[in.labels[nn[q]]]];
+        int best = found > 0 ? slot[in.labels[nn[0]]] : -1;
+        for (auto& [s, v] : votes)
+          if (v >= 2) best = s;
+        lab = best;
+      }
+      if (lab != run_label) {
+        flush(i);
+        run_label = lab;
+        run_start = i;
+      }
+    }
+  }
+  std::vector<MultiPolygon2> regions(k);
+  MultiPolygon2 outline{in.outline};
+  for (size_t i = 0; i < k; ++i)
+    regions[i] = poly::intersect(poly::unite_all({rects[i]}), outline);
+  return regions;
+}
+
+// Every piece of the outline belongs to exactly one region: small parts and
+// gaps go to the neighbour sharing the longest boundary with them.
+void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, double min_part) {
+  MultiPolygon2 orphans;
+  for (auto& r : regions) {
+    MultiPolygon2 keep;
+    for (auto& part : r) (area(part) < min_part ? orphans : keep).push_back(part);
+    r = keep;
+  }
+  MultiPolygon2 gaps = poly::subtract({outline}, poly::unite_all(regions));
+  for (auto& g : gaps) orphans.push_back(g);
+  for (const auto& o : orphans) {
+    if (area(o) < 1e-6) continue;
+    int best = -1;
+    double best_len = 0;
+    for (size_t i = 0; i < regions.size(); ++i) {
+      double len = polyline_length(poly::shared_boundary({o}, regions[i], 1e-4));
+      if (len > best_len) best_len = len, best = int(i);
+    }
+    if (best >= 0) regions[best] = poly::unite(regions[best], {o});
+  }
+}
+
+struct CutLine {
+  Vec2 point, dir;
+};
+
+// Ridge / hip / valley: where the two planes meet near their shared boundary.
+std::optional<CutLine> intersection_cut(const Plane& a, const Plane& b,
+                                        const std::vector<Vec2>& boundary) {
+  auto line = intersect(a, b, 8.0);
+  if (!line) return std::nullopt;
+  Vec2 dir = line->dir.head<2>();
+  if (dir.norm() < 0.2) return std::nullopt;
+  dir.normalize();
+  Vec2 p = line->point.head<2>();
+  Vec2 n(-dir.y(), dir.x());
+  double dist = 0, dz = 0;
+  for (const auto& v : boundary) {
+    dist += std::abs(n.dot(v - p));
+    dz += std::abs(a.z_at(v.x(), v.y()) - b.z_at(v.x(), v.y()));
+  }
+  dist /= boundary.size();
+  dz /= boundary.size();
+  if (dist > 1.2 || dz > 0.35) return std::nullopt;
+  return CutLine{p, dir};
+}
+
+// Step between roof levels: the straight line through the boundary.
+std::optional<CutLine> step_cut(const std::vector<Vec2>& boundary) {
+  if (boundary.size() < 2) return std::nullopt;
+  Vec2 c = Vec2::Zero();
+  for (const auto& v : boundary) c += v;
+  c /= boundary.size();
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& v : boundary) cov += (v - c) * (v - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  Vec2 dir = es.eigenvectors().col(1);
+  double rms = std::sqrt(std::max(es.eigenvalues()(0), 0.0) / boundary.size());
+  if (rms > 0.3) return std::nullopt;
+  return CutLine{c, dir};
+}
+
+std::vector<Vec2> flatten(const std::vector<std::vector<Vec2>>& lines) {
+  std::vector<Vec2> out;
+  for (const auto& l : lines) out.insert(out.end(), l.begin(), l.end());
+  return out;
+}
+
+Vec2 local_side_point(const RoofPartitionInput& in, int slot, const MultiPolygon2& corridor,
+                      const Vec2& fallback) {
+  Vec2 sum = Vec2::Zero();
+  int n = 0;
+  for (size_t i = 0; i < in.points.size(); ++i)
+    if (in.labels[i] == in.components[slot] && poly::covers(corridor, in.points[i]))
+      sum += in.points[i], ++n;
+  return n > 0 ? Vec2(sum / n) : fallback;
+}
+
+void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
+  auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
+  if (polyline_length(shared) < 0.4) return;
+  auto verts = flatten(shared);
+  auto cut = intersection_cut(in.planes[i], in.planes[j], verts);
+  if (!cut) cut = step_cut(verts);
+  if (!cut) return;
+  MultiPolygon2 corridor;
+  for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, 1.0));
+  MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
+  Vec2 side = local_side_point(in, i, corridor, verts.front());
+  if (std::abs(Vec2(-cut->dir.y(), cut->dir.x()).dot(side - cut->point)) < 1e-6) return;
+  MultiPolygon2 half = poly::halfplane_box(cut->point, cut->dir, side, 1e4);
+  regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, half));
+  regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, half));
+}
+
+
+// Vertices shared by regions whose planes meet are moved onto the exact
+// intersection (ridge line, or the point where three or more planes meet, least
+// squares beyond three), so neighbouring faces agree in 3D, not just in plan.
+void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& regions,
+                           const std::vector<Plane>& planes) {
+  std::vector<Ring2*> rings;
+  for (auto& r : regions)
+    for (auto& p : r) {
+      rings.push_back(&p.outer);
+      for (auto& h : p.holes) rings.push_back(&h);
+    }
+  node_rings(rings, 1e-6);
+  std::map<std::pair<double, double>, std::vector<int>> users;
+  for (size_t i = 0; i < regions.size(); ++i)
+    for (auto& p : regions[i])
+      for (auto& v : p.outer) {
+        auto& u = users[{v.x(), v.y()}];
+        if (std::find(u.begin(), u.end(), int(i)) == u.end()) u.push_back(int(i));
+      }
+  auto on_outline = [&](const Vec2& v, Vec2& a, Vec2& b) {
+    const Ring2& r = outline.outer;
+    for (size_t i = 0; i < r.size(); ++i) {
+      Vec2 p = r[i], q = r[(i + 1) % r.size()];
+      Vec2 d = q - p;
+      double t = (v - p).dot(d) / d.squaredNorm();
+      if (t >= -1e-9 && t <= 1 + 1e-9 && (p + t * d - v).norm() < 1e-5) {
+        a = p, b = q;
+        return true;
+      }
+    }
+    return false;
+  };
+  std::map<std::pair<double, double>, Vec2> moved;
+  for (auto& [key, regs] : users) {
+    if (regs.size() < 2) continue;
+    Vec2 v(key.first, key.second), ea, eb;
+    bool edge = on_outline(v, ea, eb);
+    double zmin = 1e18, zmax = -1e18;
+    std::vector<Plane> ps;
+    for (int r : regs) {
+      double z = planes[r].z_at(v.x(), v.y());
+      zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+      ps.push_back(planes[r]);
+    }
+    if (zmax - zmin > 0.3) continue;  // a step between roof levels: nothing to meet
+    Vec2 target = v;
+    if (ps.size() == 2) {
+      auto line = intersect(ps[0], ps[1], 8.0);
+      if (!line || line->dir.head<2>().norm() < 0.2) continue;
+      Vec2 p = line->point.head<2>(), d = line->dir.head<2>().normalized();
+      if (edge) {
+        Vec2 e = (eb - ea).normalized();
+        double den = d.x() * e.y() - d.y() * e.x();
+        if (std::abs(den) < 1e-6) continue;
+        Vec2 w = ea - p;
+        target = p + d * ((w.x() * e.y() - w.y() * e.x()) / den);
+      } else {
+        target = p + d * d.dot(v - p);
+      }
+    } else if (!edge) {
+      auto cp = common_point(ps);
+      if (!cp) continue;
+      target = cp->head<2>();
+    } else {
+      continue;
+    }
+    if ((target - v).norm() < 0.6) moved[key] = target;
+  }
+  for (auto* r : rings)
+    for (auto& v : *r) {
+      auto it = moved.find({v.x(), v.y()});
+      if (it != moved.end()) v = it->second;
+    }
+}
+
+}  // namespace
+
+std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
+  size_t k = in.components.size();
+  std::vector<MultiPolygon2> regions;
+  if (k == 1) {
+    regions = {{in.outline}};
+  } else {
+    regions = label_regions(in);
+    fix_coverage(in.outline, regions, 0.3);
+    // Longest shared boundaries first: they are the most reliable lines.
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (size_t i = 0; i < k; ++i)
+      for (size_t j = i + 1; j < k; ++j) {
+        double len = polyline_length(poly::shared_boundary(regions[i], regions[j], 1e-4));
+        if (len > 0.4) pairs.emplace_back(len, int(i), int(j));
+      }
+    std::sort(pairs.rbegin(), pairs.rend());
+    for (auto& [len, i, j] : pairs) cut_pair(in, regions, i, j);
+    fix_coverage(in.outline, regions, 0.3);
+    for (auto& r : regions) r = poly::simplify(r, 0.02);
+    fix_coverage(in.outline, regions, 0.05);
+    snap_to_intersections(in.outline, regions, in.planes);
+  }
+  std::vector<RoofRegion> out;
+  for (size_t i = 0; i < k; ++i) {
+    if (regions[i].empty()) continue;
+    out.push_back(RoofRegion{in.components[i], in.planes[i], regions[i]});
+  }
+  return out;
+}
+
+void node_rings(std::vector<Ring2*>& rings, double tol) {
+  // Weld: snap every vertex to the first vertex seen within tol.
+  std::vector<Vec2> seen;
+  for (auto* r : rings)
+    for (auto& v : *r) {
+      bool snapped = false;
+      for (const auto& s : seen)
+        if ((s - v).norm() < tol) {
+          v = s;
+          snapped = true;
+          break;
+        }
+      if (!snapped) seen.push_back(v);
+    }
+  // Insert T-junction vertices into the edges they lie on.
+  for (auto* r : rings) {
+    Ring2 out;
+    for (size_t i = 0; i < r->size(); ++i) {
+      Vec2 a = (*r)[i], b = (*r)[(i + 1) % r->size()];
+      out.push_back(a);
+      Vec2 ab = b - a;
+      double len2 = ab.squaredNorm();
+      if (len2 < tol * tol) continue;
+      std::vector<std::pair<double, Vec2>> inner;
+      for (const auto& s : seen) {
+        double t = (s - a).dot(ab) / len2;
+        if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+        if ((a + t * ab - s).norm() < tol) inner.emplace_back(t, s);
+      }
+      std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
+      for (auto& [t, s] : inner)
+        if ((s - out.back()).norm() >= tol && (s - b).norm() >= tol) out.push_back(s);
+    }
+    // Drop consecutive duplicates produced by welding.
+    Ring2 clean;
+    for (const auto& v : out)
+      if (clean.empty() || (v - clean.back()).norm() >= tol) clean.push_back(v);
+    while (clean.size() > 1 && (clean.front() - clean.back()).norm() < tol) clean.pop_back();
+    *r = clean;
+  }
+}
+
+}  // namespace c3d

@@ -1,0 +1,35 @@
+#pragma once
+// Stage "roof mesh" (2D part): partitions a building outline into roof
+// components. Cells are labelled by the nearest component points, then each
+// shared boundary is replaced by the projected plane-plane intersection line
+// (ridge, hip, valley) or, where the planes do not meet (a step between roof
+// levels), by the straight line fitted to the boundary.
+#include <vector>
+
+#include "core/planes.h"
+#include "core/types.h"
+
+namespace c3d {
+
+struct RoofRegion {
+  int component = 0;   // index into the segmentation's components
+  Plane plane;
+  MultiPolygon2 plan;  // 2D region, local coordinates
+};
+
+struct RoofPartitionInput {
+  Polygon2 outline;
+  std::vector<Vec2> points;   // labelled roof points of this building (plan)
+  std::vector<int> labels;    // component index per point
+  std::vector<int> components;             // component ids present
+  std::vector<Plane> planes;               // plane per entry of `components`
+  double cell = 0.1;
+};
+
+std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in);
+
+// Makes rings that share boundaries share vertices: inserts any vertex lying on
+// another ring's edge into that edge and welds vertices closer than tol.
+void node_rings(std::vector<Ring2*>& rings, double tol);
+
+}  // namespace c3d

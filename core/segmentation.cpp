@@ -1,0 +1,197 @@
+#include "core/segmentation.h"
+
+#include <pcl/features/normal_3d_omp.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/region_growing.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace c3d {
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using Tree = pcl::search::KdTree<pcl::PointXYZ>;
+
+Cloud::Ptr to_pcl(const std::vector<Vec3>& pts) {
+  Cloud::Ptr c(new Cloud);
+  c->reserve(pts.size());
+  for (const auto& p : pts) c->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  return c;
+}
+
+// Median plan distance to the nearest other point: the scan's point spacing.
+double median_spacing(const Cloud::Ptr& cloud, const Tree::Ptr& tree) {
+  std::vector<double> d;
+  pcl::Indices nn(2);
+  std::vector<float> dist(2);
+  size_t step = std::max<size_t>(1, cloud->size() / 2000);
+  for (size_t i = 0; i < cloud->size(); i += step)
+    if (tree->nearestKSearch(int(i), 2, nn, dist) == 2) d.push_back(std::sqrt(dist[1]));
+  if (d.empty()) return 0.2;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return std::max(d[d.size() / 2], 0.02);
+}
+
+pcl::Indices remove_outliers(const Cloud::Ptr& cloud, const ReconstructionParams& p) {
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+  sor.setInputCloud(cloud);
+  sor.setMeanK(p.outlier_neighbours);
+  sor.setStddevMulThresh(p.outlier_std);
+  pcl::Indices kept;
+  sor.filter(kept);
+  return kept;
+}
+
+std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl::Indices& kept, double tolerance,
+                                             int min_points) {
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(tolerance);
+  ec.setMinClusterSize(min_points);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  ec.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
+  ec.setInputCloud(cloud);
+  ec.setIndices(pcl::make_shared<pcl::Indices>(kept));
+  std::vector<pcl::PointIndices> clusters;
+  ec.extract(clusters);
+  return clusters;
+}
+
+std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
+                                               const pcl::PointCloud<pcl::Normal>::Ptr& normals,
+                                               const pcl::Indices& roof,
+                                               const ReconstructionParams& p) {
+  pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> rg;
+  rg.setMinClusterSize(std::max(5, p.min_component_points / 3));
+  rg.setMaxClusterSize(std::numeric_limits<int>::max());
+  rg.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
+  rg.setNumberOfNeighbours(16);
+  rg.setInputCloud(cloud);
+  rg.setIndices(pcl::make_shared<pcl::Indices>(roof));
+  rg.setInputNormals(normals);
+  rg.setSmoothnessThreshold(float(p.component_smoothness_deg * M_PI / 180.0));
+  rg.setCurvatureThreshold(float(p.component_curvature));
+  std::vector<pcl::PointIndices> regions;
+  rg.extract(regions);
+  return regions;
+}
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  return std::acos(std::clamp(std::abs(a.dot(b)), 0.0, 1.0)) * 180.0 / M_PI;
+}
+
+// Merges coplanar regions (over-segmentation from noise) of one roof.
+void merge_coplanar(const std::vector<Vec3>& pts, std::vector<RoofComponent>& comps,
+                    double tol) {
+  bool merged = true;
+  while (merged) {
+    merged = false;
+    for (size_t i = 0; i < comps.size() && !merged; ++i) {
+      for (size_t j = i + 1; j < comps.size() && !merged; ++j) {
+        const auto& a = comps[i].fit;
+        const auto& b = comps[j].fit;
+        if (angle_deg(a.plane.n, b.plane.n) > 6.0) continue;
+        if (std::abs(a.plane.distance(b.centroid)) > tol ||
+            std::abs(b.plane.distance(a.centroid)) > tol)
+          continue;
+        auto& dst = comps[i].points;
+        dst.insert(dst.end(), comps[j].points.begin(), comps[j].points.end());
+        comps[i].fit = fit_plane_robust(pts, dst, tol);
+        comps.erase(comps.begin() + long(j));
+        merged = true;
+      }
+    }
+  }
+}
+
+// Gives every roof point to the component whose plane fits it best among the
+// components found around it; points no plane explains stay unlabelled.
+void reassign(const std::vector<Vec3>& pts, const Cloud::Ptr& cloud, const pcl::Indices& roof,
+              std::vector<RoofComponent>& comps, std::vector<int>& label, double tol) {
+  std::vector<int> old = label;
+  Tree tree;
+  tree.setInputCloud(cloud, pcl::make_shared<pcl::Indices>(roof));
+  pcl::Indices nn;
+  std::vector<float> dist;
+  for (int i : roof) {
+    tree.nearestKSearch((*cloud)[i], 12, nn, dist);
+    int best = -1;
+    double best_d = 1e9;
+    for (int k : nn) {
+      int c = old[k];
+      if (c < 0) continue;
+      double d = std::abs(comps[c].fit.plane.distance(pts[i]));
+      if (d < best_d) best_d = d, best = c;
+    }
+    double limit = best >= 0 ? std::max(3.0 * comps[best].fit.rmse, tol) : 0;
+    label[i] = (best >= 0 && best_d <= limit) ? best : -1;
+  }
+  for (auto& c : comps) c.points.clear();
+  for (int i : roof)
+    if (label[i] >= 0) comps[label[i]].points.push_back(i);
+}
+
+double plan_extent_area(const std::vector<Vec3>& pts, const std::vector<int>& idx,
+                        double spacing) {
+  return double(idx.size()) * spacing * spacing;  // area a point stands for, roughly
+}
+
+}  // namespace
+
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
+  Segmentation seg;
+  seg.label.assign(points.size(), -1);
+  if (points.size() < 10) return seg;
+  auto cloud = to_pcl(points);
+  Tree::Ptr tree(new Tree);
+  tree->setInputCloud(cloud);
+  seg.spacing = median_spacing(cloud, tree);
+
+  pcl::Indices kept = remove_outliers(cloud, p);
+  pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(2);
+  ne.setInputCloud(cloud);
+  ne.setSearchMethod(tree);
+  ne.setKSearch(20);
+  ne.compute(*normals);
+
+  double tolerance = std::max(0.5, 4.0 * seg.spacing);
+  auto roofs = cluster_roofs(cloud, kept, tolerance, p.min_component_points);
+  for (const auto& roof : roofs) {
+    std::vector<RoofComponent> comps;
+    for (const auto& region : grow_components(cloud, normals, roof.indices, p)) {
+      RoofComponent c;
+      c.points.assign(region.indices.begin(), region.indices.end());
+      c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
+      c.roof = seg.roof_count;
+      comps.push_back(std::move(c));
+    }
+    merge_coplanar(points, comps, p.plane_inlier_m);
+    std::vector<int> local_label(points.size(), -1);
+    for (size_t c = 0; c < comps.size(); ++c)
+      for (int i : comps[c].points) local_label[i] = int(c);
+    for (int round = 0; round < 2; ++round) {
+      reassign(points, cloud, roof.indices, comps, local_label, p.plane_inlier_m);
+      for (auto& c : comps)
+        if (c.points.size() >= 3) c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
+    }
+    int kept_here = 0;
+    for (auto& c : comps) {
+      bool big = int(c.points.size()) >= p.min_component_points &&
+                 plan_extent_area(points, c.points, seg.spacing) >= p.min_component_area_m2;
+      if (!big) continue;
+      int id = int(seg.components.size());
+      for (int i : c.points) seg.label[i] = id;
+      seg.components.push_back(std::move(c));
+      ++kept_here;
+    }
+    if (kept_here > 0) ++seg.roof_count;
+  }
+  return seg;
+}
+
+}  // namespace c3d

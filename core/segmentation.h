@@ -1,0 +1,28 @@
+#pragma once
+// Stage "segment": individual roofs (connected roof point clusters) and, within
+// each roof, planar roof components (PCL region growing), cleaned so clutter
+// (antennas, tanks, vegetation) does not become roof planes.
+#include <vector>
+
+#include "core/config.h"
+#include "core/planes.h"
+#include "core/types.h"
+
+namespace c3d {
+
+struct RoofComponent {
+  std::vector<int> points;  // indices into the segmented point list
+  PlaneFit fit;
+  int roof = 0;             // individual roof it belongs to
+};
+
+struct Segmentation {
+  std::vector<RoofComponent> components;
+  int roof_count = 0;
+  std::vector<int> label;   // per point: component index or -1 (outlier / clutter)
+  double spacing = 0.2;     // median nearest-neighbour distance in plan, m
+};
+
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p);
+
+}  // namespace c3d

@@ -1,0 +1,215 @@
+// CityGML 2.0 writer: Building (BuildingPart per roof level) with thematic boundary
+// surfaces in lod2MultiSurface and a lod2Solid whose shell points at those polygons
+// by xlink:href (solid faces that no element face matches are written inline).
+#include <cctype>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/geometry.h"
+#include "ifc_citygml/detail.h"
+#include "ifc_citygml/export.h"
+
+namespace c3d {
+namespace {
+
+using exp::fixed;
+using exp::xml_escape;
+
+// gml:id must be an NCName.
+std::string ncname(const std::string& s) {
+  std::string out = "c3d_";
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.') ? c : '_';
+  return out;
+}
+
+class GmlWriter {
+ public:
+  GmlWriter(std::ostream& os, const BatchModel& m) : os_(os), m_(m) {}
+
+  void run() {
+    header();
+    for (const auto& r : m_.results)
+      for (const auto& b : r.buildings) building(r, b);
+    os_ << "</core:CityModel>\n";
+  }
+
+ private:
+  std::ostream& os_;
+  const BatchModel& m_;
+
+  std::string srs() const {
+    return m_.epsg > 0 ? " srsName=\"urn:ogc:def:crs:EPSG::" + std::to_string(m_.epsg) + "\"" : "";
+  }
+
+  void pos_list(const Ring3& ring) {
+    os_ << "<gml:posList srsDimension=\"3\">";
+    for (size_t i = 0; i <= ring.size(); ++i) {  // GML rings repeat the first point
+      Vec3 w = m_.frame.to_world(ring[i % ring.size()]);
+      os_ << (i ? " " : "") << fixed(w.x(), 3) << ' ' << fixed(w.y(), 3) << ' ' << fixed(w.z(), 3);
+    }
+    os_ << "</gml:posList>";
+  }
+
+  void polygon(const Face& f, const std::string& id) {
+    os_ << "<gml:Polygon gml:id=\"" << id << "\"><gml:exterior><gml:LinearRing>";
+    pos_list(f.ring);
+    os_ << "</gml:LinearRing></gml:exterior>";
+    for (size_t k = 0; k < f.holes.size(); ++k) {
+      os_ << "<gml:interior><gml:LinearRing>";
+      pos_list(exp::hole_oriented(f, k));
+      os_ << "</gml:LinearRing></gml:interior>";
+    }
+    os_ << "</gml:Polygon>\n";
+  }
+
+  void str_attr(const char* name, const std::string& v) {
+    os_ << "<gen:stringAttribute name=\"" << name << "\"><gen:value>" << xml_escape(v)
+        << "</gen:value></gen:stringAttribute>\n";
+  }
+  void dbl_attr(const char* name, double v, int decimals) {
+    os_ << "<gen:doubleAttribute name=\"" << name << "\"><gen:value>" << fixed(v, decimals)
+        << "</gen:value></gen:doubleAttribute>\n";
+  }
+  void int_attr(const char* name, long v) {
+    os_ << "<gen:intAttribute name=\"" << name << "\"><gen:value>" << v
+        << "</gen:value></gen:intAttribute>\n";
+  }
+
+  void header() {
+    os_ << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+           "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/2.0\""
+           " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
+           " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
+           " xmlns:gml=\"http://www.opengis.net/gml\""
+           " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n"
+           "<gml:name>Cadastre3D LoD2 buildings</gml:name>\n";
+    envelope();
+  }
+
+  void envelope() {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (const auto& r : m_.results)
+      for (const auto& b : r.buildings)
+        for (const auto& e : b.elements)
+          for (const auto& f : e.faces)
+            for (const auto& p : f.ring) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+    if (lo.x() > hi.x()) return;
+    lo = m_.frame.to_world(lo);
+    hi = m_.frame.to_world(hi);
+    os_ << "<gml:boundedBy><gml:Envelope" << srs() << " srsDimension=\"3\"><gml:lowerCorner>"
+        << fixed(lo.x(), 3) << ' ' << fixed(lo.y(), 3) << ' ' << fixed(lo.z(), 3)
+        << "</gml:lowerCorner><gml:upperCorner>" << fixed(hi.x(), 3) << ' ' << fixed(hi.y(), 3)
+        << ' ' << fixed(hi.z(), 3) << "</gml:upperCorner></gml:Envelope></gml:boundedBy>\n";
+  }
+
+  void parcel_reference(const ParcelResult& r) {
+    os_ << "<core:externalReference><core:informationSystem>urn:cadastre3d:la_spatialunit"
+           "</core:informationSystem><core:externalObject><core:name>"
+        << xml_escape(r.parcel_id) << "</core:name></core:externalObject></core:externalReference>\n";
+  }
+
+  void building_attributes(const ParcelResult& r, const Building& b) {
+    const Parcel* p = exp::parcel_of(m_, r);
+    str_attr("parcelId", r.parcel_id);
+    str_attr("rightType", p ? p->right_type : "");
+    BuildingTotals t = totals(b);
+    dbl_attr("roofArea", t.roof, 3);
+    dbl_attr("roofAreaSigma", t.sigma_roof, 3);
+    dbl_attr("wallArea", t.wall, 3);
+    dbl_attr("wallAreaSigma", t.sigma_wall, 3);
+    dbl_attr("partyWallArea", t.party_wall, 3);
+    dbl_attr("partyWallAreaSigma", t.sigma_party_wall, 3);
+    dbl_attr("groundArea", t.ground, 3);
+    dbl_attr("groundAreaSigma", t.sigma_ground, 3);
+    dbl_attr("outerCeilingArea", t.outer_ceiling, 3);
+    dbl_attr("outerCeilingAreaSigma", t.sigma_outer_ceiling, 3);
+    dbl_attr("volume", b.volume, 3);
+    dbl_attr("eaveHeight", b.eave_height, 3);
+    str_attr("solidValid", b.solid_valid ? "true" : "false");
+  }
+
+  void boundary_surface(const Building& b, size_t e) {
+    const Element& el = b.elements[e];
+    const std::string id = ncname(b.id) + "_e" + std::to_string(e);
+    const char* tag = exp::citygml_surface(el.type);
+    os_ << "<bldg:boundedBy><bldg:" << tag << " gml:id=\"" << id << "\">\n";
+    str_attr("elementType", to_string(el.type));
+    str_attr("isPartyWall", el.type == ElementType::PartyWall ? "true" : "false");
+    dbl_attr("area", el.area, 4);
+    dbl_attr("areaSigma", el.sigma_area, 4);
+    dbl_attr("planArea", el.plan_area, 4);
+    dbl_attr("slope", el.slope_deg, 2);
+    dbl_attr("azimuth", el.azimuth_deg, 2);
+    int_attr("supportPoints", el.support_points);
+    dbl_attr("rmse", el.rmse, 4);
+    str_attr("wallEvidence", to_string(el.evidence));
+    os_ << "<bldg:lod2MultiSurface><gml:MultiSurface>\n";
+    for (size_t k = 0; k < el.faces.size(); ++k) {
+      os_ << "<gml:surfaceMember>";
+      polygon(el.faces[k], id + "_f" + std::to_string(k));
+      os_ << "</gml:surfaceMember>\n";
+    }
+    os_ << "</gml:MultiSurface></bldg:lod2MultiSurface>\n</bldg:" << tag << "></bldg:boundedBy>\n";
+  }
+
+  void solid(const Building& b) {
+    if (b.solid.empty()) return;
+    os_ << "<bldg:lod2Solid><gml:Solid gml:id=\"" << ncname(b.id) << "_solid\"><gml:exterior>"
+           "<gml:CompositeSurface>\n";
+    for (size_t j = 0; j < b.solid.size(); ++j) {
+      auto m = exp::matching_element_face(b, b.solid[j]);
+      if (m[0] >= 0) {
+        os_ << "<gml:surfaceMember xlink:href=\"#" << ncname(b.id) << "_e" << m[0] << "_f" << m[1]
+            << "\"/>\n";
+      } else {
+        os_ << "<gml:surfaceMember>";
+        polygon(b.solid[j], ncname(b.id) + "_s" + std::to_string(j));
+        os_ << "</gml:surfaceMember>\n";
+      }
+    }
+    os_ << "</gml:CompositeSurface></gml:exterior></gml:Solid></bldg:lod2Solid>\n";
+  }
+
+  void heights(const Building& b) {
+    os_ << "<bldg:measuredHeight uom=\"m\">" << fixed(b.ridge_height, 3)
+        << "</bldg:measuredHeight>\n<bldg:storeysAboveGround>" << std::max(b.storeys, 0)
+        << "</bldg:storeysAboveGround>\n";
+  }
+
+  void building(const ParcelResult& r, const Building& b) {
+    int levels = 1;
+    std::vector<int> lv = exp::element_levels(b, &levels);
+    os_ << "<core:cityObjectMember><bldg:Building gml:id=\"" << ncname(b.id) << "\">\n"
+        << "<gml:name>" << xml_escape(b.id) << "</gml:name>\n";
+    parcel_reference(r);
+    building_attributes(r, b);
+    heights(b);
+    solid(b);
+    if (levels == 1) {
+      for (size_t e = 0; e < b.elements.size(); ++e) boundary_surface(b, e);
+    } else {
+      for (int l = 0; l < levels; ++l) {
+        os_ << "<bldg:consistsOfBuildingPart><bldg:BuildingPart gml:id=\"" << ncname(b.id)
+            << "_part" << l << "\">\n<gml:name>" << xml_escape(b.id) << " level " << l
+            << "</gml:name>\n";
+        str_attr("roofLevel", std::to_string(l));
+        for (size_t e = 0; e < b.elements.size(); ++e)
+          if (lv[e] == l) boundary_surface(b, e);
+        os_ << "</bldg:BuildingPart></bldg:consistsOfBuildingPart>\n";
+      }
+    }
+    os_ << "</bldg:Building></core:cityObjectMember>\n";
+  }
+};
+
+}  // namespace
+
+void write_citygml(const BatchModel& model, const std::string& path) {
+  std::ofstream os(path, std::ios::binary);
+  if (!os) throw std::runtime_error(path + ": cannot open for writing");
+  GmlWriter(os, model).run();
+  if (!os) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace c3d

@@ -1,0 +1,43 @@
+#pragma once
+// Exports of a BatchModel for 3D-city and BIM handoff, and the CityJSON read-back.
+//
+// Conventions shared by every format (see also DESIGN.md, "Elements"):
+//  - coordinates: CityGML/CityJSON carry world coordinates (local + frame.origin,
+//    millimetre resolution); IFC, OBJ and STEP carry coordinates local to
+//    frame.origin (IFC georeferences them with IfcMapConversion + IfcProjectedCRS).
+//  - party walls are real walls, so CityGML/CityJSON write them as WallSurface with
+//    the attribute isPartyWall = true (ClosureSurface is reserved for virtual
+//    surfaces); IFC writes IfcWall .USERDEFINED. with ObjectType 'PartyWall'.
+//  - a building whose roof elements have clearly distinct eave heights (> 1 m apart)
+//    becomes one BuildingPart per roof level; the closed solid stays on the Building.
+//  - identifiers are derived from building ids and element positions only, so a rerun
+//    writes identical ids (IFC GlobalIds included).
+// Every writer throws std::runtime_error when the file cannot be written.
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+void write_citygml(const BatchModel& model, const std::string& path);
+void write_cityjson(const BatchModel& model, const std::string& path);
+void write_ifc(const BatchModel& model, const std::string& path);
+// One <parcel id>.obj per parcel with buildings (groups per element); returns the files.
+std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir);
+// One <building id>.step per building solid (OpenCASCADE B-rep); returns the files.
+std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir);
+
+// Writes the named formats ("gml", "cityjson", "ifc", "obj", "step") into dir as
+// buildings.gml, buildings.city.json, buildings.ifc, obj/, step/; returns the paths.
+// Throws std::invalid_argument on an unknown format name.
+std::vector<std::string> export_formats(const BatchModel& model, const std::string& dir,
+                                        const std::vector<std::string>& formats);
+
+// Reads a CityJSON file written by write_cityjson (or any CityJSON 2.0 file with
+// Building / BuildingPart objects and lod-2 geometry) back into a BatchModel:
+// elements from the MultiSurface semantic surfaces, the solid from the Solid.
+// Throws c3d::InputError on malformed files and out-of-range vertex indices.
+BatchModel read_cityjson(const std::string& path);
+
+}  // namespace c3d

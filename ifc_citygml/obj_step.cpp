@@ -1,0 +1,137 @@
+// OBJ per parcel (one group per element, triangulated, local coordinates) and a
+// STEP B-rep solid per building through OpenCASCADE (faces sewn into a shell).
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepLib.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Pnt.hxx>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "core/geometry.h"
+#include "ifc_citygml/detail.h"
+#include "ifc_citygml/export.h"
+
+namespace fs = std::filesystem;
+
+namespace c3d {
+namespace {
+
+std::string file_safe(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_') ? c : '_';
+  return out.empty() ? "unnamed" : out;
+}
+
+void write_obj(const BatchModel& m, const ParcelResult& r, const std::string& path) {
+  std::ofstream os(path, std::ios::binary);
+  if (!os) throw std::runtime_error(path + ": cannot open for writing");
+  const Vec3& o = m.frame.origin;
+  os << "# Cadastre3D parcel " << r.parcel_id << "\n# coordinates local: world = local + ("
+     << exp::fixed(o.x(), 3) << ", " << exp::fixed(o.y(), 3) << ", " << exp::fixed(o.z(), 3)
+     << ")" << (m.epsg > 0 ? ", EPSG:" + std::to_string(m.epsg) : std::string()) << "\n";
+  long base = 1;  // OBJ indices are 1-based and file-global
+  for (const auto& b : r.buildings) {
+    os << "o " << file_safe(b.id) << "\n";
+    for (size_t e = 0; e < b.elements.size(); ++e) {
+      const Element& el = b.elements[e];
+      os << "g " << file_safe(b.id) << "_" << to_string(el.type) << "_" << e << "\n";
+      for (const auto& f : el.faces) {
+        exp::Triangles t = exp::triangulate(f);
+        for (const auto& p : t.points)
+          os << "v " << exp::fixed(p.x(), 4) << ' ' << exp::fixed(p.y(), 4) << ' '
+             << exp::fixed(p.z(), 4) << "\n";
+        for (const auto& tr : t.tris)
+          os << "f " << base + tr[0] << ' ' << base + tr[1] << ' ' << base + tr[2] << "\n";
+        base += long(t.points.size());
+      }
+    }
+  }
+  if (!os) throw std::runtime_error(path + ": write failed");
+}
+
+TopoDS_Wire occ_wire(const Ring3& ring) {
+  BRepBuilderAPI_MakePolygon poly;
+  for (const auto& p : ring) poly.Add(gp_Pnt(p.x(), p.y(), p.z()));
+  poly.Close();
+  if (!poly.IsDone()) throw std::runtime_error("degenerate ring");
+  return poly.Wire();
+}
+
+// Sewn closed solid of the building's shell faces; throws when it cannot be made.
+TopoDS_Shape occ_solid(const Building& b) {
+  BRepBuilderAPI_Sewing sew(1e-3);
+  for (const auto& f : b.solid) {
+    BRepBuilderAPI_MakeFace mk(occ_wire(f.ring), /*OnlyPlane=*/true);
+    for (size_t k = 0; k < f.holes.size() && mk.IsDone(); ++k) {
+      TopoDS_Wire w = occ_wire(exp::hole_oriented(f, k));
+      mk.Add(w);
+    }
+    if (!mk.IsDone()) throw std::runtime_error("face not planar");
+    sew.Add(mk.Face());
+  }
+  sew.Perform();
+  TopoDS_Shape sewn = sew.SewedShape();
+  TopExp_Explorer ex(sewn, TopAbs_SHELL);
+  if (!ex.More()) throw std::runtime_error("faces do not sew into a shell");
+  BRepBuilderAPI_MakeSolid ms(TopoDS::Shell(ex.Current()));
+  if (!ms.IsDone()) throw std::runtime_error("shell does not make a solid");
+  TopoDS_Solid solid = ms.Solid();
+  BRepLib::OrientClosedSolid(solid);  // outward normals, whatever sewing chose
+  return solid;
+}
+
+}  // namespace
+
+std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir) {
+  fs::create_directories(dir);
+  std::vector<std::string> files;
+  for (const auto& r : model.results) {
+    if (r.buildings.empty()) continue;
+    std::string path = (fs::path(dir) / (file_safe(r.parcel_id) + ".obj")).string();
+    write_obj(model, r, path);
+    files.push_back(path);
+  }
+  return files;
+}
+
+std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir) {
+  fs::create_directories(dir);
+  std::vector<std::string> files;
+  Interface_Static::SetCVal("write.step.unit", "M");
+  Interface_Static::SetCVal("write.step.schema", "AP214IS");
+  for (const auto& r : model.results) {
+    for (const auto& b : r.buildings) {
+      if (b.solid.empty()) continue;
+      TopoDS_Shape solid;
+      try {
+        solid = occ_solid(b);
+      } catch (const std::exception& e) {
+        throw std::runtime_error("building " + b.id + ": " + e.what());
+      }
+      STEPControl_Writer writer;
+      if (writer.Transfer(solid, STEPControl_AsIs) != IFSelect_RetDone)
+        throw std::runtime_error("building " + b.id + ": STEP transfer failed");
+      std::string path = (fs::path(dir) / (file_safe(b.id) + ".step")).string();
+      if (writer.Write(path.c_str()) != IFSelect_RetDone)
+        throw std::runtime_error(path + ": cannot write");
+      files.push_back(path);
+    }
+  }
+  return files;
+}
+
+}  // namespace c3d

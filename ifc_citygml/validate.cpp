@@ -1,0 +1,333 @@
+// Solid and polygon validation after ISO 19107 as val3dity applies it: rings
+// (101-104), polygons (203, 204), then the shell (301-307). Vertices closer than
+// snap_tol are one vertex, as in val3dity.
+#include "ifc_citygml/validate.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "core/geometry.h"
+#include "ifc_citygml/detail.h"
+
+namespace c3d {
+
+const char* val3dity_name(int code) {
+  switch (code) {
+    case 101: return "TOO_FEW_POINTS";
+    case 102: return "CONSECUTIVE_POINTS_SAME";
+    case 104: return "RING_SELF_INTERSECTION";
+    case 203: return "NON_PLANAR_POLYGON_DISTANCE_PLANE";
+    case 204: return "NON_PLANAR_POLYGON_NORMALS_DEVIATION";
+    case 301: return "TOO_FEW_POLYGONS";
+    case 302: return "SHELL_NOT_CLOSED";
+    case 303: return "NON_MANIFOLD_CASE";
+    case 305: return "MULTIPLE_CONNECTED_COMPONENTS";
+    case 306: return "SHELL_SELF_INTERSECTION";
+    case 307: return "POLYGON_WRONG_ORIENTATION";
+  }
+  return "UNKNOWN";
+}
+
+std::string to_string(const ValidationIssue& i) {
+  std::ostringstream os;
+  os << i.building_id << ": " << i.code << ' ' << val3dity_name(i.code) << " at " << i.where;
+  if (!i.message.empty()) os << ": " << i.message;
+  return os.str();
+}
+
+namespace {
+
+using Ids = std::vector<int>;
+
+// Vertices snapped to a grid of snap_tol: equal ids mean "same vertex".
+class Snap {
+ public:
+  explicit Snap(double tol) : tol_(tol) {}
+  int id(const Vec3& p) {
+    std::array<long long, 3> k{std::llround(p.x() / tol_), std::llround(p.y() / tol_),
+                               std::llround(p.z() / tol_)};
+    auto [it, fresh] = map_.try_emplace(k, int(points.size()));
+    if (fresh) points.push_back(p);
+    return it->second;
+  }
+  std::vector<Vec3> points;
+
+ private:
+  double tol_;
+  std::map<std::array<long long, 3>, int> map_;
+};
+
+struct Checker {
+  const Building& b;
+  const ValidationOptions& opt;
+  std::vector<ValidationIssue> issues;
+
+  void report(int code, const std::string& where, const std::string& msg) {
+    issues.push_back({b.id, code, where, msg});
+  }
+
+  static bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
+      double v = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+      return v > 1e-12 ? 1 : v < -1e-12 ? -1 : 0;
+    };
+    auto on = [](const Vec2& p, const Vec2& q, const Vec2& r) {  // r on segment pq
+      return std::min(p.x(), q.x()) - 1e-12 <= r.x() && r.x() <= std::max(p.x(), q.x()) + 1e-12 &&
+             std::min(p.y(), q.y()) - 1e-12 <= r.y() && r.y() <= std::max(p.y(), q.y()) + 1e-12;
+    };
+    int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+    if (o1 != o2 && o3 != o4) return true;
+    return (o1 == 0 && on(a, b, c)) || (o2 == 0 && on(a, b, d)) || (o3 == 0 && on(c, d, a)) ||
+           (o4 == 0 && on(c, d, b));
+  }
+
+  // Ring rules; returns the ring's snapped ids without consecutive repeats.
+  Ids ring(const Ring3& r, const Vec3& normal, Snap& snap, const std::string& where) {
+    Ids ids;
+    bool repeated = false;
+    for (const auto& p : r) {
+      int i = snap.id(p);
+      if (!ids.empty() && ids.back() == i) { repeated = true; continue; }
+      ids.push_back(i);
+    }
+    if (ids.size() > 1 && ids.front() == ids.back()) { ids.pop_back(); repeated = true; }
+    if (repeated) report(kConsecutivePointsSame, where, "consecutive duplicate vertices");
+    if (ids.size() < 3) {
+      report(kTooFewPoints, where, std::to_string(ids.size()) + " distinct vertices");
+      return ids;
+    }
+    Ids sorted = ids;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+      report(kRingSelfIntersection, where, "ring passes twice through one vertex");
+      return ids;
+    }
+    Ring3 clean;
+    for (int i : ids) clean.push_back(snap.points[i]);
+    if (area(clean) < 1e-6) {
+      report(kRingSelfIntersection, where, "zero-area (collapsed) ring");
+      return ids;
+    }
+    int drop = 0;  // project on the plane where the normal is largest
+    normal.cwiseAbs().maxCoeff(&drop);
+    std::vector<Vec2> q;
+    for (const auto& p : clean) q.emplace_back(p[(drop + 1) % 3], p[(drop + 2) % 3]);
+    const size_t n = q.size();
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 2; j < n; ++j) {
+        if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
+        if (segments_touch(q[i], q[(i + 1) % n], q[j], q[(j + 1) % n])) {
+          report(kRingSelfIntersection, where,
+                 "edges " + std::to_string(i) + " and " + std::to_string(j) + " intersect");
+          return ids;
+        }
+      }
+    return ids;
+  }
+
+  // Polygon rules: rings, then planarity (distance to the least-squares plane, then
+  // the normals of its triangles). Returns false when the polygon is unusable.
+  bool polygon(const Face& f, Snap& snap, const std::string& where, std::vector<Ids>* rings) {
+    const Vec3 n = unit_normal(f);
+    size_t before = issues.size();
+    rings->push_back(ring(f.ring, n, snap, where));
+    for (size_t k = 0; k < f.holes.size(); ++k)
+      rings->push_back(ring(f.holes[k], n, snap, where + " hole " + std::to_string(k)));
+    if (issues.size() != before) return false;
+    std::vector<Vec3> pts(f.ring.begin(), f.ring.end());
+    for (const auto& h : f.holes) pts.insert(pts.end(), h.begin(), h.end());
+    Vec3 c = Vec3::Zero();
+    for (const auto& p : pts) c += p;
+    c /= double(pts.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+    Vec3 pn = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+    double worst = 0;
+    for (const auto& p : pts) worst = std::max(worst, std::abs((p - c).dot(pn)));
+    if (worst > opt.planarity_tol) {
+      report(kNonPlanarDistancePlane, where,
+             "vertex " + exp::fixed(worst * 100, 1) + " cm from the fitted plane");
+      return false;
+    }
+    exp::Triangles t = exp::triangulate(f);
+    const double cos_tol = std::cos(opt.normals_tol_deg * M_PI / 180);
+    for (const auto& tr : t.tris) {
+      Vec3 tn = (t.points[tr[1]] - t.points[tr[0]]).cross(t.points[tr[2]] - t.points[tr[0]]);
+      if (tn.norm() < 1e-12) continue;
+      if (tn.normalized().dot(n) < cos_tol) {
+        report(kNonPlanarNormalsDeviation, where, "triangle normal deviates from the polygon's");
+        return false;
+      }
+    }
+    return true;
+  }
+
+  void elements() {
+    for (size_t e = 0; e < b.elements.size(); ++e)
+      for (size_t k = 0; k < b.elements[e].faces.size(); ++k) {
+        Snap snap(opt.snap_tol);
+        std::vector<Ids> rings;
+        polygon(b.elements[e].faces[k], snap,
+                "element " + std::to_string(e) + " (" + to_string(b.elements[e].type) + ") face " +
+                    std::to_string(k),
+                &rings);
+      }
+  }
+
+  struct Use { int face; bool forward; };
+
+  void shell() {
+    if (b.solid.size() < 4) {
+      report(kTooFewPolygons, "solid", std::to_string(b.solid.size()) + " faces");
+      return;
+    }
+    Snap snap(opt.snap_tol);
+    std::vector<std::vector<Ids>> faces(b.solid.size());
+    bool polygons_ok = true;
+    for (size_t f = 0; f < b.solid.size(); ++f)
+      polygons_ok &= polygon(b.solid[f], snap, "solid face " + std::to_string(f), &faces[f]);
+    if (!polygons_ok) return;  // val3dity stops at the first level with errors
+
+    std::map<std::pair<int, int>, std::vector<Use>> edges;
+    for (size_t f = 0; f < faces.size(); ++f)
+      for (const auto& r : faces[f])
+        for (size_t i = 0; i < r.size(); ++i) {
+          int a = r[i], c = r[(i + 1) % r.size()];
+          edges[{std::min(a, c), std::max(a, c)}].push_back({int(f), a < c});
+        }
+    if (!edge_rules(edges)) return;
+    if (!vertex_rules(faces, snap.points.size())) return;
+    if (components(faces, edges) > 1) {
+      report(kMultipleConnectedComponents, "solid", "shell falls apart into several pieces");
+      return;
+    }
+    if (signed_volume() <= 0) {
+      report(kPolygonWrongOrientation, "solid", "all faces point inward (negative volume)");
+      return;
+    }
+    self_intersection(faces, snap);
+  }
+
+  bool edge_rules(const std::map<std::pair<int, int>, std::vector<Use>>& edges) {
+    int open = 0, nonmanifold = 0;
+    std::vector<int> flipped;
+    for (const auto& [e, uses] : edges) {
+      if (uses.size() == 1) ++open;
+      else if (uses.size() > 2) ++nonmanifold;
+      else if (uses[0].forward == uses[1].forward)
+        flipped.push_back(uses[0].face), flipped.push_back(uses[1].face);
+    }
+    if (open) report(kShellNotClosed, "solid", std::to_string(open) + " edges used by one face only");
+    if (nonmanifold)
+      report(kNonManifoldCase, "solid", std::to_string(nonmanifold) + " edges used by more than two faces");
+    if (!open && !nonmanifold && !flipped.empty()) {
+      // The face that disagrees with most of its neighbours is the flipped one.
+      std::map<int, int> votes;
+      for (int f : flipped) ++votes[f];
+      auto worst = std::max_element(votes.begin(), votes.end(),
+                                    [](auto& x, auto& y) { return x.second < y.second; });
+      report(kPolygonWrongOrientation, "solid face " + std::to_string(worst->first),
+             "face orientation disagrees with its neighbours");
+    }
+    return !open && !nonmanifold && flipped.empty();
+  }
+
+  // Around each vertex the faces must form one fan (no "two cones touching at a tip").
+  bool vertex_rules(const std::vector<std::vector<Ids>>& faces, size_t nverts) {
+    std::vector<std::map<int, int>> next(nverts);  // at vertex v: prev -> next neighbour
+    for (const auto& f : faces)
+      for (const auto& r : f)
+        for (size_t i = 0; i < r.size(); ++i)
+          next[r[i]][r[(i + r.size() - 1) % r.size()]] = r[(i + 1) % r.size()];
+    for (size_t v = 0; v < nverts; ++v) {
+      if (next[v].empty()) continue;
+      int start = next[v].begin()->first, cur = start;
+      size_t steps = 0;
+      do {
+        auto it = next[v].find(cur);
+        if (it == next[v].end()) break;
+        cur = it->second;
+        ++steps;
+      } while (cur != start && steps <= next[v].size());
+      if (steps != next[v].size()) {
+        report(kNonManifoldCase, "solid", "faces around a vertex do not form one fan");
+        return false;
+      }
+    }
+    return true;
+  }
+
+  int components(const std::vector<std::vector<Ids>>& faces,
+                 const std::map<std::pair<int, int>, std::vector<Use>>& edges) {
+    std::vector<int> parent(faces.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    std::function<int(int)> root = [&](int x) { return parent[x] == x ? x : parent[x] = root(parent[x]); };
+    for (const auto& [e, uses] : edges)
+      for (const auto& u : uses) parent[root(u.face)] = root(uses[0].face);
+    int n = 0;
+    for (size_t f = 0; f < faces.size(); ++f) n += root(int(f)) == int(f);
+    return n;
+  }
+
+  double signed_volume() const {
+    double v = 0;
+    for (const auto& f : b.solid) {
+      v += f.ring.front().dot(newell_normal(f.ring)) / 6;
+      for (const auto& h : f.holes) {
+        Vec3 hn = newell_normal(h);
+        if (hn.dot(newell_normal(f.ring)) > 0) hn = -hn;  // holes count negative
+        v += h.front().dot(hn) / 6;
+      }
+    }
+    return v;
+  }
+
+  void self_intersection(const std::vector<std::vector<Ids>>& faces, Snap& snap) {
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    using Mesh = CGAL::Surface_mesh<K::Point_3>;
+    Mesh mesh;
+    std::vector<Mesh::Vertex_index> vi;
+    for (const auto& p : snap.points) vi.push_back(mesh.add_vertex(K::Point_3(p.x(), p.y(), p.z())));
+    for (size_t f = 0; f < b.solid.size(); ++f) {
+      exp::Triangles t = exp::triangulate(b.solid[f]);
+      Ids flat;
+      for (const auto& r : faces[f]) flat.insert(flat.end(), r.begin(), r.end());
+      if (t.points.size() != flat.size()) return;  // ring had repeats: skip this test
+      for (const auto& tr : t.tris)
+        if (mesh.add_face(vi[flat[tr[0]]], vi[flat[tr[1]]], vi[flat[tr[2]]]) == Mesh::null_face())
+          return;
+    }
+    if (CGAL::Polygon_mesh_processing::does_self_intersect(mesh))
+      report(kShellSelfIntersection, "solid", "faces of the shell intersect");
+  }
+};
+
+}  // namespace
+
+std::vector<ValidationIssue> validate_building(const Building& b, const ValidationOptions& opt) {
+  Checker c{b, opt, {}};
+  c.elements();
+  c.shell();
+  return c.issues;
+}
+
+std::vector<ValidationIssue> validate_model(const BatchModel& model, const ValidationOptions& opt) {
+  std::vector<ValidationIssue> all;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings) {
+      auto v = validate_building(b, opt);
+      all.insert(all.end(), v.begin(), v.end());
+    }
+  return all;
+}
+
+}  // namespace c3d

@@ -1,0 +1,103 @@
+// CRS identification, comparison, reprojection and reconciliation of inputs.
+#include <gtest/gtest.h>
+
+#include "core/crs.h"
+#include "core/error.h"
+
+namespace c3d {
+namespace {
+
+// What the Cimahi LAS carries: ESRI-flavoured WKT without an authority code.
+const char* kEsriUtm48S =
+    "PROJCS[\"WGS_1984_UTM_Zone_48S\",GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\","
+    "SPHEROID[\"WGS_1984\",6378137.0,298.257223563]],PRIMEM[\"Greenwich\",0.0],"
+    "UNIT[\"Degree\",0.0174532925199433]],PROJECTION[\"Transverse_Mercator\"],"
+    "PARAMETER[\"False_Easting\",500000.0],PARAMETER[\"False_Northing\",10000000.0],"
+    "PARAMETER[\"Central_Meridian\",105.0],PARAMETER[\"Scale_Factor\",0.9996],"
+    "PARAMETER[\"Latitude_Of_Origin\",0.0],UNIT[\"Meter\",1.0]]";
+
+TEST(Crs, EpsgOfOgcEsriAndEmpty) {
+  EXPECT_EQ(epsg_of(wkt_from_epsg(32748)), 32748);
+  EXPECT_EQ(epsg_of(kEsriUtm48S), 32748);
+  EXPECT_EQ(epsg_of(wkt_from_epsg(4326)), 4326);
+  EXPECT_EQ(epsg_of(""), 0);
+  EXPECT_EQ(epsg_of("LOCAL_CS[\"site grid\",UNIT[\"metre\",1]]"), 0);
+}
+
+TEST(Crs, SameCrsIgnoresDialect) {
+  EXPECT_TRUE(same_crs(wkt_from_epsg(32748), kEsriUtm48S));
+  EXPECT_FALSE(same_crs(wkt_from_epsg(32748), wkt_from_epsg(32749)));
+  EXPECT_FALSE(same_crs(wkt_from_epsg(32748), ""));
+  EXPECT_TRUE(same_crs("", ""));
+}
+
+TEST(Crs, DisplayName) {
+  EXPECT_EQ(crs_display_name(wkt_from_epsg(32748)), "WGS 84 / UTM zone 48S (EPSG:32748)");
+  EXPECT_EQ(crs_display_name(""), "(none)");
+}
+
+TEST(Crs, ReprojectUsesEastingNorthingOrderAndRoundTrips) {
+  const std::string utm = wkt_from_epsg(32748), wgs84 = wkt_from_epsg(4326);
+  std::vector<Vec3> pts = {{781850.0, 9240000.0, 790.0}, {781900.5, 9240050.25, 785.0}};
+  std::vector<Vec3> geo = pts;
+  reproject_points(geo, utm, wgs84, "test");
+  // Cimahi: longitude ~107.5 E first, latitude ~6.9 S second (traditional GIS order).
+  EXPECT_NEAR(geo[0].x(), 107.55, 0.1);
+  EXPECT_NEAR(geo[0].y(), -6.87, 0.1);
+  reproject_points(geo, wgs84, utm, "test");
+  for (size_t i = 0; i < pts.size(); ++i) EXPECT_LT((geo[i] - pts[i]).head<2>().norm(), 1e-6);
+
+  MultiPolygon2 shape = {{{{781850, 9240000}, {781860, 9240000}, {781860, 9240010}}, {}}};
+  MultiPolygon2 g = reproject(shape, utm, wgs84, "parcels.shp");
+  ASSERT_EQ(g.size(), 1u);
+  EXPECT_NEAR(g[0].outer[1].x() - g[0].outer[0].x(), 10.0 / 110000.0, 1e-5);  // ~10 m in degrees
+}
+
+TEST(Crs, ReconcileAssumesReprojectsAndRejects) {
+  ParcelLayer parcels;
+  parcels.source = "parcels.gpkg";
+  parcels.crs_wkt = wkt_from_epsg(32748);
+  PointCloud none, other, same;
+  none.source = "none.ply";
+  none.points = {{781850, 9240000, 790}};
+  other.source = "geo.las";
+  other.crs_wkt = wkt_from_epsg(4326);
+  other.points = {{107.55, -6.87, 790}};
+  same.source = "same.las";
+  same.crs_wkt = kEsriUtm48S;
+  same.points = {{781850, 9240000, 790}};
+  std::vector<PointCloud> clouds = {none, other, same};
+  CrsReconciliation r = reconcile_crs(parcels, clouds);
+  ASSERT_EQ(r.warnings.size(), 2u);
+  EXPECT_NE(r.warnings[0].find("none.ply: no CRS; assumed"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("geo.las: reprojected"), std::string::npos) << r.warnings[1];
+  EXPECT_EQ(clouds[0].points[0], none.points[0]);
+  EXPECT_GT(clouds[1].points[0].x(), 700000);  // now UTM metres
+  EXPECT_GT(clouds[1].points[0].y(), 9000000);
+  EXPECT_EQ(clouds[2].points[0], same.points[0]);  // same CRS, other dialect: untouched
+  for (const PointCloud& c : clouds) EXPECT_TRUE(same_crs(c.crs_wkt, parcels.crs_wkt));
+}
+
+TEST(Crs, ReconcileImpossibleReprojectionNamesFileAndBothCrs) {
+  ParcelLayer parcels;
+  parcels.source = "parcels.shp";
+  parcels.crs_wkt = wkt_from_epsg(32748);
+  PointCloud local;
+  local.source = "site_grid.las";
+  local.crs_wkt = "LOCAL_CS[\"site grid\",UNIT[\"metre\",1]]";
+  local.points = {{10, 20, 30}};
+  std::vector<PointCloud> clouds = {local};
+  try {
+    reconcile_crs(parcels, clouds);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("site_grid.las"), std::string::npos) << m;
+    EXPECT_NE(m.find("site grid"), std::string::npos) << m;
+    EXPECT_NE(m.find("EPSG:32748"), std::string::npos) << m;
+    EXPECT_NE(m.find("cannot reproject"), std::string::npos) << m;
+  }
+}
+
+}  // namespace
+}  // namespace c3d

@@ -1,0 +1,272 @@
+// Point-to-model deviation, pooling, mesh IO and the evaluate command.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/evaluate.h"
+#include "core/geometry.h"
+#include "core/mesh_io.h"
+#include "core/point_io.h"
+#include "tests/test_support.h"
+
+using namespace c3d;
+
+namespace {
+
+Face quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) { return {{a, b, c, d}, {}}; }
+
+// Axis-aligned box [lo, hi], faces outward.
+std::vector<Face> box(const Vec3& lo, const Vec3& hi) {
+  const double x0 = lo.x(), y0 = lo.y(), z0 = lo.z(), x1 = hi.x(), y1 = hi.y(), z1 = hi.z();
+  return {quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),
+          quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}),
+          quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),
+          quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
+          quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
+          quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
+}
+
+// Offsets of the test points from the plane, and their exact statistics.
+const std::vector<double> kOffsets{0.1, -0.2, 0.3, 0.4, -0.5};
+constexpr double kMean = 0.3, kMeanSq = 0.11;
+
+void expect_offsets_stats(const Deviation& d) {
+  EXPECT_EQ(d.n, 5);
+  EXPECT_NEAR(d.mean, kMean, 1e-9);
+  EXPECT_NEAR(d.std, std::sqrt(kMeanSq - kMean * kMean), 1e-9);
+  EXPECT_NEAR(d.rmse, std::sqrt(kMeanSq), 1e-9);
+  EXPECT_NEAR(d.max, 0.5, 1e-9);
+}
+
+}  // namespace
+
+TEST(Deviation, PointsAtKnownDistancesFromAPlane) {
+  const Vec3 o(512345.0, 9241234.0, 712.0);  // UTM-sized: the index works locally
+  std::vector<Face> plane{quad(o + Vec3(-10, -10, 0), o + Vec3(10, -10, 0), o + Vec3(10, 10, 0),
+                               o + Vec3(-10, 10, 0))};
+  std::vector<Vec3> pts;
+  for (size_t i = 0; i < kOffsets.size(); ++i) pts.push_back(o + Vec3(-8 + 3.5 * double(i), 2 - double(i), kOffsets[i]));
+  expect_offsets_stats(deviation_to_faces(pts, plane));
+  expect_offsets_stats(deviation_to_faces(pts, plane, /*vertical=*/true));
+  // A point beyond the plane's plan has no vertical distance but a 3D one.
+  pts.push_back(o + Vec3(13, 0, 4));
+  EXPECT_EQ(deviation_to_faces(pts, plane, true).n, 5);
+  Deviation d3 = deviation_to_faces(pts, plane);
+  EXPECT_EQ(d3.n, 6);
+  EXPECT_NEAR(d3.max, 5, 1e-9);
+}
+
+TEST(Deviation, DistancesToABox) {
+  const auto faces = box({0, 0, 0}, {2, 2, 2});
+  FaceIndex index(faces);
+  EXPECT_NEAR(index.nearest(Vec3(3, 1, 1)).distance, 1, 1e-12);
+  EXPECT_NEAR(index.nearest(Vec3(3, 3, 1)).distance, std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(index.nearest(Vec3(3, 3, 3)).distance, std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(index.nearest(Vec3(1, 1, 0.5)).distance, 0.5, 1e-12);  // inside
+  EXPECT_TRUE(index.nearest(Vec3(3, 1, 1)).point.isApprox(Vec3(2, 1, 1)));
+  // Vertical: nearest crossing in z (top or bottom), walls ignored.
+  EXPECT_NEAR(index.vertical(Vec3(1, 1, 2.3)).distance, 0.3, 1e-12);
+  EXPECT_NEAR(index.vertical(Vec3(1, 1, 0.4)).distance, 0.4, 1e-12);
+  EXPECT_TRUE(std::isnan(index.vertical(Vec3(5, 1, 1)).distance));
+}
+
+TEST(Deviation, PoolingEqualsTheUnion) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.2, 0.3);
+  std::vector<std::vector<double>> parts(4);
+  std::vector<double> all;
+  for (size_t k = 0; k < parts.size(); ++k)
+    for (int i = 0; i < 100 * int(k + 1); ++i) {
+      double v = g(rng) * (k + 1);
+      parts[k].push_back(v);
+      all.push_back(v);
+    }
+  std::vector<Deviation> devs;
+  for (const auto& p : parts) devs.push_back(deviation(p));
+  devs.push_back({});  // an empty part changes nothing
+  const Deviation pooled = pool(devs), direct = deviation(all);
+  EXPECT_EQ(pooled.n, direct.n);
+  EXPECT_NEAR(pooled.mean, direct.mean, 1e-12);
+  EXPECT_NEAR(pooled.std, direct.std, 1e-12);
+  EXPECT_NEAR(pooled.rmse, direct.rmse, 1e-12);
+  EXPECT_EQ(pooled.max, direct.max);
+  EXPECT_EQ(pool({}).n, 0);
+}
+
+TEST(Deviation, EvaluateBuildingsAssignsPointsToTheNearestBuilding) {
+  std::vector<Building> bs(2);
+  for (int k = 0; k < 2; ++k) {
+    auto faces = box({20.0 * k, 0, 0}, {20.0 * k + 10, 10, 5});
+    bs[k].elements.push_back({ElementType::Roof, {faces[1]}});
+    bs[k].elements.push_back({ElementType::Wall, {faces[2], faces[3], faces[4], faces[5]}});
+  }
+  std::vector<Vec3> roof{{5, 5, 5.2}, {2, 3, 4.9}, {25, 5, 5.1}}, wall{{-0.3, 5, 2}, {30.4, 5, 1}};
+  evaluate_buildings(bs, roof, wall);
+  EXPECT_EQ(bs[0].roof_deviation.n, 2);
+  EXPECT_NEAR(bs[0].roof_deviation.mean, 0.15, 1e-12);
+  EXPECT_EQ(bs[1].roof_deviation.n, 1);
+  EXPECT_NEAR(bs[1].roof_deviation.max, 0.1, 1e-12);
+  EXPECT_EQ(bs[0].wall_deviation.n, 1);
+  EXPECT_NEAR(bs[0].wall_deviation.rmse, 0.3, 1e-12);
+  EXPECT_NEAR(bs[1].wall_deviation.rmse, 0.4, 1e-12);
+}
+
+TEST(Deviation, QuerySpeed) {
+  // A 40 x 40 grid of small houses (10 k triangles), 1 M points near the roofs.
+  std::vector<Face> faces;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      auto b = box({15.0 * i, 15.0 * j, 0}, {15.0 * i + 10, 15.0 * j + 10, 3 + 0.1 * j});
+      faces.insert(faces.end(), b.begin(), b.end());
+    }
+  // Points as LiDAR gives them: on the roofs, 0.3 m noise.
+  std::mt19937 rng(1);
+  std::uniform_int_distribution<int> house(0, 39);
+  std::uniform_real_distribution<double> u(0, 10);
+  std::normal_distribution<double> noise(0, 0.3);
+  std::vector<Vec3> pts(1000000);
+  for (auto& p : pts) {
+    const int i = house(rng), j = house(rng);
+    p = Vec3(15.0 * i + u(rng), 15.0 * j + u(rng), 3 + 0.1 * j + noise(rng));
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  FaceIndex index(faces);
+  auto t1 = std::chrono::steady_clock::now();
+  auto near = index.nearest(pts);
+  auto t2 = std::chrono::steady_clock::now();
+  auto vert = index.vertical(pts);
+  auto t3 = std::chrono::steady_clock::now();
+  auto s = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+  std::printf("index %.3f s; 1M nearest %.3f s (%.2f M/s); 1M vertical %.3f s (%.2f M/s)\n",
+              s(t0, t1), s(t1, t2), 1 / s(t1, t2), s(t2, t3), 1 / s(t2, t3));
+  EXPECT_EQ(near.size(), pts.size());
+  EXPECT_LT(s(t1, t2), 30.0);  // generous: shared CI machines
+}
+
+TEST(MeshIo, ObjRoundTripKeepsGroupsAndCoordinates) {
+  const std::string dir = test::temp_dir("mesh_io");
+  const Vec3 o(512345.25, 9241234.5, 700);
+  auto b = box(o, o + Vec3(10, 8, 3));
+  Face holed{{o, o + Vec3(4, 0, 0), o + Vec3(4, 4, 0), o + Vec3(0, 4, 0)},
+             {{o + Vec3(1, 1, 0), o + Vec3(1, 2, 0), o + Vec3(2, 2, 0), o + Vec3(2, 1, 0)}}};
+  std::vector<MeshGroup> groups{{"p1_b1_roof", "roof", {b[1]}},
+                                {"p1_b1_wall", "wall", {b[2], b[3], b[4], b[5]}},
+                                {"p1_b1_ground", "", {b[0]}},
+                                {"holed", "", {holed}}};
+  const std::string path = dir + "/m.obj";
+  write_obj(path, groups, o);
+  auto back = read_mesh_groups(path);
+  ASSERT_EQ(back.size(), 4u);
+  EXPECT_EQ(back[0].name, "p1_b1_roof");
+  EXPECT_EQ(back[0].material, "roof");
+  EXPECT_EQ(back[1].faces.size(), 4u);
+  for (size_t g = 0; g < 3; ++g)
+    for (size_t f = 0; f < groups[g].faces.size(); ++f)
+      for (size_t k = 0; k < 4; ++k)  // written relative to o: read back local
+        EXPECT_NEAR((back[g].faces[f].ring[k] + o - groups[g].faces[f].ring[k]).norm(), 0, 1e-6);
+  double a = 0;
+  for (const auto& f : back[3].faces) a += plan_area(f);
+  EXPECT_NEAR(a, 15, 1e-9);  // the hole was written as triangles
+}
+
+TEST(MeshIo, PlyAsciiAndBinary) {
+  const std::string dir = test::temp_dir("mesh_io_ply");
+  {
+    std::ofstream a(dir + "/a.ply");
+    a << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+         "property double z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+         "500000.5 9000000.25 10\n500001.5 9000000.25 10\n500001.5 9000001.25 10\n500000.5 9000001.25 10\n"
+         "3 0 1 2\n3 0 2 3\n";
+  }
+  {
+    std::ofstream b(dir + "/b.ply", std::ios::binary);
+    b << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nproperty uchar red\nelement face 1\nproperty list uchar uint vertex_indices\n"
+         "end_header\n";
+    const float v[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    for (auto& p : v) {
+      b.write(reinterpret_cast<const char*>(p), sizeof p);
+      b.put(char(255));
+    }
+    b.put(3);
+    const unsigned idx[3] = {0, 1, 2};
+    b.write(reinterpret_cast<const char*>(idx), sizeof idx);
+  }
+  auto a = read_mesh_faces(dir + "/a.ply");
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].ring[1], Vec3(500001.5, 9000000.25, 10));
+  auto b = read_mesh_faces(dir + "/b.ply");
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_EQ(b[0].ring[2], Vec3(0, 1, 0));
+  EXPECT_THROW(read_mesh_groups(dir + "/missing.obj"), std::runtime_error);
+}
+
+TEST(EvaluateCli, PooledAndPerParcelDeviation) {
+  const std::string dir = test::temp_dir("evaluate_cli");
+  const Vec3 o(512300.0, 9241200.0, 700.0);
+  auto b = box(o, o + Vec3(10, 8, 3));
+  write_obj(dir + "/model.obj", {{"P1_b1_roof", "", {b[1]}}, {"P1_b1_wall", "", {b[2], b[3], b[4], b[5]}},
+                                 {"P1_b1_ground", "", {b[0]}}});
+  PointCloud cloud;
+  for (size_t i = 0; i < kOffsets.size(); ++i) {
+    cloud.points.push_back(o + Vec3(1 + 1.5 * double(i), 2 + double(i), 3 + kOffsets[i]));
+    cloud.classes.push_back(6);
+  }
+  cloud.points.push_back(o + Vec3(-0.2, 4, 1.5));  // 0.2 m off the west wall
+  cloud.points.push_back(o + Vec3(5, 8.2, 1));      // 0.2 m off the north wall
+  cloud.classes.insert(cloud.classes.end(), {64, 64});
+  cloud.points.push_back(o + Vec3(25, 4, 3));  // a roof point in parcel P2, which has no model
+  cloud.classes.push_back(6);
+  write_las(dir + "/cloud.las", cloud);
+  {
+    std::ofstream g(dir + "/parcels.geojson");
+    auto ring = [&](double x0, double x1) {
+      std::ostringstream s;
+      s.precision(12);
+      s << "[[[" << o.x() + x0 << "," << o.y() - 1 << "],[" << o.x() + x1 << "," << o.y() - 1 << "],["
+        << o.x() + x1 << "," << o.y() + 9 << "],[" << o.x() + x0 << "," << o.y() + 9 << "],[" << o.x() + x0
+        << "," << o.y() - 1 << "]]]";
+      return s.str();
+    };
+    g << R"({"type":"FeatureCollection","features":[)"
+      << R"({"type":"Feature","properties":{"NIB":"P1"},"geometry":{"type":"Polygon","coordinates":)"
+      << ring(-1, 11) << "}},"
+      << R"({"type":"Feature","properties":{"NIB":"P2"},"geometry":{"type":"Polygon","coordinates":)"
+      << ring(20, 30) << "}}]}";
+  }
+  std::string out;
+  ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --json " + dir +
+                              "/all.json",
+                          &out),
+            0)
+      << out;
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/all.json"));
+  EXPECT_EQ(j["pooled"]["roof"]["n"], 6);  // without parcels the P2 point counts too
+  EXPECT_NEAR(j["pooled"]["wall"]["rmse"].get<double>(), 0.2, 1e-6);
+
+  ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --parcels " + dir +
+                              "/parcels.geojson --id-field NIB --json " + dir + "/parcels.json",
+                          &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("pooled"), std::string::npos) << out;
+  j = nlohmann::json::parse(std::ifstream(dir + "/parcels.json"));
+  const auto& p1 = j["parcels"][0];
+  EXPECT_EQ(p1["id"], "P1");
+  EXPECT_EQ(p1["roof"]["n"], 5);
+  EXPECT_NEAR(p1["roof"]["mean"].get<double>(), kMean, 1e-6);
+  EXPECT_NEAR(p1["roof"]["rmse"].get<double>(), std::sqrt(kMeanSq), 1e-6);
+  EXPECT_NEAR(p1["roof_vertical"]["rmse"].get<double>(), std::sqrt(kMeanSq), 1e-6);
+  EXPECT_EQ(p1["wall"]["n"], 2);
+  EXPECT_EQ(j["parcels"][1]["unmodelled_roof_points"], 1);
+  EXPECT_EQ(j["pooled"]["roof"]["n"], 5);
+
+  EXPECT_NE(test::run_cli("evaluate --mesh " + dir + "/missing.obj --cloud " + dir + "/cloud.las", &out), 0);
+  EXPECT_NE(out.find("missing.obj"), std::string::npos) << out;
+}

@@ -1,0 +1,187 @@
+// IFC4 export: read back by two independent readers where installed (IFC++ — strict on
+// attribute counts and references — and npm web-ifc — geometry and quantities),
+// GlobalIds valid, unique and reproducible, quantities equal the model's areas.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+
+#include "ifc_citygml/export.h"
+#include "tests/export_fixtures.h"
+#include "tests/test_support.h"
+
+#ifdef C3D_HAVE_IFCPP
+#include <ifcpp/IFC4/include/IfcAreaMeasure.h>
+#include <ifcpp/IFC4/include/IfcElement.h>
+#include <ifcpp/IFC4/include/IfcElementQuantity.h>
+#include <ifcpp/IFC4/include/IfcIdentifier.h>
+#include <ifcpp/IFC4/include/IfcLabel.h>
+#include <ifcpp/IFC4/include/IfcQuantityArea.h>
+#include <ifcpp/IFC4/include/IfcRelDefinesByProperties.h>
+#include <ifcpp/model/BuildingModel.h>
+#include <ifcpp/reader/ReaderSTEP.h>
+#endif
+
+using namespace c3d;
+namespace fx = c3d::fixture;
+
+namespace {
+
+class Ifc : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = test::temp_dir("export_ifc");
+    path = dir + "/buildings.ifc";
+    write_ifc(model, path);
+    text = fx::read_text(path);
+  }
+  // Element tag "<building>/e<k>" -> reported area.
+  std::map<std::string, double> expected_areas() const {
+    std::map<std::string, double> a;
+    for (const auto& r : model.results)
+      for (const auto& b : r.buildings)
+        for (size_t e = 0; e < b.elements.size(); ++e)
+          a[b.id + "/e" + std::to_string(e)] = b.elements[e].area;
+    return a;
+  }
+  BatchModel model = fx::sample_batch();
+  std::string dir, path, text;
+};
+
+#ifdef C3D_HAVE_IFCPP
+struct IfcppRead {
+  int problems = 0;
+  std::string messages;
+  size_t entities = 0;
+  std::map<std::string, double> gross;  // tag -> GrossArea / GrossSideArea
+};
+
+void on_message(void* target, shared_ptr<StatusCallback::Message> m) {
+  auto* r = static_cast<IfcppRead*>(target);
+  if (m->m_message_type == StatusCallback::MESSAGE_TYPE_WARNING ||
+      m->m_message_type == StatusCallback::MESSAGE_TYPE_ERROR) {
+    ++r->problems;
+    r->messages += std::string(m->m_message_text.begin(), m->m_message_text.end()) + "\n";
+  }
+}
+
+std::string narrow(const std::wstring& w) { return std::string(w.begin(), w.end()); }
+
+IfcppRead read_with_ifcpp(std::string content) {
+  IfcppRead out;
+  auto model = std::make_shared<BuildingModel>();
+  ReaderSTEP reader;
+  reader.setMessageCallBack(&out, &on_message);
+  model->setMessageCallBack(&out, &on_message);
+  reader.loadModelFromString(content, model);
+  out.entities = model->getMapIfcEntities().size();
+  for (const auto& [id, e] : model->getMapIfcEntities()) {
+    auto rel = std::dynamic_pointer_cast<IfcRelDefinesByProperties>(e);
+    if (!rel) continue;
+    auto qto = std::dynamic_pointer_cast<IfcElementQuantity>(rel->m_RelatingPropertyDefinition);
+    if (!qto) continue;
+    for (const auto& obj : rel->m_RelatedObjects) {
+      auto el = std::dynamic_pointer_cast<IfcElement>(obj);
+      if (!el || !el->m_Tag) continue;
+      for (const auto& q : qto->m_Quantities) {
+        auto qa = std::dynamic_pointer_cast<IfcQuantityArea>(q);
+        if (!qa || !qa->m_Name || !qa->m_AreaValue) continue;
+        std::string name = narrow(qa->m_Name->m_value);
+        if (name == "GrossArea" || name == "GrossSideArea")
+          out.gross[narrow(el->m_Tag->m_value)] = qa->m_AreaValue->m_value;
+      }
+    }
+  }
+  return out;
+}
+#endif
+
+}  // namespace
+
+TEST_F(Ifc, HeaderAndGeoreference) {
+  EXPECT_EQ(text.rfind("ISO-10303-21;\nHEADER;", 0), 0u);
+  EXPECT_NE(text.find("FILE_SCHEMA(('IFC4'));"), std::string::npos);
+  EXPECT_NE(text.find("IFCPROJECTEDCRS('EPSG:32748'"), std::string::npos);
+  EXPECT_NE(text.find(",789012.,9237654.,700.,1.,0.,1.)"), std::string::npos);
+  EXPECT_NE(text.find("IFCSIUNIT(*,.AREAUNIT.,$,.SQUARE_METRE.)"), std::string::npos);
+  EXPECT_NE(text.find(".USERDEFINED.)"), std::string::npos);  // party walls
+  EXPECT_NE(text.find(".CEILING.)"), std::string::npos);
+}
+
+TEST_F(Ifc, GlobalIdsValidUniqueReproducible) {
+  std::regex gid_re("^#\\d+=IFC\\w+\\('([^']*)'");
+  std::set<std::string> ids;
+  size_t n = 0;
+  std::istringstream is(text);
+  for (std::string line; std::getline(is, line);) {
+    std::smatch m;
+    if (!std::regex_search(line, m, gid_re) || line.find("IFCPROPERTYSINGLEVALUE") != std::string::npos ||
+        line.find("IFCQUANTITY") != std::string::npos || line.find("IFCPROJECTEDCRS") != std::string::npos ||
+        line.find("IFCGEOMETRICREPRESENTATION") != std::string::npos || line.find("IFCPERSON") != std::string::npos)
+      continue;
+    const std::string g = m[1];
+    ++n;
+    ASSERT_EQ(g.size(), 22u) << line;
+    ASSERT_TRUE(g[0] >= '0' && g[0] <= '3') << line;
+    ASSERT_EQ(g.find_first_not_of("0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_$"),
+              std::string::npos) << line;
+    ids.insert(g);
+  }
+  EXPECT_GT(n, 50u);
+  EXPECT_EQ(ids.size(), n);
+  write_ifc(model, dir + "/again.ifc");
+  std::string again = fx::read_text(dir + "/again.ifc");
+  auto data = [](const std::string& s) { return s.substr(s.find("DATA;")); };
+  EXPECT_EQ(data(again), data(text));
+}
+
+#ifdef C3D_HAVE_IFCPP
+TEST_F(Ifc, IfcPlusPlusReadsItStrictly) {
+  IfcppRead r = read_with_ifcpp(text);
+  EXPECT_EQ(r.problems, 0) << r.messages;
+  EXPECT_GT(r.entities, 100u);
+  auto expected = expected_areas();
+  ASSERT_EQ(r.gross.size(), expected.size());
+  for (const auto& [tag, a] : expected) EXPECT_NEAR(r.gross[tag], a, 0.01) << tag;
+}
+
+TEST_F(Ifc, IfcPlusPlusCatchesBrokenFiles) {
+  std::string bad = text;  // IfcWall with one attribute missing
+  size_t p = bad.find("IFCWALL(");
+  ASSERT_NE(p, std::string::npos);
+  size_t end = bad.find(".SOLIDWALL.)", p);
+  bad.replace(bad.rfind(',', end), end + 11 - bad.rfind(',', end), "");
+  IfcppRead r = read_with_ifcpp(bad);
+  EXPECT_GT(r.problems, 0) << "wrong attribute count not reported";
+  bad = text;  // dangling reference
+  p = bad.find("IFCRELCONTAINEDINSPATIALSTRUCTURE(");
+  size_t hash = bad.find(",#", p);
+  bad.replace(hash + 2, 0, "99999");
+  IfcppRead r2 = read_with_ifcpp(bad);
+  EXPECT_GT(r2.problems, 0) << "dangling reference not reported";
+}
+#else
+TEST_F(Ifc, IfcPlusPlusReadsItStrictly) { GTEST_SKIP() << "libifcplusplus-dev not found at configure time"; }
+#endif
+
+TEST_F(Ifc, WebIfcMeshesAndQuantities) {
+  if (fx::js_dir().empty()) GTEST_SKIP() << "tests/js/node_modules (npm install) or node missing";
+  std::string out;
+  ASSERT_EQ(fx::sh("node " + fx::js_dir() + "/ifc_check.js " + path + " 2>/dev/null", &out), 0) << out;
+  auto doc = nlohmann::json::parse(out.substr(out.find('{')));
+  auto expected = expected_areas();
+  ASSERT_EQ(doc["elements"].size(), expected.size());
+  for (const auto& e : doc["elements"]) {
+    std::string tag = e["tag"];
+    EXPECT_EQ(e["meshes"], 1) << tag;
+    EXPECT_GT(e["triangles"].get<int>(), 0) << tag;
+    EXPECT_NEAR(e["mesh_area"].get<double>(), expected[tag], 0.01) << tag;
+  }
+  std::map<std::string, double> gross;
+  for (const auto& q : doc["quantities"])
+    if (q["name"] == "GrossArea" || q["name"] == "GrossSideArea") gross[q["tag"]] = q["value"];
+  ASSERT_EQ(gross.size(), expected.size());
+  for (const auto& [tag, a] : expected) EXPECT_NEAR(gross[tag], a, 0.01) << tag;
+}

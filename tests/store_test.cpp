@@ -1,0 +1,319 @@
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "cadastre/gpkg_geometry.h"
+#include "cadastre/sha256.h"
+#include "cadastre/store.h"
+#include "core/config.h"
+#include "core/error.h"
+#include "tests/store_fixtures.h"
+#include "tests/test_support.h"
+#include "valuation/valuation.h"
+
+using namespace c3d;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kValidator = "/usr/lib/python3/dist-packages/osgeo_utils/samples/validate_gpkg.py";
+
+void write_batch(Store& s, const BatchModel& m, const std::string& key = "k1") {
+  Config c = default_config();
+  for (size_t i = 0; i < m.parcels.size(); ++i)
+    s.write_parcel(m.parcels[i], m.results[i], value_parcel(m.parcels[i], m.results[i], c.valuation),
+                   m.frame, key);
+}
+
+std::string make_store(const std::string& name, const BatchModel& m) {
+  std::string path = test::temp_dir(name) + "/cadastre.gpkg";
+  Store s;
+  s.open(path, "", m.epsg);
+  s.begin_run("{\"test\":true}", {}, m.frame);
+  write_batch(s, m);
+  s.end_run();
+  return path;
+}
+
+struct Sqlite {
+  sqlite3* db = nullptr;
+  explicit Sqlite(const std::string& path) {
+    sqlite3_open(path.c_str(), &db);
+    sqlite3_exec(db, "PRAGMA foreign_keys=ON", nullptr, nullptr, nullptr);
+  }
+  ~Sqlite() { sqlite3_close(db); }
+  std::vector<std::vector<std::string>> rows(const std::string& sql) const {
+    std::vector<std::vector<std::string>> out;
+    sqlite3_stmt* s = nullptr;
+    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) return out;
+    while (sqlite3_step(s) == SQLITE_ROW) {
+      std::vector<std::string> r;
+      for (int i = 0; i < sqlite3_column_count(s); ++i) {
+        auto t = sqlite3_column_text(s, i);
+        r.push_back(t ? reinterpret_cast<const char*>(t) : "NULL");
+      }
+      out.push_back(r);
+    }
+    sqlite3_finalize(s);
+    return out;
+  }
+  std::string one(const std::string& sql) const {
+    auto r = rows(sql);
+    return r.empty() || r[0].empty() ? "" : r[0][0];
+  }
+  bool exec(const std::string& sql) const {
+    return sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr) == SQLITE_OK;
+  }
+};
+
+// Every table's content without surrogate keys and timestamps, sorted: equal
+// dumps mean equal rows however often a parcel was rewritten.
+std::multiset<std::string> content(const Sqlite& db) {
+  static const std::set<std::string> skip = {
+      "fid", "baunit_id", "party_id", "spatialunit_id", "building_fid", "valuationunit_id",
+      "valuation_id", "element_fid", "run_id", "updated", "valued", "last_change"};
+  std::multiset<std::string> out;
+  for (const auto& t : db.rows("SELECT name FROM sqlite_master WHERE type='table'")) {
+    std::string cols;
+    for (const auto& c : db.rows("SELECT name FROM pragma_table_info('" + t[0] + "')"))
+      if (!skip.count(c[0])) cols += (cols.empty() ? "" : ",") + std::string("quote(") + c[0] + ")";
+    if (t[0] == "run" || t[0] == "run_input" || cols.empty()) continue;
+    for (const auto& r : db.rows("SELECT " + cols + " FROM " + t[0])) {
+      std::string line = t[0];
+      for (const auto& v : r) line += "|" + v;
+      out.insert(line);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Sha256, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex(std::string(1000, 'a')),
+            "41edece42d63e8d9bf515a9ba6932e1c20cbc9f5a5d134645adb5db1b9737ea3");
+}
+
+TEST(GpkgGeometry, FacesRoundTripWithHeader) {
+  Building b = test::gable_house("b", Vec3(1, 2, 3));
+  Vec3 off(781000, 9240000, 700);
+  Blob blob = gpkg_faces_blob(b.elements[0].faces, off, 32748);
+  ASSERT_GE(blob.size(), 8u + 48u);
+  EXPECT_EQ(blob[0], 'G');
+  EXPECT_EQ(blob[3], (2 << 1) | 1);  // xyz envelope, little endian
+  auto back = gpkg_read_faces(blob.data(), blob.size(), off);
+  ASSERT_EQ(back.size(), 1u);
+  ASSERT_EQ(back[0].ring.size(), 4u);
+  EXPECT_NEAR((back[0].ring[2] - b.elements[0].faces[0].ring[2]).norm(), 0, 1e-6);
+}
+
+TEST(Store, WritesReadsBackAndKeepsAreas) {
+  BatchModel m = test::sample_batch();
+  std::string path = make_store("store_roundtrip", m);
+  BatchModel back = load_batch_model(path);
+  EXPECT_EQ(back.epsg, 32748);
+  EXPECT_FALSE(back.crs_wkt.empty());  // looked up through GDAL
+  ASSERT_EQ(back.parcels.size(), 3u);
+  EXPECT_EQ(back.parcels[0].id, m.parcels[0].id);
+  EXPECT_EQ(back.parcels[1].right_type, "Hak Guna Bangunan");
+  EXPECT_DOUBLE_EQ(back.parcels[0].official_area, 250.0);
+  EXPECT_TRUE(std::isnan(back.parcels[1].official_area));
+  EXPECT_NEAR(area(back.parcels[2].shape), 256.0, 1e-6);
+  EXPECT_EQ(back.results[0].status, ParcelStatus::Ok);
+  EXPECT_EQ(back.results[1].status, ParcelStatus::Empty);
+  EXPECT_EQ(back.results[2].status, ParcelStatus::Failed);
+  EXPECT_EQ(back.results[2].reason, m.results[2].reason);
+  ASSERT_EQ(back.results[0].timings.size(), 2u);
+
+  ASSERT_EQ(back.results[0].buildings.size(), 1u);
+  const Building& a = m.results[0].buildings[0];
+  const Building& b = back.results[0].buildings[0];
+  EXPECT_EQ(b.id, a.id);
+  EXPECT_EQ(b.solid.size(), a.solid.size());
+  EXPECT_NEAR(b.terrain_z, a.terrain_z, 1e-9);
+  EXPECT_EQ(b.roof_deviation.n, 1600);
+  ASSERT_EQ(b.elements.size(), a.elements.size());
+  for (size_t i = 0; i < a.elements.size(); ++i) {
+    EXPECT_EQ(b.elements[i].type, a.elements[i].type);
+    EXPECT_DOUBLE_EQ(b.elements[i].area, a.elements[i].area);
+    EXPECT_DOUBLE_EQ(b.elements[i].sigma_area, a.elements[i].sigma_area);
+    EXPECT_EQ(b.elements[i].support_points, a.elements[i].support_points);
+    EXPECT_EQ(b.elements[i].evidence, a.elements[i].evidence);
+    double geometric = 0;
+    for (const Face& f : b.elements[i].faces) geometric += area(f);
+    double expected = 0;
+    for (const Face& f : a.elements[i].faces) expected += area(f);
+    EXPECT_NEAR(geometric, expected, 1e-6);  // world round trip keeps the geometry
+  }
+  auto vals = load_valuations(path);
+  ASSERT_EQ(vals.size(), 3u);
+  auto direct = value_parcel(m.parcels[0], m.results[0], default_config().valuation);
+  EXPECT_DOUBLE_EQ(vals[0].njop, direct.njop);
+  EXPECT_DOUBLE_EQ(vals[0].tax, direct.tax);
+  ASSERT_EQ(vals[0].items.size(), direct.items.size());
+  EXPECT_EQ(vals[0].items[0].support_points, 800);
+  EXPECT_EQ(vals[1].items.size(), 0u);
+  EXPECT_GT(vals[1].land_value, 0);
+}
+
+TEST(Store, GeoPackageTablesHeaderAndForeignKeys) {
+  std::string path = make_store("store_tables", test::sample_batch());
+  Sqlite db(path);
+  EXPECT_EQ(db.one("PRAGMA application_id"), "1196444487");  // 'GPKG'
+  EXPECT_EQ(db.one("PRAGMA user_version"), "10300");
+  EXPECT_EQ(db.one("PRAGMA journal_mode"), "wal");
+  for (const char* t : {"gpkg_spatial_ref_sys", "gpkg_contents", "gpkg_geometry_columns", "la_party",
+                        "la_baunit", "la_rrr", "la_spatialunit", "building", "building_element",
+                        "vm_valuationunit", "vm_valuation", "vm_cost_item", "run", "run_input",
+                        "parcel_job"})
+    EXPECT_EQ(db.one(std::string("SELECT count(*) FROM sqlite_master WHERE name='") + t + "'"), "1") << t;
+  EXPECT_EQ(db.one("SELECT count(*) FROM la_spatialunit"), "3");
+  EXPECT_EQ(db.one("SELECT count(*) FROM building_element"), "8");
+  EXPECT_EQ(db.one("SELECT z FROM gpkg_geometry_columns WHERE table_name='building_element'"), "1");
+  EXPECT_EQ(db.one("SELECT srs_id FROM gpkg_geometry_columns WHERE table_name='building'"), "32748");
+  EXPECT_EQ(db.one("SELECT rrr_type FROM la_rrr ORDER BY fid LIMIT 1"), "Hak Milik");
+  EXPECT_EQ(db.one("SELECT status FROM parcel_job WHERE reason LIKE 'roof segmentation%'"), "failed");
+  EXPECT_NE(db.one("SELECT min_x FROM gpkg_contents WHERE table_name='building'"), "NULL");
+  EXPECT_EQ(db.one("SELECT count(*) FROM pragma_foreign_key_check"), "0");
+  // Declared and enforced: an element of a building that does not exist is refused.
+  EXPECT_FALSE(db.exec("INSERT INTO building_element (building_fid, element_index, element_type) "
+                       "VALUES (999999, 0, 'roof')"));
+  EXPECT_FALSE(db.exec("INSERT INTO building_element (building_fid, element_index, element_type) "
+                       "SELECT fid, 99, 'chimney' FROM building LIMIT 1"));  // CHECK on type
+  // Deleting a parcel's basic administrative unit takes every row of it along.
+  EXPECT_TRUE(db.exec("DELETE FROM la_baunit WHERE parcel_id='32.73.01'"));
+  EXPECT_EQ(db.one("SELECT count(*) FROM building_element"), "0");
+  EXPECT_EQ(db.one("SELECT count(*) FROM vm_cost_item"), "0");
+}
+
+TEST(Store, RewriteIsIdempotentAndResumeKnowsDoneParcels) {
+  BatchModel m = test::sample_batch();
+  std::string path = make_store("store_idempotent", m);
+  std::multiset<std::string> before;
+  {
+    Sqlite db(path);
+    before = content(db);
+  }
+  {
+    Store s;
+    s.open(path, "", m.epsg);
+    EXPECT_TRUE(s.parcel_done(m.parcels[0].id, "k1"));
+    EXPECT_TRUE(s.parcel_done(m.parcels[1].id, "k1"));   // empty counts as done
+    EXPECT_FALSE(s.parcel_done(m.parcels[2].id, "k1"));  // failed parcels are retried
+    EXPECT_FALSE(s.parcel_done(m.parcels[0].id, "other-inputs"));
+    s.begin_run("{}", {}, m.frame);
+    write_batch(s, m);
+    write_batch(s, m);
+    s.end_run();
+  }
+  Sqlite db(path);
+  EXPECT_EQ(content(db), before);
+  EXPECT_EQ(db.one("SELECT count(*) FROM building"), "1");
+  EXPECT_EQ(db.one("SELECT count(*) FROM la_party"), "3");
+  EXPECT_EQ(db.one("SELECT count(*) FROM run"), "2");
+}
+
+TEST(Store, MarkPendingOnlyTouchesParcelsNotDone) {
+  BatchModel m = test::sample_batch();
+  std::string path = make_store("store_pending", m);
+  Store s;
+  s.open(path, "", m.epsg);
+  s.begin_run("{}", {}, m.frame);
+  s.mark_pending(m.parcels, {"k1", "changed", "k1"});
+  s.end_run();
+  s.close();
+  auto jobs = load_jobs(path);
+  ASSERT_EQ(jobs.size(), 3u);
+  EXPECT_EQ(jobs[0].status, "ok");       // same inputs: stays done
+  EXPECT_EQ(jobs[1].status, "pending");  // inputs changed
+  EXPECT_EQ(jobs[2].status, "pending");  // failed before: retried
+}
+
+TEST(Store, FailedWriteLeavesThePreviousParcelWhole) {
+  BatchModel m = test::sample_batch();
+  std::string path = make_store("store_atomic", m);
+  ParcelResult bad = m.results[0];
+  bad.buildings.push_back(bad.buildings[0]);  // duplicate building id: fails mid-parcel
+  {
+    Store s;
+    s.open(path, "", m.epsg);
+    auto v = value_parcel(m.parcels[0], bad, default_config().valuation);
+    EXPECT_THROW(s.write_parcel(m.parcels[0], bad, v, m.frame, "k2"), InputError);
+  }
+  BatchModel back = load_batch_model(path);
+  ASSERT_EQ(back.results[0].buildings.size(), 1u);
+  EXPECT_EQ(back.results[0].buildings[0].elements.size(), 8u);
+  EXPECT_EQ(load_jobs(path)[0].inputs_key, "k1");
+}
+
+TEST(Store, RefusesAnotherCrs) {
+  BatchModel m = test::sample_batch();
+  std::string path = make_store("store_crs", m);
+  Store s;
+  EXPECT_THROW(s.open(path, "", 32749), InputError);
+}
+
+TEST(Store, RunRecordsInputChecksums) {
+  std::string dir = test::temp_dir("store_run");
+  std::string input = dir + "/input.txt";
+  std::ofstream(input) << "abc";
+  Store s;
+  s.open(dir + "/cadastre.gpkg", "", 32748);
+  s.begin_run("{\"voxel_m\":0}", {input});
+  s.end_run();
+  s.close();
+  auto runs = load_runs(dir + "/cadastre.gpkg");
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].parameters, "{\"voxel_m\":0}");
+  ASSERT_EQ(runs[0].inputs.size(), 1u);
+  EXPECT_EQ(runs[0].inputs[0].sha256, sha256_hex("abc"));
+  EXPECT_EQ(runs[0].inputs[0].bytes, 3);
+  EXPECT_FALSE(runs[0].finished.empty());
+}
+
+TEST(Store, ThousandParcelsWriteFast) {
+  BatchModel m = test::sample_batch(1000);
+  std::string dir = test::temp_dir("store_perf");
+  Config c = default_config();
+  std::vector<ParcelValuation> vals;
+  for (size_t i = 0; i < m.parcels.size(); ++i)
+    vals.push_back(value_parcel(m.parcels[i], m.results[i], c.valuation));
+  Store s;
+  s.open(dir + "/cadastre.gpkg", "", m.epsg);
+  s.begin_run("{}", {}, m.frame);
+  auto t0 = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < m.parcels.size(); ++i)
+    s.write_parcel(m.parcels[i], m.results[i], vals[i], m.frame, "k");
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.end_run();
+  s.close();
+  std::cout << "wrote " << m.parcels.size() << " parcels in " << seconds << " s\n";
+  EXPECT_LT(seconds, 5.0);  // ~0.3 s on a quiet machine; generous for shared CI
+  EXPECT_EQ(load_batch_model(dir + "/cadastre.gpkg").parcels.size(), m.parcels.size());
+}
+
+TEST(Store, GdalValidatorAndOgrinfoAcceptTheFile) {
+  std::string path = make_store("store_validate", test::sample_batch());
+  if (!fs::exists(kValidator)) GTEST_SKIP() << "validate_gpkg.py not shipped (python3-gdal)";
+  std::string cmd = std::string("python3 ") + kValidator + " -k --extra " + path + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, p)) out += buf;
+  EXPECT_EQ(pclose(p), 0) << out;
+  EXPECT_EQ(out, "") << out;
+  if (!fs::exists("/usr/bin/ogrinfo")) return;
+  p = popen(("ogrinfo -ro -q " + path + " 2>&1").c_str(), "r");
+  out.clear();
+  while (fgets(buf, sizeof buf, p)) out += buf;
+  pclose(p);
+  EXPECT_NE(out.find("la_spatialunit (Multi Polygon)"), std::string::npos) << out;
+  EXPECT_NE(out.find("building_element (3D Multi Polygon)"), std::string::npos) << out;
+  EXPECT_NE(out.find("vm_cost_item"), std::string::npos) << out;
+}
