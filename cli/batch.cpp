@@ -35,6 +35,8 @@ using nlohmann::json;
 namespace c3d::cli {
 namespace {
 
+constexpr double kOwnershipContextM = 2.5;
+
 struct Inputs {
   Config cfg;
   ParcelLayer layer;
@@ -161,6 +163,7 @@ ParcelScene make_scene(const Inputs& in, const LocalFrame& frame, size_t i,
   for (int n : neighbours) s.neighbours.push_back(to_local(in.layer.parcels[n].shape, frame));
   for (size_t k : roof_idx) s.roof_points.push_back(frame.to_local(in.roof[k]));
   for (size_t k : wall_idx) s.wall_points.push_back(frame.to_local(in.wall[k]));
+  s.overhang_buffer_m = in.cfg.clip.overhang_buffer_m;
   const Dtm* dtm = &in.dtm;
   Vec3 o = frame.origin;
   s.terrain = [dtm, o](double x, double y) { return dtm->height_at(x + o.x(), y + o.y()) - o.z(); };
@@ -213,9 +216,16 @@ int run_batch(const BatchOptions& opt) {
   const size_t n = in.layer.parcels.size();
 
   ParcelClipper clipper(in.layer, in.cfg.clip);
-  auto roof_lists = clipper.clip(in.roof);
   auto wall_lists = clipper.clip(in.wall);
-  auto neighbours = neighbour_lists(in.layer, 2.0 * in.cfg.clip.overhang_buffer_m + 0.5);
+  // Roof points come with a wider context than the overhang buffer so that a
+  // roof running across a parcel boundary is seen well enough to tell an
+  // overhang (whole to the parcel holding most of it) from a shared roof of
+  // attached houses (split at the boundary).
+  ClipParams context = in.cfg.clip;
+  context.overhang_buffer_m += kOwnershipContextM;
+  auto roof_lists = ParcelClipper(in.layer, context).clip(in.roof);
+  auto neighbours =
+      neighbour_lists(in.layer, 2.0 * (in.cfg.clip.overhang_buffer_m + kOwnershipContextM) + 0.5);
   double t_ingest =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 

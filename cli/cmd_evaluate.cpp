@@ -28,7 +28,8 @@ namespace c3d::cli {
 namespace {
 
 struct EvalOptions {
-  std::string mesh, cloud, classes = "roof=6,wall=64", parcels, id_field, json;
+  std::vector<std::string> meshes;
+  std::string cloud, classes = "roof=6,wall=64", parcels, id_field, json;
   double buffer = 2.0;
 };
 
@@ -130,7 +131,11 @@ void print_row(const std::string& id, const Deviation& r, const Deviation& v, co
 
 void run_evaluate(const EvalOptions& o) {
   const ClassMapping classes = parse_classes(o.classes);
-  const std::vector<MeshGroup> mesh = read_mesh_groups(o.mesh);
+  std::vector<MeshGroup> mesh;
+  for (const auto& path : o.meshes) {
+    auto groups = read_mesh_groups(path);
+    mesh.insert(mesh.end(), groups.begin(), groups.end());
+  }
   std::vector<PointCloud> clouds{read_point_cloud(o.cloud)};
   PointCloud& cloud = clouds[0];
 
@@ -249,7 +254,7 @@ void run_evaluate(const EvalOptions& o) {
               pts[kRoof].size(), pts[kWall].size(), unmodelled[0], unmodelled[1], outside, faces_outside);
   std::printf("distances in m: mean/std/rmse/max of |d|; vert rms = vertical distance RMSE\n");
   if (!o.json.empty()) {
-    nlohmann::json j = {{"mesh", o.mesh}, {"cloud", o.cloud}, {"classes", o.classes}, {"buffer_m", o.buffer},
+    nlohmann::json j = {{"mesh", o.meshes}, {"cloud", o.cloud}, {"classes", o.classes}, {"buffer_m", o.buffer},
                         {"pooled", {{"roof", to_json(pr)}, {"roof_vertical", to_json(pv)}, {"wall", to_json(pw)}}},
                         {"points_outside_parcels", outside}, {"faces_outside_parcels", faces_outside}};
     if (clipper) j["parcels"] = jz;
@@ -265,9 +270,10 @@ void register_evaluate(CLI::App& app) {
   auto o = std::make_shared<EvalOptions>();
   auto* cmd = app.add_subcommand(
       "evaluate", "Deviation of roof and wall points from a building model (per parcel and pooled)");
-  cmd->add_option("--mesh", o->mesh, "model mesh (.obj or .ply; groups/materials named roof/wall "
-                                     "are used, else faces are classed by their normal)")
-      ->required();
+  cmd->add_option("--mesh", o->meshes, "model meshes (.obj or .ply, one or more; groups/materials "
+                                       "named roof/wall are used, else faces are classed by their normal)")
+      ->required()
+      ->expected(1, -1);
   cmd->add_option("--cloud", o->cloud, "classified point cloud (LAS/PLY/PCD/XYZ)")->required();
   cmd->add_option("--classes", o->classes, "class codes, e.g. roof=6,wall=64 (unclassified files: all roof)")
       ->capture_default_str();

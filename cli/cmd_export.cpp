@@ -53,7 +53,9 @@ void register_export(CLI::App& app) {
     for (const auto& r : model.results) buildings += r.buildings.size();
     for (const auto& f : split(args->formats)) {
       auto t0 = std::chrono::steady_clock::now();
-      auto files = export_formats(model, args->out, {f});
+      std::vector<std::string> skipped;
+      auto files = export_formats(model, args->out, {f}, &skipped);
+      for (const auto& w : skipped) std::cerr << "export " << f << ": skipped " << w << "\n";
       double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::cout << "export " << f << ": " << files.size() << " file(s), " << buildings
                 << " buildings, " << s << " s" << (files.size() == 1 ? " -> " + files[0] : "")

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -23,22 +24,36 @@ std::string lower_ext(const std::string& path) {
 
 // ---- OBJ ---------------------------------------------------------------------
 
+// Cadastre3D OBJ files are local: "# ... world = local + (x, y, z) ..." gives the
+// offset, which vertices after the comment get added.
+void read_offset_comment(const std::string& line, Vec3& offset) {
+  const auto at = line.find("world = ");
+  if (at == std::string::npos) return;
+  const auto open = line.find("+ (", at);
+  if (open == std::string::npos) return;
+  double x, y, z;
+  if (std::sscanf(line.c_str() + open + 3, "%lf, %lf, %lf", &x, &y, &z) == 3) offset = Vec3(x, y, z);
+}
+
 std::vector<MeshGroup> read_obj(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot open");
   std::vector<Vec3> v;
   std::vector<MeshGroup> groups;
   std::string name, material, line;
+  Vec3 offset = Vec3::Zero();
   long line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
     std::istringstream s(line);
     std::string tag;
-    if (!(s >> tag) || tag[0] == '#') continue;
-    if (tag == "v") {
+    if (!(s >> tag)) continue;
+    if (tag[0] == '#') {
+      read_offset_comment(line, offset);
+    } else if (tag == "v") {
       double x, y, z;
       if (!(s >> x >> y >> z)) throw InputError(path, "line " + std::to_string(line_no) + ": bad vertex");
-      v.emplace_back(x, y, z);
+      v.emplace_back(Vec3(x, y, z) + offset);
     } else if (tag == "g" || tag == "o") {
       std::getline(s >> std::ws, name);
     } else if (tag == "usemtl") {
@@ -223,7 +238,9 @@ void write_obj(const std::string& path, const std::vector<MeshGroup>& groups, co
   out.setf(std::ios::fixed);
   out.precision(6);
   out << "# cadastre3d " << C3D_VERSION << "\n";
-  if (offset != Vec3::Zero()) out << "# world = vertex + (" << offset.x() << ", " << offset.y() << ", " << offset.z() << ")\n";
+  if (offset != Vec3::Zero())
+    out << "# coordinates local: world = local + (" << offset.x() << ", " << offset.y() << ", " << offset.z()
+        << ")\n";
   ObjWriter w(out, offset);
   for (const auto& g : groups) {
     out << "g " << (g.name.empty() ? "default" : g.name) << '\n';

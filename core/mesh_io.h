@@ -16,15 +16,18 @@ struct MeshGroup {
 };
 
 // Reads .obj or .ply (by extension). Every polygon becomes one Face (no holes);
-// consecutive faces with the same (name, material) share a group. Throws
+// consecutive faces with the same (name, material) share a group. An OBJ comment
+// "world = local + (x, y, z)" (as write_obj and the exporters write it) is
+// added to the vertices after it: faces come back in world coordinates. Throws
 // InputError naming the file on unreadable or malformed input.
 std::vector<MeshGroup> read_mesh_groups(const std::string& path);
 // All faces of all groups.
 std::vector<Face> read_mesh_faces(const std::string& path);
 
 // Writes OBJ with one "g" (and "usemtl" when set) per group; vertices are written
-// as vertex - offset with 6 decimals (micrometres). Faces with holes are written
-// as their triangles, since OBJ has no holes.
+// once each, as vertex - offset with 6 decimals (micrometres), and a non-zero
+// offset is recorded as "# coordinates local: world = local + (x, y, z)". Faces
+// with holes are written as their triangles, since OBJ has no holes.
 void write_obj(const std::string& path, const std::vector<MeshGroup>& groups,
                const Vec3& offset = Vec3::Zero());
 

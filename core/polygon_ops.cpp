@@ -16,6 +16,7 @@
 #include <geos/operation/valid/MakeValid.h>
 #include <geos/simplify/TopologyPreservingSimplifier.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/geometry.h"
@@ -188,6 +189,23 @@ bool covers(const MultiPolygon2& a, const Vec2& p) {
     if (!in_hole) return true;
   }
   return false;
+}
+
+double distance(const MultiPolygon2& a, const Vec2& p) {
+  if (covers(a, p)) return 0.0;
+  double best = 1e300;
+  auto ring_distance = [&](const Ring2& r) {
+    for (size_t i = 0; i < r.size(); ++i) {
+      Vec2 u = r[i], v = r[(i + 1) % r.size()], d = v - u;
+      double t = std::clamp((p - u).dot(d) / std::max(d.squaredNorm(), 1e-18), 0.0, 1.0);
+      best = std::min(best, (u + t * d - p).norm());
+    }
+  };
+  for (const auto& poly : a) {
+    ring_distance(poly.outer);
+    for (const auto& h : poly.holes) ring_distance(h);
+  }
+  return best;
 }
 
 MultiPolygon2 box(const Vec2& lo, const Vec2& hi) {

@@ -25,6 +25,8 @@ MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge);
 MultiPolygon2 drop_small(const MultiPolygon2& a, double min_area);
 // Point in polygon (boundary counts as inside).
 bool covers(const MultiPolygon2& a, const Vec2& p);
+// Distance from p to the polygon (0 inside).
+double distance(const MultiPolygon2& a, const Vec2& p);
 MultiPolygon2 box(const Vec2& min, const Vec2& max);
 // Shared boundary of two polygons as line pieces (each a polyline).
 std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,

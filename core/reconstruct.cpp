@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 #include <set>
+#include <cstdio>
+#include <cstdlib>
 
 #include "core/envelope.h"
 #include "core/evaluate.h"
@@ -41,50 +43,54 @@ class StageClock {
 
 Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
-// Ownership: a component goes whole to the parcel holding most of its points;
-// when parcels share it (a roof running across the boundary of attached
-// houses), it is split at the boundary. Returns the neighbours split against.
-std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double share) {
+// Ownership: a component goes whole to the parcel holding most of its points
+// (an overhang reaches at most the overhang buffer across a boundary); a
+// component reaching deeper into a neighbour is a roof shared by attached
+// houses and is split at the boundary. Returns the neighbours split against.
+std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg) {
   std::set<int> split_with;
+  const double shared_depth = s.overhang_buffer_m + 0.5;
   for (auto& c : seg.components) {
     long own = 0;
     std::vector<long> nb(s.neighbours.size(), 0);
-    std::vector<char> inside_own(c.points.size(), 0);
+    std::vector<std::vector<double>> depth(s.neighbours.size());
+    std::vector<int> where(c.points.size(), -2);  // -1 own, n neighbour, -2 no parcel
     for (size_t k = 0; k < c.points.size(); ++k) {
       Vec2 p = plan(s.roof_points[c.points[k]]);
       if (poly::covers(s.parcel, p)) {
         ++own;
-        inside_own[k] = 1;
+        where[k] = -1;
         continue;
       }
       for (size_t n = 0; n < s.neighbours.size(); ++n)
         if (poly::covers(s.neighbours[n], p)) {
           ++nb[n];
+          depth[n].push_back(poly::distance(s.parcel, p));
+          where[k] = int(n);
           break;
         }
     }
-    long total = own + std::accumulate(nb.begin(), nb.end(), 0L);
     long best_nb = nb.empty() ? 0 : *std::max_element(nb.begin(), nb.end());
-    if (total == 0 || (own >= best_nb && own >= share * total)) continue;  // whole
-    if (own < (1.0 - share) * total) {  // the neighbour's
-      for (int i : c.points) seg.label[i] = -1;
+    std::set<int> shared;
+    for (size_t n = 0; n < nb.size(); ++n) {
+      if (depth[n].size() < 10) continue;
+      auto& d = depth[n];
+      std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
+      if (d[d.size() * 9 / 10] > shared_depth) shared.insert(int(n));
+    }
+    if (shared.empty()) {
+      if (own >= best_nb) continue;  // whole: ours, overhang included
+      for (int i : c.points) seg.label[i] = -1;  // the neighbour's
       c.points.clear();
       continue;
     }
     std::vector<int> kept;
     for (size_t k = 0; k < c.points.size(); ++k) {
-      bool in_other = false;
-      if (!inside_own[k]) {
-        Vec2 p = plan(s.roof_points[c.points[k]]);
-        for (size_t n = 0; n < s.neighbours.size(); ++n)
-          if (poly::covers(s.neighbours[n], p)) in_other = true;
-      }
-      if (in_other) seg.label[c.points[k]] = -1;
+      if (where[k] >= 0) seg.label[c.points[k]] = -1;
       else kept.push_back(c.points[k]);
     }
     c.points = kept;
-    for (size_t n = 0; n < nb.size(); ++n)
-      if (nb[n] >= (1.0 - share) * total) split_with.insert(int(n));
+    split_with.insert(shared.begin(), shared.end());
   }
   return split_with;
 }
@@ -226,7 +232,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     }
     Segmentation seg = segment_roofs(s.roof_points, p);
     clock.lap("segment");
-    std::set<int> split_with = apply_ownership(s, seg, p.ownership_share);
+    std::set<int> split_with = apply_ownership(s, seg);
     for (auto& c : seg.components)
       if (int(c.points.size()) < p.min_component_points) {
         for (int i : c.points) seg.label[i] = -1;

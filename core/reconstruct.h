@@ -14,9 +14,10 @@ struct ParcelScene {
   std::string parcel_id;
   MultiPolygon2 parcel;                    // this parcel, local coordinates
   std::vector<MultiPolygon2> neighbours;   // parcels near it, local coordinates
-  std::vector<Vec3> roof_points;           // clipped with the overhang buffer
+  std::vector<Vec3> roof_points;           // clipped with the overhang buffer + ownership context
   std::vector<Vec3> wall_points;           // clipped with the overhang buffer
   std::function<double(double, double)> terrain;  // local terrain z, NaN outside
+  double overhang_buffer_m = 1.6;          // how far an overhang may reach across the boundary
 };
 
 // Never throws: a parcel that cannot be modelled comes back `failed` with a reason.

@@ -289,6 +289,27 @@ Face vertical_face(const Vec2& p0, const Vec2& p1, const std::vector<Vec2>& bott
   return {dedupe(r), {}};
 }
 
+// Linear interpolation in a (t, z) profile.
+double z_at(const std::vector<Vec2>& prof, double t) {
+  for (size_t i = 0; i + 1 < prof.size(); ++i)
+    if (t <= prof[i + 1].x() + 1e-12) {
+      double w = prof[i + 1].x() - prof[i].x();
+      return w < 1e-12 ? prof[i].y() : prof[i].y() + (prof[i + 1].y() - prof[i].y()) * (t - prof[i].x()) / w;
+    }
+  return prof.back().y();
+}
+
+// Smallest and largest top - bottom over the breakpoints of both profiles.
+std::pair<double, double> height_gap(const std::vector<Vec2>& top, const std::vector<Vec2>& bottom) {
+  double lo = 1e300, hi = -1e300;
+  for (const auto* prof : {&top, &bottom})
+    for (const auto& tz : *prof) {
+      double diff = z_at(top, tz.x()) - z_at(bottom, tz.x());
+      lo = std::min(lo, diff), hi = std::max(hi, diff);
+    }
+  return {lo, hi};
+}
+
 struct EdgePart {
   Vec2 p0, p1;
   int neighbour;  // block on the other side, -1 = outside
@@ -431,23 +452,7 @@ std::vector<TruthBuilding> assemble(const Group& g) {
       if (nb_owner != owner) outline[owner].push_back({ep.p0, ep.p1});
       if (nb_owner == owner) {  // step between two roof levels of one building
         auto bottom = roof_profile(pieces, ep.p0, ep.p1, -inward);
-        double lo = 1e300, hi = -1e300;
-        // the roof heights from both sides at every breakpoint of either profile
-        auto z_at = [](const std::vector<Vec2>& prof, double t) {
-          for (size_t i = 0; i + 1 < prof.size(); ++i)
-            if (t <= prof[i + 1].x() + 1e-12) {
-              double w = prof[i + 1].x() - prof[i].x();
-              return w < 1e-12 ? prof[i].y()
-                               : prof[i].y() + (prof[i + 1].y() - prof[i].y()) * (t - prof[i].x()) / w;
-            }
-          return prof.back().y();
-        };
-        for (auto* prof : {&top, &bottom})
-          for (const auto& tz : *prof) {
-            double diff = z_at(top, tz.x()) - z_at(bottom, tz.x());
-            lo = std::min(lo, diff);
-            hi = std::max(hi, diff);
-          }
+        auto [lo, hi] = height_gap(top, bottom);
         if (hi < 1e-7) continue;  // continuous roof, or the other part owns the step
         if (lo < -1e-7) throw std::logic_error("sample town: crossing roof step");
         Element w = make_element(ElementType::Wall, {vertical_face(ep.p0, ep.p1, bottom, top)});

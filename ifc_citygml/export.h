@@ -26,13 +26,18 @@ void write_ifc(const BatchModel& model, const std::string& path);
 // One <parcel id>.obj per parcel with buildings (groups per element); returns the files.
 std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir);
 // One <building id>.step per building solid (OpenCASCADE B-rep); returns the files.
-std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir);
+// A solid OpenCASCADE cannot build throws, or with `skipped` is listed there
+// ("<building id>: <why>") and left out.
+std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir,
+                                                 std::vector<std::string>* skipped = nullptr);
 
 // Writes the named formats ("gml", "cityjson", "ifc", "obj", "step") into dir as
 // buildings.gml, buildings.city.json, buildings.ifc, obj/, step/; returns the paths.
+// Buildings whose STEP solid fails are listed in `skipped` when given (else it throws).
 // Throws std::invalid_argument on an unknown format name.
 std::vector<std::string> export_formats(const BatchModel& model, const std::string& dir,
-                                        const std::vector<std::string>& formats);
+                                        const std::vector<std::string>& formats,
+                                        std::vector<std::string>* skipped = nullptr);
 
 // Reads a CityJSON file written by write_cityjson (or any CityJSON 2.0 file with
 // Building / BuildingPart objects and lod-2 geometry) back into a BatchModel:

@@ -7,6 +7,9 @@
 #include <BRepLib.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_Printer.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -14,6 +17,8 @@
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Wire.hxx>
+#include <gp_Dir.hxx>
+#include <gp_Pln.hxx>
 #include <gp_Pnt.hxx>
 
 #include <cctype>
@@ -75,7 +80,15 @@ TopoDS_Wire occ_wire(const Ring3& ring) {
 TopoDS_Shape occ_solid(const Building& b) {
   BRepBuilderAPI_Sewing sew(1e-3);
   for (const auto& f : b.solid) {
-    BRepBuilderAPI_MakeFace mk(occ_wire(f.ring), /*OnlyPlane=*/true);
+    TopoDS_Wire outer = occ_wire(f.ring);
+    BRepBuilderAPI_MakeFace mk(outer, /*OnlyPlane=*/true);
+    if (!mk.IsDone()) {  // planar only within our tolerance: put it on its mean plane
+      Vec3 n = unit_normal(f), c = Vec3::Zero();
+      for (const auto& p : f.ring) c += p;
+      c /= double(f.ring.size());
+      mk = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(c.x(), c.y(), c.z()), gp_Dir(n.x(), n.y(), n.z())),
+                                   outer, /*Inside=*/true);
+    }
     for (size_t k = 0; k < f.holes.size() && mk.IsDone(); ++k) {
       TopoDS_Wire w = occ_wire(exp::hole_oriented(f, k));
       mk.Add(w);
@@ -94,6 +107,25 @@ TopoDS_Shape occ_solid(const Building& b) {
   return solid;
 }
 
+// The STEP writer reports every file on stdout; quiet it while we write, then restore.
+class QuietOcc {
+ public:
+  QuietOcc() {
+    for (const auto& p : Message::DefaultMessenger()->Printers()) {
+      saved_.push_back(p->GetTraceLevel());
+      p->SetTraceLevel(Message_Fail);
+    }
+  }
+  ~QuietOcc() {
+    size_t i = 0;
+    for (const auto& p : Message::DefaultMessenger()->Printers())
+      if (i < saved_.size()) p->SetTraceLevel(saved_[i++]);
+  }
+
+ private:
+  std::vector<Message_Gravity> saved_;
+};
+
 }  // namespace
 
 std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir) {
@@ -108,9 +140,11 @@ std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std
   return files;
 }
 
-std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir) {
+std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir,
+                                                 std::vector<std::string>* skipped) {
   fs::create_directories(dir);
   std::vector<std::string> files;
+  QuietOcc quiet;
   Interface_Static::SetCVal("write.step.unit", "M");
   Interface_Static::SetCVal("write.step.schema", "AP214IS");
   for (const auto& r : model.results) {
@@ -120,7 +154,9 @@ std::vector<std::string> write_step_per_building(const BatchModel& model, const 
       try {
         solid = occ_solid(b);
       } catch (const std::exception& e) {
-        throw std::runtime_error("building " + b.id + ": " + e.what());
+        if (!skipped) throw std::runtime_error("building " + b.id + ": " + e.what());
+        skipped->push_back(b.id + ": " + e.what());
+        continue;
       }
       STEPControl_Writer writer;
       if (writer.Transfer(solid, STEPControl_AsIs) != IFSelect_RetDone)

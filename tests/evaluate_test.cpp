@@ -168,8 +168,8 @@ TEST(MeshIo, ObjRoundTripKeepsGroupsAndCoordinates) {
   EXPECT_EQ(back[1].faces.size(), 4u);
   for (size_t g = 0; g < 3; ++g)
     for (size_t f = 0; f < groups[g].faces.size(); ++f)
-      for (size_t k = 0; k < 4; ++k)  // written relative to o: read back local
-        EXPECT_NEAR((back[g].faces[f].ring[k] + o - groups[g].faces[f].ring[k]).norm(), 0, 1e-6);
+      for (size_t k = 0; k < 4; ++k)  // written relative to o, read back in world coordinates
+        EXPECT_NEAR((back[g].faces[f].ring[k] - groups[g].faces[f].ring[k]).norm(), 0, 1e-6);
   double a = 0;
   for (const auto& f : back[3].faces) a += plan_area(f);
   EXPECT_NEAR(a, 15, 1e-9);  // the hole was written as triangles

@@ -263,3 +263,25 @@ TEST(Sigma, TiltedRectangleClosedForm) {
   measure_element(e, 0.02);
   EXPECT_NEAR(e.sigma_area, std::hypot(expect, 30 * 0.02), 1e-9);
 }
+
+TEST(SolidCheck, BoxesTouchingAtAVertexOrAnEdgeAreNonManifold) {
+  auto cube = [](Vec3 o) {
+    const double x0 = o.x(), y0 = o.y(), z0 = o.z(), x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
+    return std::vector<Face>{quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),
+                             quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}),
+                             quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),
+                             quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
+                             quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
+                             quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
+  };
+  auto vertex = cube({0, 0, 0}), b = cube({1, 1, 1});
+  vertex.insert(vertex.end(), b.begin(), b.end());
+  SolidCheck c = check_solid(vertex);
+  EXPECT_FALSE(c.ok);
+  EXPECT_TRUE(c.has("non_manifold")) << c.summary();
+  auto edge = cube({0, 0, 0}), e = cube({1, 1, 0});
+  edge.insert(edge.end(), e.begin(), e.end());
+  SolidCheck d = check_solid(edge);
+  EXPECT_FALSE(d.ok);
+  EXPECT_TRUE(d.has("non_manifold")) << d.summary();
+}
