@@ -14,6 +14,7 @@ struct EdgeLine {
   Vec2 origin;   // a point on the line
   Vec2 dir;      // unit direction, ring order
   double t0 = 0, t1 = 0;  // extent along dir from origin
+  bool keep = false;      // a short edge that is a real step of the outline
 };
 
 Vec2 outward(const Vec2& dir) { return Vec2(dir.y(), -dir.x()); }  // CCW ring
@@ -68,6 +69,32 @@ std::vector<EdgeLine> merge_collinear(std::vector<EdgeLine> lines) {
       changed = true;
       break;
     }
+  }
+  return lines;
+}
+
+// Short edges at corners (chamfers left by the hull) are removed by extending
+// their neighbours until they meet, when that point is close by.
+std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_len) {
+  while (lines.size() > 3) {
+    size_t k = 0;
+    double shortest = 1e18;
+    for (size_t i = 0; i < lines.size(); ++i)
+      if (!lines[i].keep && lines[i].t1 - lines[i].t0 < shortest)
+        shortest = lines[i].t1 - lines[i].t0, k = i;
+    if (shortest >= min_len) break;
+    size_t n = lines.size();
+    EdgeLine& prev = lines[(k + n - 1) % n];
+    EdgeLine& next = lines[(k + 1) % n];
+    auto p = line_intersection(prev, next);
+    Vec2 mid = lines[k].origin + 0.5 * (lines[k].t0 + lines[k].t1) * lines[k].dir;
+    if (!p || (*p - mid).norm() > 2.0 * min_len) {
+      lines[k].keep = true;  // a real step of the outline
+      continue;
+    }
+    prev.t1 = prev.dir.dot(*p - prev.origin);
+    next.t0 = next.dir.dot(*p - next.origin);
+    lines.erase(lines.begin() + long(k));
   }
   return lines;
 }
@@ -158,6 +185,8 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
     l.t1 = l.dir.dot(b - l.origin);
     lines.push_back(l);
   }
+  lines = merge_collinear(lines);
+  lines = drop_short_edges(lines, 1.0);
   lines = merge_collinear(lines);
   if (lines.size() < 3) return {};
   // Move every edge to where the density says the roof ends.
