@@ -4,6 +4,9 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <cstdio>
+#include <cstdlib>
+#include <tuple>
 
 #include "core/geometry.h"
 #include "core/polygon_ops.h"
@@ -105,6 +108,38 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   return best;
 }
 
+// A ring passing twice through one vertex (the hole of an overhang frame
+// touching its outline) becomes two simple rings; holes go to the part holding them.
+std::vector<Polygon2> split_pinched(const Polygon2& p) {
+  std::vector<Ring2> todo{p.outer}, done;
+  while (!todo.empty()) {
+    Ring2 r = todo.back();
+    todo.pop_back();
+    bool split = false;
+    for (size_t i = 0; i < r.size() && !split; ++i)
+      for (size_t j = i + 1; j < r.size() && !split; ++j)
+        if ((r[i] - r[j]).norm() < 1e-9) {
+          Ring2 a(r.begin() + long(i), r.begin() + long(j));
+          Ring2 b(r.begin() + long(j), r.end());
+          b.insert(b.end(), r.begin(), r.begin() + long(i));
+          todo.push_back(a);
+          todo.push_back(b);
+          split = true;
+        }
+    if (!split && r.size() >= 3 && std::abs(signed_area(r)) > 1e-6) done.push_back(r);
+  }
+  std::vector<Polygon2> out;
+  for (auto& r : done) out.push_back({r, {}});
+  for (const auto& h : p.holes)
+    for (auto& o : out)
+      if (poly::covers({Polygon2{o.outer, {}}}, h.front()) ||
+          poly::covers({Polygon2{o.outer, {}}}, 0.5 * (h[0] + h[1]))) {
+        o.holes.push_back(h);
+        break;
+      }
+  return out;
+}
+
 double mean_terrain(const Polygon2& fp, const std::function<double(double, double)>& terrain) {
   Vec2 lo = fp.outer[0], hi = lo;
   for (const auto& p : fp.outer) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -190,6 +225,16 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
 
 Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
                const std::vector<ProfileSegment>& profile) {
+  // Breakpoints of the profile; on each interval the highest roof piece over it
+  // is the underside the wall meets (overlaps of clipped pieces are numerical).
+  std::vector<double> ts;
+  for (const auto& s : profile) ts.push_back(s.t0), ts.push_back(s.t1);
+  std::sort(ts.begin(), ts.end());
+  ts.erase(std::unique(ts.begin(), ts.end(), [](double x, double y) { return y - x < 1e-6; }),
+           ts.end());
+  auto z_on = [](const ProfileSegment& s, double t) {
+    return s.z0 + (s.z1 - s.z0) * (t - s.t0) / (s.t1 - s.t0);
+  };
   Vec2 d = (b - a).normalized();
   Face f;
   f.ring.emplace_back(a.x(), a.y(), ground_z);
@@ -198,9 +243,14 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
     Vec3 v(a.x() + t * d.x(), a.y() + t * d.y(), z);
     if ((f.ring.back() - v).norm() > 1e-7) f.ring.push_back(v);
   };
-  for (const auto& s : profile) {  // from b back to a
-    push(s.t1, s.z1);
-    push(s.t0, s.z0);
+  for (size_t k = ts.size(); k-- > 1;) {  // from b back to a
+    double hi = ts[k], lo = ts[k - 1], mid = 0.5 * (hi + lo);
+    const ProfileSegment* best = nullptr;
+    for (const auto& s : profile)
+      if (s.t0 <= mid && s.t1 >= mid && (!best || z_on(s, mid) > z_on(*best, mid))) best = &s;
+    if (!best) continue;
+    push(hi, z_on(*best, hi));
+    push(lo, z_on(*best, lo));
   }
   if ((f.ring.back() - f.ring.front()).norm() < 1e-7) f.ring.pop_back();
   return f;
@@ -273,6 +323,53 @@ const EdgeInfo& source_edge(const std::vector<EdgeInfo>& edges, const Vec2& a, c
   return *best;
 }
 
+// Inserts into every shell edge the shell vertices lying on it (a wall corner
+// that meets a step between roof levels, a T-junction left by clipping), so each
+// edge is shared by exactly two faces.
+void node_shell(std::vector<Face>& shell, double tol) {
+  std::vector<Vec3> verts;
+  for (const auto& f : shell) verts.insert(verts.end(), f.ring.begin(), f.ring.end());
+  for (auto& f : shell) {
+    Ring3 out;
+    for (size_t i = 0; i < f.ring.size(); ++i) {
+      const Vec3 a = f.ring[i], b = f.ring[(i + 1) % f.ring.size()];
+      out.push_back(a);
+      Vec3 ab = b - a;
+      double len2 = ab.squaredNorm();
+      if (len2 < tol * tol) continue;
+      std::vector<std::pair<double, Vec3>> inner;
+      for (const auto& v : verts) {
+        double t = (v - a).dot(ab) / len2;
+        if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+        if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
+          inner.emplace_back(t, v);
+      }
+      std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
+      for (auto& [t, v] : inner)
+        if ((v - out.back()).norm() > tol) out.push_back(v);
+    }
+    f.ring = out;
+  }
+}
+
+// Developer aid: prints shell edges used by one face only (C3D_DEBUG=1).
+void debug_open_edges(const Building& b) {
+  auto key = [](const Vec3& p) {
+    return std::make_tuple(std::llround(p.x() * 1e4), std::llround(p.y() * 1e4), std::llround(p.z() * 1e4));
+  };
+  std::map<std::pair<decltype(key(Vec3())), decltype(key(Vec3()))>, int> use;
+  for (const auto& f : b.solid)
+    for (size_t i = 0; i < f.ring.size(); ++i) {
+      auto a = key(f.ring[i]), c = key(f.ring[(i + 1) % f.ring.size()]);
+      use[{std::min(a, c), std::max(a, c)}]++;
+    }
+  for (auto& [e, n] : use)
+    if (n != 2)
+      std::fprintf(stderr, "%s open edge x%d (%.3f %.3f %.3f)-(%.3f %.3f %.3f)\n", b.id.c_str(), n,
+                   std::get<0>(e.first) * 1e-4, std::get<1>(e.first) * 1e-4, std::get<2>(e.first) * 1e-4,
+                   std::get<0>(e.second) * 1e-4, std::get<1>(e.second) * 1e-4, std::get<2>(e.second) * 1e-4);
+}
+
 }  // namespace
 
 WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z) {
@@ -343,7 +440,11 @@ Building build_building(const EnvelopeInput& in) {
     rings.push_back(&p.plan.outer);
     for (auto& h : p.plan.holes) rings.push_back(&h);
   }
-  node_rings(rings, 1e-6);
+  node_rings(rings, 1e-3);
+  std::vector<Piece> simple;
+  for (const auto& p : pieces)
+    for (auto& part : split_pinched(p.plan)) simple.push_back({p.region, p.inside, part});
+  pieces = std::move(simple);
 
   Heights heights;
   for (const auto& p : pieces) {
@@ -429,7 +530,9 @@ Building build_building(const EnvelopeInput& in) {
     oc.sigma_area = std::sqrt(sigma_ground2 + edge * edge);
     b.elements.push_back(std::move(oc));
   }
+  node_shell(solid, 1e-4);
   b.solid = std::move(solid);
+  if (std::getenv("C3D_DEBUG")) debug_open_edges(b);
   return b;
 }
 

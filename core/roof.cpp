@@ -181,7 +181,7 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
       rings.push_back(&p.outer);
       for (auto& h : p.holes) rings.push_back(&h);
     }
-  node_rings(rings, 1e-6);
+  node_rings(rings, 1e-3);
   std::map<std::pair<double, double>, std::vector<int>> users;
   for (size_t i = 0; i < regions.size(); ++i)
     for (auto& p : regions[i])
