@@ -25,7 +25,7 @@ struct ReconstructionParams {
   int outlier_neighbours = 12;             // statistical outlier removal
   double outlier_std = 2.5;
   double roof_smoothness_deg = 45.0;       // region growing, individual roofs
-  double component_smoothness_deg = 6.0;   // region growing, planar components
+  double component_smoothness_deg = 8.0;   // region growing, planar components
   double component_curvature = 0.05;
   int min_component_points = 30;
   double min_component_area_m2 = 2.0;

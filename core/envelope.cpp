@@ -71,6 +71,10 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
     spread = std::max(0.05, 1.4826 * median(dev));
     fill = WallEvidence::Propagated;
   }
+  if (std::getenv("C3D_DEBUG"))
+    for (auto& e : edges)
+      std::fprintf(stderr, "%s edge len %.2f ev %s overhang %.3f support %d\n", in.building_id.c_str(),
+                   (e.b - e.a).norm(), to_string(e.evidence), e.overhang, e.support);
   for (auto& e : edges)
     if (!e.party && e.evidence != WallEvidence::Measured) {
       e.overhang = typical;

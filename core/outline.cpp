@@ -186,7 +186,7 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
     lines.push_back(l);
   }
   lines = merge_collinear(lines);
-  lines = drop_short_edges(lines, 1.0);
+  lines = drop_short_edges(lines, 1.5);
   lines = merge_collinear(lines);
   if (lines.size() < 3) return {};
   // Move every edge to where the density says the roof ends.

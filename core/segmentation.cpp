@@ -75,6 +75,7 @@ std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
   rg.setInputNormals(normals);
   rg.setSmoothnessThreshold(float(p.component_smoothness_deg * M_PI / 180.0));
   rg.setCurvatureThreshold(float(p.component_curvature));
+  rg.setSmoothModeFlag(false);  // compare with the seed normal: no drift across hips and ridges
   std::vector<pcl::PointIndices> regions;
   rg.extract(regions);
   return regions;
