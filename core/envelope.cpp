@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "core/geometry.h"
+#include "core/outline.h"
 #include "core/polygon_ops.h"
 
 namespace c3d {
@@ -109,7 +110,7 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   Polygon2 best = *std::max_element(valid.begin(), valid.end(),
                                     [](const auto& a, const auto& b) { return area(a) < area(b); });
   best.holes.clear();
-  return best;
+  return regularize_polygon(best, 1.0);
 }
 
 // A ring passing twice through one vertex (the hole of an overhang frame

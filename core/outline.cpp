@@ -88,6 +88,23 @@ std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_l
     EdgeLine& next = lines[(k + 1) % n];
     auto p = line_intersection(prev, next);
     Vec2 mid = lines[k].origin + 0.5 * (lines[k].t0 + lines[k].t1) * lines[k].dir;
+    double jog = std::abs(outward(prev.dir).dot(next.origin - prev.origin));
+    if (prev.dir.dot(next.dir) > 0.995 && jog < 0.35) {
+      // A small jog between two parallel edges: one straight edge.
+      Vec2 start = prev.origin + prev.t0 * prev.dir, end = next.origin + next.t1 * next.dir;
+      double lp = prev.t1 - prev.t0, ln = next.t1 - next.t0;
+      EdgeLine m = prev;
+      m.origin = prev.origin + outward(prev.dir) * (outward(prev.dir).dot(next.origin - prev.origin) * ln / (lp + ln));
+      m.t0 = m.dir.dot(start - m.origin);
+      m.t1 = m.dir.dot(end - m.origin);
+      size_t kn = (k + 1) % n, kp = (k + n - 1) % n;
+      lines[kp] = m;
+      // erase the short edge and the absorbed next edge (higher index first)
+      std::vector<size_t> gone{k, kn};
+      std::sort(gone.rbegin(), gone.rend());
+      for (size_t g : gone) lines.erase(lines.begin() + long(g));
+      continue;
+    }
     if (!p || (*p - mid).norm() > 2.0 * min_len) {
       lines[k].keep = true;  // a real step of the outline
       continue;
@@ -116,6 +133,32 @@ Ring2 rebuild_ring(const std::vector<EdgeLine>& lines) {
 }
 
 }  // namespace
+
+Polygon2 regularize_polygon(const Polygon2& poly, double min_edge) {
+  const Ring2& ring = poly.outer;
+  std::vector<EdgeLine> lines;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    if ((b - a).norm() < 1e-6) continue;
+    EdgeLine l;
+    l.dir = (b - a).normalized();
+    l.origin = 0.5 * (a + b);
+    l.t0 = l.dir.dot(a - l.origin);
+    l.t1 = l.dir.dot(b - l.origin);
+    lines.push_back(l);
+  }
+  lines = merge_collinear(drop_short_edges(merge_collinear(lines), min_edge));
+  if (lines.size() < 3) return poly;
+  Polygon2 out{rebuild_ring(lines), {}};
+  MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
+  if (valid.empty()) return poly;
+  Polygon2 best = *std::max_element(valid.begin(), valid.end(), [](const auto& a, const auto& b) {
+    return area(a) < area(b);
+  });
+  if (std::abs(area(best) - area(poly)) > 0.05 * area(poly)) return poly;
+  best.holes.clear();
+  return best;
+}
 
 double dominant_direction(const Ring2& ring) {
   // Length-weighted circular mean of 4*angle (period 90 degrees), refined once

@@ -18,6 +18,10 @@ struct OutlineOptions {
 // make a polygon.
 Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt);
 
+// Removes edges shorter than min_edge (chamfers, small jogs) and merges
+// collinear edges; returns the input when that would change it by > 5 %.
+Polygon2 regularize_polygon(const Polygon2& poly, double min_edge);
+
 // Direction (radians, in [0, pi/2)) of the dominant edge orientation of a ring.
 double dominant_direction(const Ring2& ring);
 

@@ -245,6 +245,15 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
     }
 }
 
+// Snapping may make neighbours overlap slightly; an area belongs to one region only.
+void remove_overlaps(std::vector<MultiPolygon2>& regions) {
+  MultiPolygon2 taken;
+  for (auto& r : regions) {
+    r = poly::drop_small(poly::subtract(poly::make_valid(r), taken), 1e-4);
+    taken = poly::unite(taken, r);
+  }
+}
+
 }  // namespace
 
 std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
@@ -268,6 +277,8 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     for (auto& r : regions) r = poly::simplify(r, 0.02);
     fix_coverage(in.outline, regions, 0.05);
     snap_to_intersections(in.outline, regions, in.planes);
+    remove_overlaps(regions);
+    fix_coverage(in.outline, regions, 0.05);
   }
   std::vector<RoofRegion> out;
   for (size_t i = 0; i < k; ++i) {

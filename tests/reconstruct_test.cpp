@@ -1,0 +1,214 @@
+// Reconstruction stages on data with known answers, and the whole batch on the
+// sample town against its exact truth.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <random>
+
+#include "core/envelope.h"
+#include "core/geometry.h"
+#include "core/outline.h"
+#include "core/planes.h"
+#include "core/roof.h"
+#include "core/sample_town.h"
+#include "core/segmentation.h"
+#include "tests/test_support.h"
+
+using namespace c3d;
+
+namespace {
+
+// Uniform points on a plane patch [x0,x1]x[y0,y1] with Gaussian noise.
+std::vector<Vec3> sample_plane(const Plane& pl, double x0, double x1, double y0, double y1,
+                               double density, double noise, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> ux(x0, x1), uy(y0, y1);
+  std::normal_distribution<double> n(0, noise);
+  int count = int((x1 - x0) * (y1 - y0) * density);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < count; ++i) {
+    double x = ux(rng), y = uy(rng);
+    pts.emplace_back(x + n(rng), y + n(rng), pl.z_at(x, y) + n(rng));
+  }
+  return pts;
+}
+
+Plane plane_through(const Vec3& p, Vec3 n) {
+  n.normalize();
+  if (n.z() < 0) n = -n;
+  return Plane{n, n.dot(p)};
+}
+
+}  // namespace
+
+TEST(Planes, SvdFitRecoversNoisyPlane) {
+  std::mt19937_64 rng(3);
+  Plane truth = plane_through({0, 0, 5}, {0.3, -0.2, 1});
+  auto pts = sample_plane(truth, 0, 10, 0, 8, 40, 0.03, rng);
+  PlaneFit f = fit_plane(pts);
+  EXPECT_LT(std::acos(std::min(1.0, f.plane.n.dot(truth.n))), 0.005);
+  EXPECT_NEAR(f.plane.z_at(5, 4), truth.z_at(5, 4), 0.01);
+  EXPECT_NEAR(f.rmse, 0.03 * std::sqrt(1 + 0.3 * 0.3 + 0.2 * 0.2) / std::sqrt(1.13), 0.01);
+  EXPECT_GT(f.sigma_normal, 0.0);
+}
+
+TEST(Planes, RobustFitIgnoresClutter) {
+  std::mt19937_64 rng(4);
+  Plane truth = plane_through({0, 0, 3}, {0, 0.5, 1});
+  auto pts = sample_plane(truth, 0, 10, 0, 10, 30, 0.02, rng);
+  for (int i = 0; i < 200; ++i) pts.emplace_back(5 + 0.01 * i, 5, 12.0);  // an antenna
+  PlaneFit f = fit_plane_robust(pts, {}, 0.15);
+  EXPECT_NEAR(f.plane.z_at(2, 2), truth.z_at(2, 2), 0.01);
+  EXPECT_LE(f.inliers, int(pts.size()) - 200);
+}
+
+TEST(Planes, RidgeAndThreePlanePoint) {
+  Plane a = plane_through({0, 5, 10}, {0, -0.6, 1});  // falls toward -y
+  Plane b = plane_through({0, 5, 10}, {0, 0.6, 1});   // falls toward +y
+  auto ridge = intersect(a, b);
+  ASSERT_TRUE(ridge);
+  EXPECT_NEAR(ridge->point.y(), 5.0, 1e-9);
+  EXPECT_NEAR(ridge->point.z(), 10.0, 1e-9);
+  EXPECT_NEAR(std::abs(ridge->dir.x()), 1.0, 1e-9);
+  EXPECT_FALSE(intersect(a, a));  // parallel: no line
+  Plane hip = plane_through({10, 5, 10}, {0.6, 0, 1});
+  auto p = common_point({a, b, hip});
+  ASSERT_TRUE(p);
+  EXPECT_NEAR((*p - Vec3(10, 5, 10)).norm(), 0.0, 1e-9);
+}
+
+TEST(Outline, RectangleEdgesWhereDensityEnds) {
+  // A rotated 12 x 8 m roof sampled at 40 pts/m2 with 3 cm noise: the outline
+  // must be a rectangle of the true area within 1 %.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> n(0, 0.03);
+  double c = std::cos(0.4), s = std::sin(0.4);
+  std::vector<Vec2> pts;
+  for (int i = 0; i < 12 * 8 * 40; ++i) {
+    double x = 12 * u(rng), y = 8 * u(rng);
+    pts.emplace_back(c * x - s * y + n(rng), s * x + c * y + n(rng));
+  }
+  OutlineOptions opt;
+  opt.spacing = 0.16;
+  Polygon2 o = roof_outline(pts, opt);
+  EXPECT_EQ(o.outer.size(), 4u);
+  EXPECT_NEAR(area(o), 96.0, 0.96);
+  EXPECT_NEAR(dominant_direction(o.outer), 0.4, 0.01);
+}
+
+TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
+  std::mt19937_64 rng(6);
+  Plane north = plane_through({0, 4, 6}, {0, 0.7, 1}), south = plane_through({0, 4, 6}, {0, -0.7, 1});
+  auto pn = sample_plane(north, 0, 10, 4, 8, 40, 0.02, rng);
+  auto ps = sample_plane(south, 0, 10, 0, 4, 40, 0.02, rng);
+  RoofPartitionInput in;
+  in.outline = Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}};
+  in.components = {0, 1};
+  in.planes = {north, south};
+  for (auto& p : pn) in.points.emplace_back(p.x(), p.y()), in.labels.push_back(0);
+  for (auto& p : ps) in.points.emplace_back(p.x(), p.y()), in.labels.push_back(1);
+  auto regions = partition_roof(in);
+  ASSERT_EQ(regions.size(), 2u);
+  EXPECT_NEAR(area(regions[0].plan), 40.0, 0.01);
+  EXPECT_NEAR(area(regions[1].plan), 40.0, 0.01);
+  // Every vertex of the north face is on the ridge or on the outline.
+  for (const auto& poly : regions[0].plan)
+    for (const auto& v : poly.outer) {
+      bool on_ridge = std::abs(v.y() - 4.0) < 1e-6;
+      bool on_outline = std::abs(v.y() - 8.0) < 1e-6 || std::abs(v.x()) < 1e-6 ||
+                        std::abs(v.x() - 10.0) < 1e-6;
+      EXPECT_TRUE(on_ridge || on_outline) << v.transpose();
+      EXPECT_GE(v.y(), 4.0 - 1e-6);
+    }
+}
+
+TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
+  // Flat roof 10 x 8 m at z = 3 with 0.5 m overhang; walls seen on two sides.
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n(0, 0.02);
+  std::uniform_real_distribution<double> u(0, 1);
+  EnvelopeInput in;
+  in.building_id = "t";
+  in.outline = Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}};
+  Plane roof = plane_through({0, 0, 3}, {0, 0, 1});
+  in.roof = {RoofRegion{0, roof, {in.outline}}};
+  PlaneFit fit;
+  fit.plane = roof;
+  fit.rmse = 0.02;
+  fit.inliers = 3000;
+  in.fits = {fit};
+  for (int i = 0; i < 2000; ++i) {
+    in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));  // south wall y = 0
+    in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));   // west wall x = 0
+  }
+  in.terrain = [](double, double) { return 0.0; };
+  in.default_overhang = 0.3;
+  Building b = build_building(in);
+  BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.ground, 80.0, 0.8);  // unseen walls take the measured overhang
+  EXPECT_NEAR(t.roof, 99.0, 1e-6);
+  EXPECT_NEAR(t.outer_ceiling, 19.0, 0.8);
+  EXPECT_NEAR(t.wall, 2 * (10 + 8) * 3.0, 1.0);
+  int measured = 0, propagated = 0;
+  for (const auto& e : b.elements) {
+    measured += e.evidence == WallEvidence::Measured;
+    propagated += e.evidence == WallEvidence::Propagated;
+  }
+  EXPECT_EQ(measured, 2);
+  EXPECT_EQ(propagated, 2);
+  EXPECT_GT(b.solid.size(), 5u);
+}
+
+// The whole batch on a sample town, element by element against truth.json.
+TEST(SampleTownBatch, AreasMatchTruthPerBuildingType) {
+  std::string dir = test::temp_dir("recon_town");
+  std::string out;
+  ASSERT_EQ(test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 11", &out), 0) << out;
+  int rc = test::run_cli("batch --quiet --cloud " + dir + "/town/cloud.las --parcels " + dir +
+                             "/town/parcels.gpkg --dtm " + dir + "/town/dtm.tif --out " + dir +
+                             "/out --formats obj",
+                         &out);
+  ASSERT_TRUE(rc == 0 || rc == 3) << out;
+  auto truth = nlohmann::json::parse(std::ifstream(dir + "/town/truth.json"));
+  auto summary = nlohmann::json::parse(std::ifstream(dir + "/out/summary.json"));
+  ASSERT_EQ(truth["parcels"].size(), summary["parcels"].size());
+  // Tolerances reached today per layout (README states them against the targets).
+  struct Tol { double roof, ground, wall, volume; };
+  std::map<std::string, Tol> tol = {
+      {"gable", {0.025, 0.04, 0.04, 0.04}},      {"hip", {0.025, 0.04, 0.04, 0.04}},
+      {"cross_gable", {0.025, 0.04, 0.04, 0.04}}, {"shed", {0.025, 0.05, 0.05, 0.05}},
+      {"flat", {0.025, 0.04, 0.04, 0.04}}};
+  int checked = 0;
+  for (size_t i = 0; i < truth["parcels"].size(); ++i) {
+    const auto& tp = truth["parcels"][i];
+    const auto& sp = summary["parcels"][i];
+    EXPECT_EQ(tp["parcel_id"], sp["parcel_id"]);
+    std::string layout = tp["layout"];
+    if (layout == "empty") {
+      EXPECT_EQ(sp["status"], "empty") << tp["parcel_id"];
+      continue;
+    }
+    EXPECT_EQ(sp["status"], "ok") << tp["parcel_id"] << " " << sp["reason"];
+    if (!tol.count(layout)) continue;
+    ASSERT_EQ(sp["buildings"].size(), tp["buildings"].size()) << tp["parcel_id"];
+    const auto& t = tp["buildings"][0];
+    const auto& s = sp["buildings"][0];
+    const Tol& k = tol[layout];
+    auto rel = [&](const char* key) {
+      return std::abs(s[key].get<double>() - t[key].get<double>()) / t[key].get<double>();
+    };
+    EXPECT_LT(rel("roof_area_m2"), k.roof) << layout << " " << tp["parcel_id"];
+    EXPECT_LT(rel("roof_plan_area_m2"), k.roof) << layout;
+    EXPECT_LT(rel("ground_area_m2"), k.ground) << layout;
+    EXPECT_LT(rel("wall_area_m2"), k.wall) << layout;
+    EXPECT_LT(rel("volume_m3"), k.volume) << layout;
+    EXPECT_EQ(s["roof_planes"], t["roof_planes"]) << layout;
+    EXPECT_TRUE(s["solid_valid"].get<bool>()) << layout << " " << s["solid_problem"];
+    ++checked;
+  }
+  EXPECT_GE(checked, 10);
+}
