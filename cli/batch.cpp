@@ -211,6 +211,8 @@ int run_batch(const BatchOptions& opt) {
   auto t_start = std::chrono::steady_clock::now();
   fs::create_directories(opt.out);
   Inputs in = load_inputs(opt);
+  in.cfg.reconstruction.optimize = in.cfg.reconstruction.optimize || opt.optimize;
+  if (!opt.device.empty()) in.cfg.reconstruction.optimize_device = opt.device;
   for (const auto& w : in.warnings) std::cerr << "cadastre3d batch: warning: " << w << "\n";
   LocalFrame frame = make_frame(in.layer);
   const size_t n = in.layer.parcels.size();

@@ -18,6 +18,7 @@ struct BatchOptions {
   int jobs = 0;                      // 0: all cores
   bool resume = false;
   bool optimize = false;
+  std::string device;                // optimizer device: auto | cpu | vulkan
   bool quiet = false;
 };
 

@@ -28,6 +28,8 @@ void register_batch(CLI::App& app) {
       ->delimiter(',');
   cmd->add_flag("--resume", opt->resume, "Skip parcels already stored from the same inputs");
   cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");
+  cmd->add_option("--device", opt->device, "Optimizer device: auto, cpu or vulkan")
+      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
   cmd->add_flag("--quiet", opt->quiet, "Print nothing but errors");
   cmd->callback([opt] { exit_code() = run_batch(*opt); });
 }

@@ -34,6 +34,8 @@ struct ReconstructionParams {
   double default_overhang_m = 0.5;         // when no wall is seen at all
   double storey_height_m = 3.0;
   double ownership_share = 0.8;            // a component goes whole to a parcel holding this share
+  bool optimize = false;                   // refine with the primitive-constrained optimizer
+  std::string optimize_device = "auto";    // auto | cpu | vulkan
 };
 
 struct ElementCost {

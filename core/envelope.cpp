@@ -17,6 +17,13 @@ namespace {
 
 Vec2 outward(const Vec2& d) { return Vec2(d.y(), -d.x()); }  // for counter-clockwise rings
 
+// Wall points further inside a roof edge than this belong to another wall
+// (an inner facade, a neighbour): hanging roofs reach about 1.5 m.
+constexpr double kMaxOverhang = 1.8;
+// A measured overhang this far from the building's median is taken as a
+// misread (another wall behind the edge) and replaced by the median.
+constexpr double kOverhangOutlier = 0.6;
+
 struct EdgeInfo {
   Vec2 a, b;
   double overhang = 0;
@@ -54,7 +61,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
     Vec2 mid = 0.5 * (e.a + e.b);
     double tz = in.terrain(mid.x(), mid.y());
     WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3);
-    if (fit.found && -fit.offset < 2.5) {
+    if (fit.found && -fit.offset < kMaxOverhang) {
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Measured;
       e.support = fit.support;
@@ -67,6 +74,11 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   WallEvidence fill = WallEvidence::Default;
   if (!measured.empty()) {
     typical = median(measured);
+    for (auto& e : edges)
+      if (e.evidence == WallEvidence::Measured && std::abs(e.overhang - typical) > kOverhangOutlier) {
+        e.evidence = WallEvidence::Default;  // re-filled below as propagated
+        e.support = 0;
+      }
     std::vector<double> dev;
     for (double m : measured) dev.push_back(std::abs(m - typical));
     spread = std::max(0.05, 1.4826 * median(dev));
@@ -384,7 +396,7 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
   if (len < 0.8) return fit;
   d /= len;
   Vec2 n = outward(d);
-  const double lo = -2.5, hi = 0.3, bin = 0.04;
+  const double lo = -kMaxOverhang, hi = 0.3, bin = 0.04;
   std::vector<int> hist(int((hi - lo) / bin) + 1, 0);
   std::vector<std::pair<double, double>> st;  // (s, t)
   for (const auto& p : pts) {

@@ -141,8 +141,8 @@ std::vector<Vec3> preprocess_points(const std::vector<Vec3>& points, const Dense
 }
 
 // Sequential RANSAC: the best plane, remove its inliers, repeat.
-std::vector<Plane> detect_planes(const std::vector<Vec3>& points, const DenseOptions& o) {
-  std::vector<Plane> planes;
+std::vector<PrimitivePlane> detect_planes(const std::vector<Vec3>& points, const DenseOptions& o) {
+  std::vector<PrimitivePlane> planes;
   Cloud::Ptr rest = to_pcl(points);
   pcl::SACSegmentation<pcl::PointXYZ> seg;
   seg.setOptimizeCoefficients(true);
@@ -158,7 +158,7 @@ std::vector<Plane> detect_planes(const std::vector<Vec3>& points, const DenseOpt
     if (in->indices.size() < std::size_t(o.min_plane_points)) break;
     Vec3 n(coef.values[0], coef.values[1], coef.values[2]);
     double len = n.norm();
-    planes.push_back(Plane{n / len, coef.values[3] / len});
+    planes.push_back(PrimitivePlane{n / len, coef.values[3] / len});
     Cloud::Ptr next(new Cloud);
     pcl::ExtractIndices<pcl::PointXYZ> ex;
     ex.setInputCloud(rest);

@@ -38,7 +38,7 @@ std::vector<Vec3> read_points(const std::string& path);
 void write_mesh_ply(const std::string& path, const TriMesh& mesh);
 
 std::vector<Vec3> preprocess_points(const std::vector<Vec3>& points, const DenseOptions& o, int* tiles = nullptr);
-std::vector<Plane> detect_planes(const std::vector<Vec3>& points, const DenseOptions& o);
+std::vector<PrimitivePlane> detect_planes(const std::vector<Vec3>& points, const DenseOptions& o);
 TriMesh greedy_mesh(const std::vector<Vec3>& points, const DenseOptions& o);
 
 // Everything in local coordinates. An empty mesh is built from the points.

@@ -129,7 +129,7 @@ int subdivide_by_curvature(ConstrainedMesh& cm, double threshold_rad) {
 // line bisects the two planes; band triangles crossing it are split along it,
 // those on plane A's side align to A (M1), the rest to B (M2).
 int split_along_line(ConstrainedMesh& cm, int li, double band, std::vector<int>& on_line) {
-  const Line& L = cm.lines[li];
+  const PrimitiveLine& L = cm.lines[li];
   const int a = L.plane_a, b = L.plane_b;
   Vec3 sep = cm.planes[a].n - cm.planes[b].n;
   if (sep.norm() < 1e-6) return 0;
@@ -193,9 +193,9 @@ KernelState make_state(const ConstrainedMesh& cm, const std::vector<int>& on_lin
   for (const Tri& t : cm.mesh.triangles)
     for (int k : t) s.tri.push_back(static_cast<std::uint32_t>(k));
   s.tplane.assign(cm.tri_plane.begin(), cm.tri_plane.end());
-  for (const Plane& p : cm.planes)
+  for (const PrimitivePlane& p : cm.planes)
     for (double x : {p.n.x(), p.n.y(), p.n.z(), p.d}) s.planes.push_back(static_cast<float>(x));
-  for (const Line& l : cm.lines)
+  for (const PrimitiveLine& l : cm.lines)
     for (double x : {l.point.x(), l.point.y(), l.point.z(), 0.0, l.dir.x(), l.dir.y(), l.dir.z(), 0.0})
       s.lines.push_back(static_cast<float>(x));
   s.weight.assign(nv, 1.0f);
@@ -322,7 +322,7 @@ int cluster_transform(const ConstrainedMesh& cm, KernelState& s, const Optimizer
     const auto& mv = members[c];
     std::array<float, 12> m{1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
     if (!mv.empty()) {
-      const Plane& pl = cm.planes[cl_plane[c]];
+      const PrimitivePlane& pl = cm.planes[cl_plane[c]];
       std::vector<Vec3> src, dst;
       std::size_t stride = std::max<std::size_t>(1, mv.size() / std::max(o.cluster_samples, 1));
       for (std::size_t k = 0; k < mv.size(); k += stride) {
@@ -416,8 +416,8 @@ std::vector<Triangle3> TriMesh::soup() const {
   return out;
 }
 
-Line intersect_planes(const Plane& a, const Plane& b, int ia, int ib) {
-  Line l;
+PrimitiveLine intersect_planes(const PrimitivePlane& a, const PrimitivePlane& b, int ia, int ib) {
+  PrimitiveLine l;
   l.dir = a.n.cross(b.n).normalized();
   // Point on both planes closest to the origin: solve [na; nb; dir] p = [-da; -db; 0].
   Eigen::Matrix3d A;
@@ -430,7 +430,7 @@ Line intersect_planes(const Plane& a, const Plane& b, int ia, int ib) {
   return l;
 }
 
-std::vector<Line> adjacent_plane_lines(const ConstrainedMesh& m) {
+std::vector<PrimitiveLine> adjacent_plane_lines(const ConstrainedMesh& m) {
   std::unordered_map<std::uint64_t, std::vector<int>> by_edge;
   for (std::size_t t = 0; t < m.mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
@@ -440,9 +440,9 @@ std::vector<Line> adjacent_plane_lines(const ConstrainedMesh& m) {
     for (int a : labels)
       for (int b : labels)
         if (a >= 0 && b >= 0 && a < b) ++pairs[{a, b}];
-  std::vector<Line> lines;
+  std::vector<PrimitiveLine> lines;
   for (const auto& [p, n] : pairs) {
-    const Plane &a = m.planes[p.first], &b = m.planes[p.second];
+    const PrimitivePlane &a = m.planes[p.first], &b = m.planes[p.second];
     if (a.n.cross(b.n).norm() < std::sin(5 * kPi / 180)) continue;
     lines.push_back(intersect_planes(a, b, p.first, p.second));
   }

@@ -17,13 +17,13 @@
 
 namespace c3d {
 
-struct Plane {
+struct PrimitivePlane {
   Vec3 n = Vec3::UnitZ();  // unit normal
   double d = 0;            // n.p + d = 0
   double distance(const Vec3& p) const { return n.dot(p) + d; }
 };
 
-struct Line {
+struct PrimitiveLine {
   Vec3 point = Vec3::Zero();
   Vec3 dir = Vec3::UnitX();  // unit
   int plane_a = -1, plane_b = -1;
@@ -41,8 +41,8 @@ struct TriMesh {
 struct ConstrainedMesh {
   TriMesh mesh;
   std::vector<int> tri_plane;
-  std::vector<Plane> planes;
-  std::vector<Line> lines;
+  std::vector<PrimitivePlane> planes;
+  std::vector<PrimitiveLine> lines;
   std::vector<double> vertex_weight;  // fitness weights, empty = all 1
 };
 
@@ -79,11 +79,11 @@ struct Viewpoint {
   double fov_y_deg = 60, aspect = 1, near_m = 0.1, far_m = 1000;
 };
 
-// Line where two planes meet (point closest to the origin of both).
-Line intersect_planes(const Plane& a, const Plane& b, int ia = -1, int ib = -1);
+// PrimitiveLine where two planes meet (point closest to the origin of both).
+PrimitiveLine intersect_planes(const PrimitivePlane& a, const PrimitivePlane& b, int ia = -1, int ib = -1);
 // Lines for every pair of planes whose triangles share an edge and that are not
 // near-parallel (> 5 degrees apart).
-std::vector<Line> adjacent_plane_lines(const ConstrainedMesh& m);
+std::vector<PrimitiveLine> adjacent_plane_lines(const ConstrainedMesh& m);
 
 // Runs the whole optimizer in place.
 OptimizeReport optimize_mesh(ConstrainedMesh& m, const OptimizerOptions& options);

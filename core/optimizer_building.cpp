@@ -63,10 +63,10 @@ std::vector<std::array<int, 3>> ear_clip(const std::vector<Vec2>& pts) {
   return tris;
 }
 
-// Plane of a face: Newell normal through the centroid, refitted (PCA) to the
+// PrimitivePlane of a face: Newell normal through the centroid, refitted (PCA) to the
 // points near it whose projection falls inside the face.
-Plane face_plane(const Face& f, const std::vector<Vec3>& points) {
-  Plane pl;
+PrimitivePlane face_plane(const Face& f, const std::vector<Vec3>& points) {
+  PrimitivePlane pl;
   pl.n = newell_normal(f.ring).normalized();
   Vec3 c = Vec3::Zero();
   for (const Vec3& p : f.ring) c += p;
@@ -87,7 +87,7 @@ Plane face_plane(const Face& f, const std::vector<Vec3>& points) {
   Vec3 n = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
   if (n.dot(pl.n) < 0) n = -n;
   if (n.dot(pl.n) < std::cos(15 * 3.14159265358979 / 180)) return pl;
-  return Plane{n, -n.dot(m)};
+  return PrimitivePlane{n, -n.dot(m)};
 }
 
 // Vertices on three or more planes go to their least-squares common point.
@@ -100,7 +100,7 @@ void snap_corners(ConstrainedMesh& cm) {
     Eigen::Matrix3d A = 1e-6 * Eigen::Matrix3d::Identity();
     Vec3 b = 1e-6 * cm.mesh.vertices[v];
     for (int k : planes[v]) {
-      const Plane& p = cm.planes[k];
+      const PrimitivePlane& p = cm.planes[k];
       A += p.n * p.n.transpose();
       b += -p.d * p.n;
     }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <mutex>
 #include <set>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include "core/evaluate.h"
 #include "core/geometry.h"
 #include "core/measure.h"
+#include "core/optimizer.h"
 #include "core/outline.h"
 #include "core/polygon_ops.h"
 #include "core/roof.h"
@@ -209,6 +211,16 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   ei.storey_height = p.storey_height_m;
   ei.spacing = seg.spacing;
   Building b = build_building(ei);
+  if (p.optimize) {
+    std::vector<Vec3> own;
+    for (int c : bp.components)
+      for (int i : seg.components[c].points) own.push_back(s.roof_points[i]);
+    OptimizerOptions o;
+    o.device = parse_compute_device(p.optimize_device);
+    OptimizeReport rep = optimize_building(b, own, o);
+    static std::once_flag logged;
+    std::call_once(logged, [&] { std::fprintf(stderr, "optimizer: %s\n", rep.device.c_str()); });
+  }
   measure_building(b, p.storey_height_m);
   return b;
 }

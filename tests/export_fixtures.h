@@ -242,10 +242,15 @@ inline bool have_program(const std::string& name) {
   return sh("command -v " + name + " >/dev/null") == 0;
 }
 
-// tests/js with its npm packages installed (scripts/setup.sh), or "".
+// tests/js with its npm packages installed (scripts/setup.sh), or "" (the tests
+// that need them then skip): node on the PATH and every package the checks use.
 inline std::string js_dir() {
-  std::filesystem::path p = std::filesystem::path(C3D_SOURCE_DIR) / "tests" / "js";
-  return std::filesystem::exists(p / "node_modules") && have_program("node") ? p.string() : "";
+  namespace fs = std::filesystem;
+  fs::path p = fs::path(C3D_SOURCE_DIR) / "tests" / "js";
+  fs::path m = p / "node_modules";
+  bool installed = fs::exists(m / ".bin" / "ajv") && fs::exists(m / "ajv-formats" / "package.json") &&
+                   fs::exists(m / "web-ifc" / "package.json");
+  return installed && have_program("node") ? p.string() : "";
 }
 
 inline std::string read_text(const std::string& path) {

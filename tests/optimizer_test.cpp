@@ -17,9 +17,9 @@ constexpr double kRidgeX = 0.13;  // off the grid lines: triangles straddle the 
 
 double roof_z(double x) { return 3.0 - 0.5 * std::fabs(x - kRidgeX); }
 
-Plane plane_through(Vec3 n, const Vec3& p) {
+PrimitivePlane plane_through(Vec3 n, const Vec3& p) {
   n.normalize();
-  return Plane{n, -n.dot(p)};
+  return PrimitivePlane{n, -n.dot(p)};
 }
 
 // 10 m x 10 m gable roof on a 0.2 m grid, 3 cm noise per axis.

@@ -43,7 +43,7 @@ ConstrainedMesh roof(int n) {
       cm.tri_plane.push_back(cx < ridge ? 0 : 1);
     }
   Vec3 nl = Vec3(-0.5, 0, 1).normalized(), nr = Vec3(0.5, 0, 1).normalized();
-  cm.planes = {Plane{nl, -nl.dot(Vec3(ridge, 0, 8))}, Plane{nr, -nr.dot(Vec3(ridge, 0, 8))}};
+  cm.planes = {PrimitivePlane{nl, -nl.dot(Vec3(ridge, 0, 8))}, PrimitivePlane{nr, -nr.dot(Vec3(ridge, 0, 8))}};
   cm.lines = {intersect_planes(cm.planes[0], cm.planes[1], 0, 1)};
   return cm;
 }
