@@ -24,6 +24,8 @@
 #include "core/crs.h"
 #include "core/dtm_io.h"
 #include "core/error.h"
+#include "core/evaluate.h"
+#include "core/polygon_ops.h"
 #include "core/geometry.h"
 #include "core/point_io.h"
 #include "core/reconstruct.h"
@@ -205,6 +207,46 @@ std::string run_key_of(const std::string& params, const BatchOptions& opt) {
   return sha256_hex(s);
 }
 
+// Every roof point inside a parcel against the nearest roof of any model, and
+// every wall point within 2 m of a parcel against the nearest wall.
+void any_model_deviation(const std::string& store_path, const Inputs& in,
+                         const ParcelClipper& clipper, OutputTimings& t) {
+  BatchModel model = load_batch_model(store_path);
+  std::vector<Face> roofs, walls;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings) {
+      auto rf = faces_of(b, {ElementType::Roof});
+      auto wf = faces_of(b, {ElementType::Wall, ElementType::PartyWall});
+      roofs.insert(roofs.end(), rf.begin(), rf.end());
+      walls.insert(walls.end(), wf.begin(), wf.end());
+    }
+  auto shift = [&](std::vector<Face>& faces) {
+    for (auto& f : faces) {
+      for (auto& v : f.ring) v = model.frame.to_world(v);
+      for (auto& h : f.holes)
+        for (auto& v : h) v = model.frame.to_world(v);
+    }
+  };
+  shift(roofs);
+  shift(walls);
+  std::vector<Vec3> roof_in;
+  for (const auto& p : in.roof)
+    for (size_t k = 0; k < clipper.parcel_count(); ++k)
+      if (clipper.inside(k, p.x(), p.y())) {
+        roof_in.push_back(p);
+        break;
+      }
+  ClipParams near = in.cfg.clip;
+  near.overhang_buffer_m = 2.0;
+  std::vector<Vec3> wall_near;
+  std::vector<char> seen(in.wall.size(), 0);
+  for (const auto& list : ParcelClipper(in.layer, near).clip(in.wall))
+    for (size_t k : list)
+      if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
+  if (!roofs.empty()) t.any_model_roof = deviation_to_faces(roof_in, roofs);
+  if (!walls.empty()) t.any_model_wall = deviation_to_faces(wall_near, walls);
+}
+
 }  // namespace
 
 int run_batch(const BatchOptions& opt) {
@@ -280,7 +322,8 @@ int run_batch(const BatchOptions& opt) {
   double t_recon =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() - t_ingest;
 
-  OutputTimings timings{t_ingest, t_recon, stage_seconds};
+  OutputTimings timings{t_ingest, t_recon, stage_seconds, {}, {}};
+  any_model_deviation(store_path, in, clipper, timings);
   write_outputs(store_path, opt.out, in.cfg, opt.formats, timings, opt.quiet);
   auto t_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (!opt.quiet)

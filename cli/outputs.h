@@ -6,12 +6,17 @@
 #include <vector>
 
 #include "core/config.h"
+#include "core/types.h"
 
 namespace c3d::cli {
 
 struct OutputTimings {
   double ingest_s = 0, reconstruct_s = 0;
   std::map<std::string, double> stages;  // summed over parcels (CPU seconds)
+  // Deviation of every roof point inside any parcel from the nearest roof
+  // surface of any model (and wall points within 2 m of a parcel from any wall):
+  // the model's fit, free of which parcel a point was counted for.
+  Deviation any_model_roof, any_model_wall;
 };
 
 void write_outputs(const std::string& store_path, const std::string& out_dir, const Config& cfg,
