@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -185,7 +186,9 @@ std::string params_json(const Config& cfg, const BatchOptions& opt) {
               {"plane_inlier_m", r.plane_inlier_m},
               {"default_overhang_m", r.default_overhang_m},
               {"storey_height_m", r.storey_height_m},
-              {"ownership_share", r.ownership_share}}}};
+              {"shared_roof_depth_m", r.shared_roof_depth_m},
+              {"roof_cluster_m", r.roof_cluster_m},
+              {"partition_cell_m", r.partition_cell_m}}}};
   return j.dump();
 }
 
@@ -244,6 +247,14 @@ void any_model_deviation(const std::string& store_path, const Inputs& in,
     for (size_t k : list)
       if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
   if (!roofs.empty()) t.any_model_roof = deviation_to_faces(roof_in, roofs);
+  if (std::getenv("C3D_DEBUG") && !roofs.empty()) {  // where the misfit is
+    FaceIndex index(roofs);
+    auto hits = index.nearest(roof_in);
+    std::ofstream f("/tmp/c3d_roof_dist.xyzd");
+    f.precision(10);
+    for (size_t i = 0; i < hits.size(); ++i)
+      f << roof_in[i].x() << " " << roof_in[i].y() << " " << roof_in[i].z() << " " << hits[i].distance << "\n";
+  }
   if (!walls.empty()) t.any_model_wall = deviation_to_faces(wall_near, walls);
 }
 
@@ -292,6 +303,7 @@ int run_batch(const BatchOptions& opt) {
     for (size_t i = 0; i < n; ++i) todo[i] = !store.parcel_done(in.layer.parcels[i].id, keys[i]);
 
   std::map<std::string, double> stage_seconds;
+  double store_seconds = 0;
   std::atomic<size_t> next{0};
   std::mutex store_mutex;
   Progress progress("reconstruct", size_t(std::count(todo.begin(), todo.end(), 1)), opt.quiet);
@@ -303,7 +315,10 @@ int run_batch(const BatchOptions& opt) {
       ParcelResult r = reconstruct_parcel(scene, in.cfg.reconstruction);
       ParcelValuation v = value_parcel(in.layer.parcels[i], r, in.cfg.valuation);
       std::lock_guard<std::mutex> lock(store_mutex);
+      auto t_write = std::chrono::steady_clock::now();
       store.write_parcel(in.layer.parcels[i], r, v, frame, keys[i]);
+      store_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_write).count();
       for (const auto& t : r.timings) stage_seconds[t.stage] += t.seconds;
       if (r.status == ParcelStatus::Failed) {
         ++failed;
@@ -326,8 +341,13 @@ int run_batch(const BatchOptions& opt) {
   any_model_deviation(store_path, in, clipper, timings);
   write_outputs(store_path, opt.out, in.cfg, opt.formats, timings, opt.quiet);
   auto t_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  if (!opt.quiet)
+  if (!opt.quiet) {
     std::cout << "batch: " << n << " parcels in " << t_total << " s; outputs in " << opt.out << "\n";
+    std::printf("timing: ingest+clip %.3f s, reconstruction %.3f s, store writes %.3f s, "
+                "summary+report+exports %.3f s, total %.3f s\n",
+                t_ingest, t_recon - store_seconds, store_seconds, t_total - t_ingest - t_recon,
+                t_total);
+  }
   return failed > 0 ? kExitPartial : kExitOk;
 }
 

@@ -77,6 +77,14 @@ class Section {
     out = int(i->get());
   }
 
+  void boolean(const std::string& k, bool& out, bool required) const {
+    const toml::node* n = node(k, required);
+    if (!n) return;
+    auto b = n->as_boolean();
+    if (!b) fail(k, "must be true or false");
+    out = b->get();
+  }
+
   void text(const std::string& k, std::string& out, bool required) const {
     const toml::node* n = node(k, required);
     if (!n) return;
@@ -138,23 +146,27 @@ void read_fields(const Section& s, ParcelFields& f) {
 }
 
 void read_reconstruction(const Section& s, ReconstructionParams& r) {
-  s.allow_only({"voxel_m", "outlier_neighbours", "outlier_std", "roof_smoothness_deg",
+  s.allow_only({"outlier_neighbours", "outlier_std", "roof_cluster_m",
                 "component_smoothness_deg", "component_curvature", "min_component_points",
-                "min_component_area_m2", "plane_inlier_m", "outline_cell_m",
-                "default_overhang_m", "storey_height_m", "ownership_share"});
-  s.number("voxel_m", r.voxel_m, false);
+                "min_component_area_m2", "plane_inlier_m", "partition_cell_m",
+                "default_overhang_m", "storey_height_m", "shared_roof_depth_m", "optimize",
+                "optimize_device"});
   s.integer("outlier_neighbours", r.outlier_neighbours, false, 1);
   s.number("outlier_std", r.outlier_std, false);
-  s.number("roof_smoothness_deg", r.roof_smoothness_deg, false, 0, 180);
+  s.number("roof_cluster_m", r.roof_cluster_m, false, 0, 10);
   s.number("component_smoothness_deg", r.component_smoothness_deg, false, 0, 180);
   s.number("component_curvature", r.component_curvature, false);
   s.integer("min_component_points", r.min_component_points, false, 3);
   s.number("min_component_area_m2", r.min_component_area_m2, false);
   s.number("plane_inlier_m", r.plane_inlier_m, false);
-  s.number("outline_cell_m", r.outline_cell_m, false, 1e-3);
+  s.number("partition_cell_m", r.partition_cell_m, false, 0, 1);
   s.number("default_overhang_m", r.default_overhang_m, false);
   s.number("storey_height_m", r.storey_height_m, false, 0.5);
-  s.number("ownership_share", r.ownership_share, false, 0, 1);
+  s.number("shared_roof_depth_m", r.shared_roof_depth_m, false, 0, 10);
+  s.boolean("optimize", r.optimize, false);
+  s.text("optimize_device", r.optimize_device, false);
+  if (r.optimize_device != "auto" && r.optimize_device != "cpu" && r.optimize_device != "vulkan")
+    s.fail("optimize_device", "must be auto, cpu or vulkan");
 }
 
 void read_unit_costs(const Section& s, ValuationParams& v) {

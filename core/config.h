@@ -21,19 +21,19 @@ struct ClipParams {
 };
 
 struct ReconstructionParams {
-  double voxel_m = 0.0;                    // 0: no down-sampling
   int outlier_neighbours = 12;             // statistical outlier removal
   double outlier_std = 2.5;
-  double roof_smoothness_deg = 45.0;       // region growing, individual roofs
+  double roof_cluster_m = 0.0;             // individual roofs: gap that separates them (0: 4 x spacing, >= 0.5)
   double component_smoothness_deg = 8.0;   // region growing, planar components
   double component_curvature = 0.05;
   int min_component_points = 30;
   double min_component_area_m2 = 2.0;
   double plane_inlier_m = 0.15;            // robust plane fit
-  double outline_cell_m = 0.25;            // labelling grid for roof partition
+  double partition_cell_m = 0.0;           // labelling grid of the roof partition (0: point spacing, 0.05..0.15)
   double default_overhang_m = 0.5;         // when no wall is seen at all
   double storey_height_m = 3.0;
-  double ownership_share = 0.8;            // a component goes whole to a parcel holding this share
+  double shared_roof_depth_m = 0.5;        // a roof reaching this far past the overhang buffer into a
+                                           // neighbour is shared by attached houses: split at the boundary
   bool optimize = false;                   // refine with the primitive-constrained optimizer
   std::string optimize_device = "auto";    // auto | cpu | vulkan
 };

@@ -49,9 +49,9 @@ Vec2 plan(const Vec3& p) { return p.head<2>(); }
 // (an overhang reaches at most the overhang buffer across a boundary); a
 // component reaching deeper into a neighbour is a roof shared by attached
 // houses and is split at the boundary. Returns the neighbours split against.
-std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg) {
+std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double depth_margin) {
   std::set<int> split_with;
-  const double shared_depth = s.overhang_buffer_m + 0.5;
+  const double shared_depth = s.overhang_buffer_m + depth_margin;
   for (auto& c : seg.components) {
     long own = 0;
     std::vector<long> nb(s.neighbours.size(), 0);
@@ -198,7 +198,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
       rp.labels.push_back(c);
     }
   }
-  rp.cell = std::max(0.05, std::min(0.15, seg.spacing));
+  rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.05, std::min(0.15, seg.spacing));
   EnvelopeInput ei;
   ei.building_id = id;
   ei.outline = bp.outline;
@@ -244,7 +244,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     }
     Segmentation seg = segment_roofs(s.roof_points, p);
     clock.lap("segment");
-    std::set<int> split_with = apply_ownership(s, seg);
+    std::set<int> split_with = apply_ownership(s, seg, p.shared_roof_depth_m);
     for (auto& c : seg.components)
       if (int(c.points.size()) < p.min_component_points) {
         for (int i : c.points) seg.label[i] = -1;

@@ -154,13 +154,13 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
 
   pcl::Indices kept = remove_outliers(cloud, p);
   pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
-  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(2);
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
   ne.setInputCloud(cloud);
   ne.setSearchMethod(tree);
   ne.setKSearch(20);
   ne.compute(*normals);
 
-  double tolerance = std::max(0.5, 4.0 * seg.spacing);
+  double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
   auto roofs = cluster_roofs(cloud, kept, tolerance, p.min_component_points);
   for (const auto& roof : roofs) {
     std::vector<RoofComponent> comps;

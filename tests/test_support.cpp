@@ -1,5 +1,7 @@
 #include "tests/test_support.h"
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -18,7 +20,14 @@ std::string cimahi_dir() { return shared_path("data/cimahi"); }
 std::string schemas_dir() { return shared_path("schemas"); }
 
 std::string temp_dir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("c3d_test_" + name);
+  // One directory per build tree and test (ctest -j runs tests of one fixture in
+  // parallel processes, and several build trees may run their suites at once).
+  std::string test = "global";
+  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info())
+    test = std::string(info->test_suite_name()) + "." + info->name();
+  for (char& c : test)
+    if (c == '/') c = '_';  // parameterised tests: Suite/Name/0
+  fs::path p = fs::path(C3D_TEST_TMP_DIR) / test / name;
   fs::remove_all(p);
   fs::create_directories(p);
   return p.string();

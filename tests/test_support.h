@@ -7,7 +7,8 @@ namespace c3d::test {
 // ../shared/data/cimahi beside the checkout, or "" when absent (tests then skip).
 std::string cimahi_dir();
 std::string schemas_dir();
-// A fresh empty directory under the build's temp area.
+// A fresh empty directory under the build's temp area (<build>/tests/tmp/<Suite.Test>/name),
+// so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.
