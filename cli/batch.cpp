@@ -38,7 +38,7 @@ using nlohmann::json;
 namespace c3d::cli {
 namespace {
 
-constexpr double kOwnershipContextM = 2.5;
+constexpr double kOwnershipContextM = 1.5;
 
 struct Inputs {
   Config cfg;
@@ -213,7 +213,8 @@ std::string run_key_of(const std::string& params, const BatchOptions& opt) {
 // Every roof point inside a parcel against the nearest roof of any model, and
 // every wall point within 2 m of a parcel against the nearest wall.
 void any_model_deviation(const std::string& store_path, const Inputs& in,
-                         const ParcelClipper& clipper, OutputTimings& t) {
+                         const ParcelClipper& clipper,
+                         const ParcelClipper::IndexLists& roof_lists, OutputTimings& t) {
   BatchModel model = load_batch_model(store_path);
   std::vector<Face> roofs, walls;
   for (const auto& r : model.results)
@@ -233,11 +234,12 @@ void any_model_deviation(const std::string& store_path, const Inputs& in,
   shift(roofs);
   shift(walls);
   std::vector<Vec3> roof_in;
-  for (const auto& p : in.roof)
-    for (size_t k = 0; k < clipper.parcel_count(); ++k)
-      if (clipper.inside(k, p.x(), p.y())) {
-        roof_in.push_back(p);
-        break;
+  std::vector<char> taken(in.roof.size(), 0);
+  for (size_t k = 0; k < roof_lists.size(); ++k)
+    for (size_t i : roof_lists[k])
+      if (!taken[i] && clipper.inside(k, in.roof[i].x(), in.roof[i].y())) {
+        taken[i] = 1;
+        roof_in.push_back(in.roof[i]);
       }
   ClipParams near = in.cfg.clip;
   near.overhang_buffer_m = 2.0;
@@ -338,7 +340,7 @@ int run_batch(const BatchOptions& opt) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() - t_ingest;
 
   OutputTimings timings{t_ingest, t_recon, stage_seconds, {}, {}};
-  any_model_deviation(store_path, in, clipper, timings);
+  any_model_deviation(store_path, in, clipper, roof_lists, timings);
   write_outputs(store_path, opt.out, in.cfg, opt.formats, timings, opt.quiet);
   auto t_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (!opt.quiet) {

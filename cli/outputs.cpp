@@ -58,7 +58,11 @@ json building_json(const Building& b) {
 
 void write_summary(const std::string& store_path, const std::string& path,
                    const OutputTimings& timings) {
-  BatchModel model = load_batch_model(store_path);
+  write_summary(load_batch_model(store_path), path, timings);
+}
+
+void write_summary(const BatchModel& model, const std::string& path,
+                   const OutputTimings& timings) {
   json parcels = json::array();
   std::vector<Deviation> roof_devs, wall_devs;
   int ok = 0, empty = 0, failed = 0;
@@ -104,11 +108,11 @@ void write_summary(const std::string& store_path, const std::string& path,
 void write_outputs(const std::string& store_path, const std::string& out_dir, const Config& cfg,
                    const std::vector<std::string>& formats, const OutputTimings& timings,
                    bool quiet) {
-  write_summary(store_path, (fs::path(out_dir) / "summary.json").string(), timings);
+  BatchModel model = load_batch_model(store_path);
+  write_summary(model, (fs::path(out_dir) / "summary.json").string(), timings);
 #ifdef C3D_HAVE_REPORT
   write_report_from_store(store_path, out_dir, cfg);
 #endif
-  BatchModel model = load_batch_model(store_path);
   auto files = export_formats(model, out_dir, formats);
   if (!quiet) {
     std::cout << "summary: " << (fs::path(out_dir) / "summary.json").string() << "\n"

@@ -26,5 +26,6 @@ void write_outputs(const std::string& store_path, const std::string& out_dir, co
 // summary.json alone (also used by tests).
 void write_summary(const std::string& store_path, const std::string& path,
                    const OutputTimings& timings);
+void write_summary(const BatchModel& model, const std::string& path, const OutputTimings& timings);
 
 }  // namespace c3d::cli

@@ -198,7 +198,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
       rp.labels.push_back(c);
     }
   }
-  rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.05, std::min(0.15, seg.spacing));
+  rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.1, std::min(0.2, seg.spacing));
   EnvelopeInput ei;
   ei.building_id = id;
   ei.outline = bp.outline;

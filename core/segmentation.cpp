@@ -157,7 +157,7 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
   ne.setInputCloud(cloud);
   ne.setSearchMethod(tree);
-  ne.setKSearch(20);
+  ne.setKSearch(16);
   ne.compute(*normals);
 
   double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -134,9 +137,22 @@ TEST(Report, CliWritesReportFromStoreAndChromiumRendersIt) {
                           "/o2 --config " + std::string(C3D_SOURCE_DIR) + "/config/cadastre3d.toml",
                           &out), 1) << out;
 
-  if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "no chromium for the rendering check";
+  // Rendering check with a real browser: runs wherever chromium is installed
+  // (scripts/setup.sh installs it), skips elsewhere.
+  std::string chromium;
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    FILE* p = popen(("command -v " + std::string(name) + " 2>/dev/null").c_str(), "r");
+    char buf[512] = {0};
+    if (p && fgets(buf, sizeof buf, p)) chromium = buf;
+    if (p) pclose(p);
+    while (!chromium.empty() && std::isspace(static_cast<unsigned char>(chromium.back())))
+      chromium.pop_back();
+    if (!chromium.empty()) break;
+  }
+  if (chromium.empty()) GTEST_SKIP() << "no chromium for the rendering check";
   std::string png = dir + "/report.png";
-  std::string cmd = "timeout 90 /usr/bin/chromium --headless --no-sandbox --disable-gpu "
+  std::string cmd = "timeout 90 " + chromium + " --headless --no-sandbox --disable-gpu "
+                    "--disable-dev-shm-usage --hide-scrollbars "
                     "--disable-background-networking --disable-component-update --disable-sync "
                     "--no-first-run --user-data-dir=" + dir + "/chrome --screenshot=" + png +
                     " --window-size=1280,2000 file://" + dir + "/out/report.html >/dev/null 2>&1";
