@@ -81,20 +81,20 @@ std::pair<Vec3, Vec3> plane_axes(const Vec3& n) {
 
 }  // namespace
 
-std::vector<Triangle> triangulate(const Face& face) {
-  std::vector<Triangle> out;
+IndexedTriangles triangulate_indexed(const Face& face) {
+  IndexedTriangles out;
   if (face.ring.size() < 3) return out;
-  if (face.ring.size() == 3 && face.holes.empty()) {
-    if (newell_normal(face.ring).norm() > 0) out.push_back({face.ring[0], face.ring[1], face.ring[2]});
-    return out;
-  }
   Vec3 n = newell_normal(face.ring);
   if (n.norm() == 0) return out;
+  if (face.ring.size() == 3 && face.holes.empty()) {
+    out.points = face.ring;
+    out.tris.push_back({0, 1, 2});
+    return out;
+  }
   n.normalize();
   const auto [u, v] = plane_axes(n);
   const Vec3 o = face.ring.front();
 
-  std::vector<Vec3> pts;
   Cdt cdt;
   auto add_ring = [&](const Ring3& ring) {
     std::vector<Cdt::Vertex_handle> vh;
@@ -102,8 +102,8 @@ std::vector<Triangle> triangulate(const Face& face) {
       Vec3 d = p - o;
       auto h = cdt.insert(K::Point_2(d.dot(u), d.dot(v)));
       if (h->info().id < 0) {
-        h->info().id = int(pts.size());
-        pts.push_back(p);
+        h->info().id = int(out.points.size());
+        out.points.push_back(p);
       }
       vh.push_back(h);
     }
@@ -115,16 +115,24 @@ std::vector<Triangle> triangulate(const Face& face) {
   add_ring(face.ring);
   for (const auto& h : face.holes) add_ring(h);
   mark_nesting(cdt);
-
-  auto lift = [&](Cdt::Vertex_handle h) -> Vec3 {
-    if (h->info().id >= 0) return pts[h->info().id];
-    const auto& p = h->point();  // a crossing of two constraints
-    return o + p.x() * u + p.y() * v;
-  };
+  // Vertices created where constraints cross are lifted onto the face plane.
+  for (auto vit = cdt.finite_vertices_begin(); vit != cdt.finite_vertices_end(); ++vit)
+    if (vit->info().id < 0) {
+      vit->info().id = int(out.points.size());
+      out.points.push_back(o + vit->point().x() * u + vit->point().y() * v);
+    }
   for (auto f : cdt.finite_face_handles()) {
-    if (f->info().nesting % 2 != 1) continue;
-    out.push_back({lift(f->vertex(0)), lift(f->vertex(1)), lift(f->vertex(2))});
+    if (f->info().nesting % 2 != 1) continue;  // u x v = n: counter-clockwise = the face's side
+    out.tris.push_back({f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id});
   }
+  return out;
+}
+
+std::vector<Triangle> triangulate(const Face& face) {
+  IndexedTriangles t = triangulate_indexed(face);
+  std::vector<Triangle> out;
+  out.reserve(t.tris.size());
+  for (const auto& tri : t.tris) out.push_back({t.points[tri[0]], t.points[tri[1]], t.points[tri[2]]});
   return out;
 }
 

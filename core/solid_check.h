@@ -3,6 +3,7 @@
 // the face triangulation every consumer of planar faces shares. CGAL stays in
 // solid_check.cpp: this header is cheap to include.
 #include <string>
+#include <array>
 #include <vector>
 
 #include "core/types.h"
@@ -18,6 +19,13 @@ struct Triangle {
 // 3D vertices; a self-intersecting ring still triangulates (crossings become
 // vertices lifted onto the plane). Fewer than 3 distinct vertices: empty.
 std::vector<Triangle> triangulate(const Face& face);
+// The same triangulation as shared vertices + index triples (ring vertices first,
+// then any vertex created where rings cross), for writers of indexed meshes.
+struct IndexedTriangles {
+  std::vector<Vec3> points;
+  std::vector<std::array<int, 3>> tris;
+};
+IndexedTriangles triangulate_indexed(const Face& face);
 std::vector<Triangle> triangulate(const std::vector<Face>& faces);
 
 struct SolidProblem {
