@@ -122,7 +122,14 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   Polygon2 best = *std::max_element(valid.begin(), valid.end(),
                                     [](const auto& a, const auto& b) { return area(a) < area(b); });
   best.holes.clear();
-  return regularize_polygon(best, 1.0);
+  // Regularising may push a corner past the roof outline; the walls must stay
+  // under the roof, or the roof would not close the solid there.
+  MultiPolygon2 under = poly::intersect({regularize_polygon(best, 1.0)}, {in.outline});
+  if (under.empty()) return best;
+  Polygon2 fp = *std::max_element(under.begin(), under.end(),
+                                  [](const auto& a, const auto& b) { return area(a) < area(b); });
+  fp.holes.clear();
+  return fp;
 }
 
 // A ring passing twice through one vertex (the hole of an overhang frame
@@ -340,12 +347,90 @@ const EdgeInfo& source_edge(const std::vector<EdgeInfo>& edges, const Vec2& a, c
   return *best;
 }
 
+// Where two inside roof pieces share an edge along which their planes cross
+// (one is higher at one end, the other at the other end), the crossing point is
+// inserted into both rings, so the step wall between them is two triangles.
+void split_crossing_edges(std::vector<Piece>& pieces, const std::vector<RoofRegion>& roof) {
+  using Key = std::pair<std::pair<double, double>, std::pair<double, double>>;
+  auto key = [](const Vec2& a, const Vec2& b) {
+    return Key{{a.x(), a.y()}, {b.x(), b.y()}};
+  };
+  std::map<Key, size_t> owner;
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    if (!pieces[k].inside) continue;
+    const Ring2& r = pieces[k].plan.outer;
+    for (size_t i = 0; i < r.size(); ++i) owner[key(r[i], r[(i + 1) % r.size()])] = k;
+  }
+  std::map<Key, Vec2> cuts;  // directed edge -> crossing point
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    if (!pieces[k].inside) continue;
+    const Ring2& r = pieces[k].plan.outer;
+    for (size_t i = 0; i < r.size(); ++i) {
+      Vec2 a = r[i], b = r[(i + 1) % r.size()];
+      auto it = owner.find(key(b, a));
+      if (it == owner.end() || it->second == k) continue;
+      const Plane& pa = roof[pieces[k].region].plane;
+      const Plane& pb = roof[pieces[it->second].region].plane;
+      double da = pa.z_at(a.x(), a.y()) - pb.z_at(a.x(), a.y());
+      double db = pa.z_at(b.x(), b.y()) - pb.z_at(b.x(), b.y());
+      if (std::abs(da) < 1e-4 || std::abs(db) < 1e-4 || (da > 0) == (db > 0)) continue;
+      Vec2 x = a + (b - a) * (da / (da - db));
+      cuts[key(a, b)] = x;
+      cuts[key(b, a)] = x;
+    }
+  }
+  if (cuts.empty()) return;
+  for (auto& p : pieces) {
+    Ring2 out;
+    const Ring2& r = p.plan.outer;
+    for (size_t i = 0; i < r.size(); ++i) {
+      out.push_back(r[i]);
+      auto it = cuts.find(key(r[i], r[(i + 1) % r.size()]));
+      if (it != cuts.end()) out.push_back(it->second);
+    }
+    p.plan.outer = out;
+  }
+}
+
+// Vertices closer than tol become one (the first seen), and rings lose the
+// consecutive duplicates that leaves: validators treat < 1 mm as the same point.
+void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, bool drop_degenerate) {
+  auto snap = [&](Vec3& v) {
+    for (const auto& s : seen)
+      if ((s - v).norm() < tol) {
+        v = s;
+        return;
+      }
+    seen.push_back(v);
+  };
+  auto clean = [&](Ring3& r) {
+    for (auto& v : r) snap(v);
+    Ring3 out;
+    for (const auto& v : r)
+      if (out.empty() || (v - out.back()).norm() > 0) out.push_back(v);
+    while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+    r = out;
+  };
+  for (auto& f : shell) {
+    clean(f.ring);
+    for (auto& h : f.holes) clean(h);
+  }
+  if (drop_degenerate)
+    shell.erase(std::remove_if(shell.begin(), shell.end(),
+                               [](const Face& f) { return f.ring.size() < 3 || area(f) < 1e-6; }),
+                shell.end());
+}
+
 // Inserts into every shell edge the shell vertices lying on it (a wall corner
 // that meets a step between roof levels, a T-junction left by clipping), so each
 // edge is shared by exactly two faces.
-void node_shell(std::vector<Face>& shell, double tol) {
+std::vector<Vec3> shell_vertices(const std::vector<Face>& shell) {
   std::vector<Vec3> verts;
   for (const auto& f : shell) verts.insert(verts.end(), f.ring.begin(), f.ring.end());
+  return verts;
+}
+
+void node_faces(std::vector<Face>& shell, const std::vector<Vec3>& verts, double tol) {
   for (auto& f : shell) {
     Ring3 out;
     for (size_t i = 0; i < f.ring.size(); ++i) {
@@ -462,6 +547,7 @@ Building build_building(const EnvelopeInput& in) {
   for (const auto& p : pieces)
     for (auto& part : split_pinched(p.plan)) simple.push_back({p.region, p.inside, part});
   pieces = std::move(simple);
+  split_crossing_edges(pieces, in.roof);
 
   Heights heights;
   for (const auto& p : pieces) {
@@ -547,7 +633,16 @@ Building build_building(const EnvelopeInput& in) {
     oc.sigma_area = std::sqrt(sigma_ground2 + edge * edge);
     b.elements.push_back(std::move(oc));
   }
-  node_shell(solid, 1e-4);
+  // Weld and node the shell, then the element faces against the same vertices,
+  // so an element face and its copy in the shell stay identical.
+  std::vector<Vec3> pool;
+  weld_faces(solid, 1e-3, pool, true);
+  const std::vector<Vec3> verts = shell_vertices(solid);
+  node_faces(solid, verts, 1e-3);
+  for (auto& e : b.elements) {
+    weld_faces(e.faces, 1e-3, pool, false);
+    node_faces(e.faces, verts, 1e-3);
+  }
   b.solid = std::move(solid);
   if (std::getenv("C3D_DEBUG")) debug_open_edges(b);
   return b;
