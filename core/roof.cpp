@@ -236,7 +236,7 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
     } else {
       continue;
     }
-    if ((target - v).norm() < 0.6) moved[key] = target;
+    if ((target - v).norm() < 0.35) moved[key] = target;
   }
   for (auto* r : rings)
     for (auto& v : *r) {
