@@ -187,7 +187,7 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
 }
 
 Building model_building(const ParcelScene& s, const Segmentation& seg, const BuildingPlan& bp,
-                        const ReconstructionParams& p, const std::string& id) {
+                        const ReconstructionParams& p, const std::string& id, StageClock& clock) {
   RoofPartitionInput rp;
   rp.outline = bp.outline;
   rp.components = bp.components;
@@ -198,11 +198,13 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
       rp.labels.push_back(c);
     }
   }
-  rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.1, std::min(0.2, seg.spacing));
+  rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.1, std::min(0.25, 1.5 * seg.spacing));
   EnvelopeInput ei;
   ei.building_id = id;
   ei.outline = bp.outline;
+  clock.lap("roof+envelope");
   ei.roof = partition_roof(rp);
+  clock.lap("roof partition");
   for (const auto& r : ei.roof) ei.fits.push_back(seg.components[r.component].fit);
   ei.wall_points = s.wall_points;
   ei.party_edge = find_party_edges(bp.outline, s, seg.label);
@@ -211,6 +213,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   ei.storey_height = p.storey_height_m;
   ei.spacing = seg.spacing;
   Building b = build_building(ei);
+  clock.lap("envelope");
   if (p.optimize) {
     std::vector<Vec3> own;
     for (int c : bp.components)
@@ -222,6 +225,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
     std::call_once(logged, [&] { std::fprintf(stderr, "optimizer: %s\n", rep.device.c_str()); });
   }
   measure_building(b, p.storey_height_m);
+  clock.lap("measure");
   return b;
 }
 
@@ -257,7 +261,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     clock.lap("boundary");
     for (size_t k = 0; k < plans.size(); ++k) {
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
-      r.buildings.push_back(model_building(s, seg, plans[k], p, id));
+      r.buildings.push_back(model_building(s, seg, plans[k], p, id, clock));
     }
     clock.lap("roof+envelope");
     if (r.buildings.empty()) {

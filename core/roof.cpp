@@ -14,6 +14,21 @@
 namespace c3d {
 namespace {
 
+struct Box {
+  Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+  bool near(const Box& o, double margin) const {
+    return lo.x() <= o.hi.x() + margin && o.lo.x() <= hi.x() + margin &&
+           lo.y() <= o.hi.y() + margin && o.lo.y() <= hi.y() + margin;
+  }
+};
+
+Box box_of(const MultiPolygon2& mp) {
+  Box b;
+  for (const auto& p : mp)
+    for (const auto& v : p.outer) b.lo = b.lo.cwiseMin(v), b.hi = b.hi.cwiseMax(v);
+  return b;
+}
+
 double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
   double len = 0;
   for (const auto& l : lines)
@@ -37,33 +52,41 @@ std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
   lo -= Vec2(in.cell, in.cell);
   hi += Vec2(in.cell, in.cell);
   int nx = int(std::ceil((hi.x() - lo.x()) / in.cell)), ny = int(std::ceil((hi.y() - lo.y()) / in.cell));
+  // Label of every cell: the majority of its 3 nearest points.
+  std::vector<int> grid(size_t(nx) * ny, -1);
   std::vector<int> nn(3);
   std::vector<float> d2(3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      pcl::PointXY c{float(lo.x() + (i + 0.5) * in.cell), float(lo.y() + (j + 0.5) * in.cell)};
+      int found = tree.nearestKSearch(c, 3, nn, d2);
+      if (found == 0) continue;
+      int best = slot[in.labels[nn[0]]];
+      if (found == 3 && in.labels[nn[1]] == in.labels[nn[2]]) best = slot[in.labels[nn[1]]];
+      grid[size_t(j) * nx + i] = best;
+    }
+  // A 3x3 majority filter removes single-cell islands, which would otherwise
+  // become many tiny orphan polygons to reassign.
+  std::vector<int> smooth = grid;
+  for (int j = 1; j + 1 < ny; ++j)
+    for (int i = 1; i + 1 < nx; ++i) {
+      std::map<int, int> votes;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) ++votes[grid[size_t(j + dj) * nx + i + di]];
+      for (auto& [lab, v] : votes)
+        if (v >= 5) smooth[size_t(j) * nx + i] = lab;
+    }
   for (int j = 0; j < ny; ++j) {
     double y0 = lo.y() + j * in.cell;
     int run_label = -1, run_start = 0;
-    auto flush = [&](int end) {
-      if (run_label >= 0)
-        rects[run_label].push_back(
-            poly::box({lo.x() + run_start * in.cell, y0}, {lo.x() + end * in.cell, y0 + in.cell})[0]);
-    };
     for (int i = 0; i <= nx; ++i) {
-      int lab = -1;
-      if (i < nx) {
-        pcl::PointXY c{float(lo.x() + (i + 0.5) * in.cell), float(y0 + 0.5 * in.cell)};
-        int found = tree.nearestKSearch(c, 3, nn, d2);
-        std::map<int, int> votes;
-        for (int q = 0; q < found; ++q) ++votes[slot[in.labels[nn[q]]]];
-        int best = found > 0 ? slot[in.labels[nn[0]]] : -1;
-        for (auto& [s, v] : votes)
-          if (v >= 2) best = s;
-        lab = best;
-      }
-      if (lab != run_label) {
-        flush(i);
-        run_label = lab;
-        run_start = i;
-      }
+      int lab = i < nx ? smooth[size_t(j) * nx + i] : -1;
+      if (lab == run_label) continue;
+      if (run_label >= 0)
+        rects[run_label].push_back(poly::box({lo.x() + run_start * in.cell, y0},
+                                             {lo.x() + i * in.cell, y0 + in.cell})[0]);
+      run_label = lab;
+      run_start = i;
     }
   }
   std::vector<MultiPolygon2> regions(k);
@@ -88,7 +111,9 @@ void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, 
     if (area(o) < 1e-6) continue;
     int best = -1;
     double best_len = 0;
+    Box ob = box_of({o});
     for (size_t i = 0; i < regions.size(); ++i) {
+      if (!ob.near(box_of(regions[i]), 1e-3)) continue;
       double len = polyline_length(poly::shared_boundary({o}, regions[i], 1e-4));
       if (len > best_len) best_len = len, best = int(i);
     }
@@ -268,6 +293,7 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     std::vector<std::tuple<double, int, int>> pairs;
     for (size_t i = 0; i < k; ++i)
       for (size_t j = i + 1; j < k; ++j) {
+        if (!box_of(regions[i]).near(box_of(regions[j]), 1e-3)) continue;
         double len = polyline_length(poly::shared_boundary(regions[i], regions[j], 1e-4));
         if (len > 0.4) pairs.emplace_back(len, int(i), int(j));
       }

@@ -111,11 +111,10 @@ void merge_coplanar(const std::vector<Vec3>& pts, std::vector<RoofComponent>& co
 
 // Gives every roof point to the component whose plane fits it best among the
 // components found around it; points no plane explains stay unlabelled.
-void reassign(const std::vector<Vec3>& pts, const Cloud::Ptr& cloud, const pcl::Indices& roof,
-              std::vector<RoofComponent>& comps, std::vector<int>& label, double tol) {
+void reassign(const std::vector<Vec3>& pts, const Cloud::Ptr& cloud, const Tree& tree,
+              const pcl::Indices& roof, std::vector<RoofComponent>& comps, std::vector<int>& label,
+              double tol) {
   std::vector<int> old = label;
-  Tree tree;
-  tree.setInputCloud(cloud, pcl::make_shared<pcl::Indices>(roof));
   pcl::Indices nn;
   std::vector<float> dist;
   for (int i : roof) {
@@ -175,8 +174,10 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
     std::vector<int> local_label(points.size(), -1);
     for (size_t c = 0; c < comps.size(); ++c)
       for (int i : comps[c].points) local_label[i] = int(c);
+    Tree roof_tree;  // the roof's own points: neighbours never come from another roof
+    roof_tree.setInputCloud(cloud, pcl::make_shared<pcl::Indices>(roof.indices));
     for (int round = 0; round < 2; ++round) {
-      reassign(points, cloud, roof.indices, comps, local_label, p.plane_inlier_m);
+      reassign(points, cloud, roof_tree, roof.indices, comps, local_label, p.plane_inlier_m);
       for (auto& c : comps)
         if (c.points.size() >= 3) c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
     }
