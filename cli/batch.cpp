@@ -249,14 +249,6 @@ void any_model_deviation(const std::string& store_path, const Inputs& in,
     for (size_t k : list)
       if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
   if (!roofs.empty()) t.any_model_roof = deviation_to_faces(roof_in, roofs);
-  if (std::getenv("C3D_DEBUG") && !roofs.empty()) {  // where the misfit is
-    FaceIndex index(roofs);
-    auto hits = index.nearest(roof_in);
-    std::ofstream f("/tmp/c3d_roof_dist.xyzd");
-    f.precision(10);
-    for (size_t i = 0; i < hits.size(); ++i)
-      f << roof_in[i].x() << " " << roof_in[i].y() << " " << roof_in[i].z() << " " << hits[i].distance << "\n";
-  }
   if (!walls.empty()) t.any_model_wall = deviation_to_faces(wall_near, walls);
 }
 
