@@ -235,7 +235,7 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
       const Vec3& p = r[i];
       const Vec3& q = r[(i + 1) % r.size()];
       Vec2 p2 = p.head<2>() - a, q2 = q.head<2>() - a;
-      if (std::abs(n.dot(p2)) > 1e-5 || std::abs(n.dot(q2)) > 1e-5) continue;
+      if (std::abs(n.dot(p2)) > 2e-3 || std::abs(n.dot(q2)) > 2e-3) continue;  // welding moves up to 1 mm
       double tp = d.dot(p2), tq = d.dot(q2);
       if (std::min(tp, tq) < -1e-5 || std::max(tp, tq) > len + 1e-5) continue;
       if (std::abs(tp - tq) < 1e-7) continue;
@@ -282,22 +282,32 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
 
 // Vertical faces where two inside roof pieces meet at different heights.
 std::vector<Face> step_walls(const std::vector<Face>& inside) {
-  std::map<std::pair<std::pair<double, double>, std::pair<double, double>>, std::pair<int, int>> edge_at;
-  auto key = [](const Vec3& p, const Vec3& q) {
-    return std::make_pair(std::make_pair(p.x(), p.y()), std::make_pair(q.x(), q.y()));
-  };
-  for (size_t f = 0; f < inside.size(); ++f)
-    for (size_t i = 0; i < inside[f].ring.size(); ++i)
-      edge_at[key(inside[f].ring[i], inside[f].ring[(i + 1) % inside[f].ring.size()])] = {int(f), int(i)};
-  std::vector<Face> out;
+  // Every ring of every piece, holes included: an island piece meets the hole
+  // of the piece around it along opposite edges.
+  std::vector<const Ring3*> rings;
+  std::vector<int> piece_of;
   for (size_t f = 0; f < inside.size(); ++f) {
-    const Ring3& r = inside[f].ring;
+    rings.push_back(&inside[f].ring);
+    piece_of.push_back(int(f));
+    for (const auto& h : inside[f].holes) rings.push_back(&h), piece_of.push_back(int(f));
+  }
+  using Key = std::pair<std::pair<double, double>, std::pair<double, double>>;
+  auto key = [](const Vec3& p, const Vec3& q) {
+    return Key{{p.x(), p.y()}, {q.x(), q.y()}};
+  };
+  std::map<Key, std::pair<int, int>> edge_at;  // (ring, vertex)
+  for (size_t k = 0; k < rings.size(); ++k)
+    for (size_t i = 0; i < rings[k]->size(); ++i)
+      edge_at[key((*rings[k])[i], (*rings[k])[(i + 1) % rings[k]->size()])] = {int(k), int(i)};
+  std::vector<Face> out;
+  for (size_t k = 0; k < rings.size(); ++k) {
+    const Ring3& r = *rings[k];
     for (size_t i = 0; i < r.size(); ++i) {
       const Vec3& p = r[i];
       const Vec3& q = r[(i + 1) % r.size()];
       auto it = edge_at.find(key(q, p));
-      if (it == edge_at.end() || it->second.first == int(f)) continue;
-      const Ring3& o = inside[it->second.first].ring;
+      if (it == edge_at.end() || piece_of[it->second.first] == piece_of[k]) continue;
+      const Ring3& o = *rings[it->second.first];
       const Vec3& oq = o[it->second.second];
       const Vec3& op = o[(it->second.second + 1) % o.size()];
       double dp = p.z() - op.z(), dq = q.z() - oq.z();
@@ -426,31 +436,39 @@ void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, b
 // edge is shared by exactly two faces.
 std::vector<Vec3> shell_vertices(const std::vector<Face>& shell) {
   std::vector<Vec3> verts;
-  for (const auto& f : shell) verts.insert(verts.end(), f.ring.begin(), f.ring.end());
+  for (const auto& f : shell) {
+    verts.insert(verts.end(), f.ring.begin(), f.ring.end());
+    for (const auto& h : f.holes) verts.insert(verts.end(), h.begin(), h.end());
+  }
   return verts;
+}
+
+Ring3 node_ring(const Ring3& ring, const std::vector<Vec3>& verts, double tol) {
+  Ring3 out;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const Vec3 a = ring[i], b = ring[(i + 1) % ring.size()];
+    out.push_back(a);
+    Vec3 ab = b - a;
+    double len2 = ab.squaredNorm();
+    if (len2 < tol * tol) continue;
+    std::vector<std::pair<double, Vec3>> inner;
+    for (const auto& v : verts) {
+      double t = (v - a).dot(ab) / len2;
+      if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+      if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
+        inner.emplace_back(t, v);
+    }
+    std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    for (auto& [t, v] : inner)
+      if ((v - out.back()).norm() > tol) out.push_back(v);
+  }
+  return out;
 }
 
 void node_faces(std::vector<Face>& shell, const std::vector<Vec3>& verts, double tol) {
   for (auto& f : shell) {
-    Ring3 out;
-    for (size_t i = 0; i < f.ring.size(); ++i) {
-      const Vec3 a = f.ring[i], b = f.ring[(i + 1) % f.ring.size()];
-      out.push_back(a);
-      Vec3 ab = b - a;
-      double len2 = ab.squaredNorm();
-      if (len2 < tol * tol) continue;
-      std::vector<std::pair<double, Vec3>> inner;
-      for (const auto& v : verts) {
-        double t = (v - a).dot(ab) / len2;
-        if (t <= 1e-9 || t >= 1 - 1e-9) continue;
-        if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
-          inner.emplace_back(t, v);
-      }
-      std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
-      for (auto& [t, v] : inner)
-        if ((v - out.back()).norm() > tol) out.push_back(v);
-    }
-    f.ring = out;
+    f.ring = node_ring(f.ring, verts, tol);
+    for (auto& h : f.holes) h = node_ring(h, verts, tol);
   }
 }
 
@@ -553,6 +571,8 @@ Building build_building(const EnvelopeInput& in) {
   for (const auto& p : pieces) {
     const Plane& pl = in.roof[p.region].plane;
     for (const auto& v : p.plan.outer) heights.add(v, pl.z_at(v.x(), v.y()));
+    for (const auto& h : p.plan.holes)
+      for (const auto& v : h) heights.add(v, pl.z_at(v.x(), v.y()));
   }
   std::vector<std::vector<Face>> roof_faces(in.roof.size());
   std::vector<Face> inside, soffits;

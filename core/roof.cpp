@@ -117,6 +117,8 @@ void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, 
       double len = polyline_length(poly::shared_boundary({o}, regions[i], 1e-4));
       if (len > best_len) best_len = len, best = int(i);
     }
+    for (size_t i = 0; best < 0 && i < regions.size(); ++i)  // touching only at a corner
+      if (!poly::shared_boundary({o}, regions[i], 0.02).empty()) best = int(i);
     if (best >= 0) regions[best] = poly::unite(regions[best], {o});
   }
 }
