@@ -9,10 +9,12 @@
 #include <map>
 #include <random>
 
+#include "core/config.h"
 #include "core/envelope.h"
 #include "core/geometry.h"
 #include "core/outline.h"
 #include "core/planes.h"
+#include "core/reconstruct.h"
 #include "core/roof.h"
 #include "core/sample_town.h"
 #include "core/segmentation.h"
@@ -211,4 +213,98 @@ TEST(SampleTownBatch, AreasMatchTruthPerBuildingType) {
     ++checked;
   }
   EXPECT_GE(checked, 10);
+}
+
+// ---- bad input: a sensible model or a clear reason, never a crash --------
+
+namespace {
+
+ParcelScene square_parcel_scene() {
+  ParcelScene s;
+  s.parcel_id = "P";
+  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 20}, {0, 20}}, {}}};
+  s.terrain = [](double, double) { return 100.0; };
+  return s;
+}
+
+// Gable house 10 x 8 m at (5..15, 6..14), eaves at 103, ridge at 106, 0.5 m overhang.
+std::vector<Vec3> gable_points(std::mt19937_64& rng, double x0 = 5, double z0 = 103) {
+  Plane north = plane_through({0, 10, z0 + 3}, {0, 0.75, 1});
+  Plane south = plane_through({0, 10, z0 + 3}, {0, -0.75, 1});
+  auto a = sample_plane(north, x0 - 0.5, x0 + 10.5, 10, 14.5, 40, 0.02, rng);
+  auto b = sample_plane(south, x0 - 0.5, x0 + 10.5, 5.5, 10, 40, 0.02, rng);
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+ReconstructionParams params() { return default_config().reconstruction; }
+
+}  // namespace
+
+TEST(ReconstructBadInput, ThreeRoofPointsGiveEmptyWithReason) {
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = {{1, 1, 103}, {2, 1, 103}, {1, 2, 103}};
+  ParcelResult r = reconstruct_parcel(s, params());
+  EXPECT_EQ(r.status, ParcelStatus::Empty);
+  EXPECT_NE(r.reason.find("too few roof points"), std::string::npos) << r.reason;
+}
+
+TEST(ReconstructBadInput, OnlyWallPointsGiveEmpty) {
+  ParcelScene s = square_parcel_scene();
+  for (int i = 0; i < 500; ++i) s.wall_points.emplace_back(5 + 0.02 * i, 6, 100 + 0.005 * i);
+  ParcelResult r = reconstruct_parcel(s, params());
+  EXPECT_EQ(r.status, ParcelStatus::Empty);
+  EXPECT_EQ(r.reason, "no roof points in the parcel");
+}
+
+TEST(ReconstructBadInput, NoisyBlobIsNotAModelOfPlanes) {
+  // A tree-like blob: 3000 points in a 2 m ball, no plane in it.
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> n(0, 0.8);
+  ParcelScene s = square_parcel_scene();
+  for (int i = 0; i < 3000; ++i) s.roof_points.emplace_back(10 + n(rng), 10 + n(rng), 104 + n(rng));
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_NE(r.status, ParcelStatus::Ok) << "a blob became " << r.buildings.size() << " buildings";
+  EXPECT_FALSE(r.reason.empty());
+}
+
+TEST(ReconstructBadInput, TerrainMissingUnderTheBuildingFailsWithReason) {
+  std::mt19937_64 rng(10);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  s.terrain = [](double, double) { return kNaN; };
+  ParcelResult r = reconstruct_parcel(s, params());
+  EXPECT_EQ(r.status, ParcelStatus::Failed);
+  EXPECT_NE(r.reason.find("terrain"), std::string::npos) << r.reason;
+}
+
+TEST(ReconstructBadInput, TwoTouchingRoofLevelsMakeOneClosedBuilding) {
+  // A gable house with a flat annex roof 1.5 m lower against its east gable.
+  std::mt19937_64 rng(11);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  Plane annex = plane_through({0, 0, 102}, {0, 0, 1});
+  auto a = sample_plane(annex, 15.5, 19.0, 7, 13, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  const Building& b = r.buildings[0];
+  EXPECT_EQ(totals(b).roof_planes, 3);
+  EXPECT_TRUE(b.solid_valid) << b.solid_problem;
+  EXPECT_GT(b.volume, 0.0);
+}
+
+TEST(ReconstructBadInput, RoofCrossingTheBoundaryStaysWholeWithItsOverhang) {
+  // The house's north overhang reaches 0.5 m into the neighbour parcel: the
+  // whole roof stays with this parcel (it holds most of it).
+  std::mt19937_64 rng(12);
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 14}, {0, 14}}, {}}};
+  s.neighbours = {{Polygon2{{{0, 14}, {20, 14}, {20, 30}, {0, 30}}, {}}}};
+  s.roof_points = gable_points(rng);
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.02);
 }
