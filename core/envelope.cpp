@@ -69,6 +69,21 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       measured.push_back(e.overhang);
     }
   }
+  if (measured.empty()) {
+    // No wall of this building seen (a row house between its neighbours): the
+    // facade line may continue on the neighbours just past the edge's ends.
+    for (auto& e : edges) {
+      if (e.party) continue;
+      Vec2 mid = 0.5 * (e.a + e.b);
+      double tz = in.terrain(mid.x(), mid.y());
+      WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, true);
+      if (!fit.found) continue;
+      e.overhang = std::max(0.0, -fit.offset);
+      e.evidence = WallEvidence::Propagated;
+      e.support = fit.support;
+      e.sigma = 0.05 + fit.rms / std::sqrt(double(fit.support));
+    }
+  }
   double spread = 0.3;
   double typical = in.default_overhang;
   WallEvidence fill = WallEvidence::Default;
@@ -89,7 +104,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       std::fprintf(stderr, "%s edge len %.2f ev %s overhang %.3f support %d\n", in.building_id.c_str(),
                    (e.b - e.a).norm(), to_string(e.evidence), e.overhang, e.support);
   for (auto& e : edges)
-    if (!e.party && e.evidence != WallEvidence::Measured) {
+    if (!e.party && e.evidence != WallEvidence::Measured && e.support == 0) {
       e.overhang = typical;
       e.evidence = fill;
       e.sigma = spread;
@@ -492,7 +507,8 @@ void debug_open_edges(const Building& b) {
 
 }  // namespace
 
-WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z) {
+WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z,
+                 bool beyond_ends) {
   WallFit fit;
   Vec2 d = b - a;
   double len = d.norm();
@@ -506,7 +522,9 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
     if (p.z() < min_z) continue;
     Vec2 q = p.head<2>() - a;
     double t = d.dot(q), s = n.dot(q);
-    if (t < 0.1 * len || t > 0.9 * len || s < lo || s > hi) continue;
+    bool along = beyond_ends ? ((t < 0 && t > -kMaxOverhang) || (t > len && t < len + kMaxOverhang))
+                             : (t >= 0.1 * len && t <= 0.9 * len);
+    if (!along || s < lo || s > hi) continue;
     ++hist[int((s - lo) / bin)];
     st.emplace_back(s, t);
   }
@@ -524,14 +542,14 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
     if (std::abs(s - centre) < 0.08) {
       sum += s;
       ++count;
-      covered[size_t(t / 0.5)] = true;
+      if (!beyond_ends) covered[size_t(t / 0.5)] = true;
     }
   if (count < 25) return fit;
   double mean = sum / count;
   for (auto& [s, t] : st)
     if (std::abs(s - centre) < 0.08) sum2 += (s - mean) * (s - mean);
   double coverage = double(std::count(covered.begin(), covered.end(), true)) / covered.size();
-  if (coverage < 0.3) return fit;
+  if (!beyond_ends && coverage < 0.3) return fit;
   fit.found = true;
   fit.offset = mean;
   fit.support = count;

@@ -39,7 +39,9 @@ struct WallFit {
   int support = 0;
   double rms = 0;
 };
+// beyond_ends: look only just past the edge's ends (the facade of attached
+// neighbours continuing the same line), without the coverage check.
 WallFit fit_wall(const std::vector<Vec3>& wall_points, const Vec2& a, const Vec2& b,
-                 double min_z);
+                 double min_z, bool beyond_ends = false);
 
 }  // namespace c3d
