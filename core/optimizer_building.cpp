@@ -119,18 +119,35 @@ OptimizeReport optimize_building(Building& building, const std::vector<Vec3>& po
     if (added) cm.mesh.vertices.push_back(p);
     return it->second;
   };
-  for (const Element& e : building.elements)
+  static const std::vector<Vec3> kNoPoints;
+  for (const Element& e : building.elements) {
+    // One constraint plane per roof element (its pieces inside and beyond the
+    // walls stay coplanar), refitted to the roof points; walls, ground and
+    // soffits keep their planes, as the roof points say nothing about them.
+    const bool roof = e.type == ElementType::Roof;
+    int shared_plane = -1;
+    if (roof && !e.faces.empty()) {
+      const Face* largest = &e.faces.front();
+      for (const Face& f : e.faces)
+        if (area(f) > area(*largest)) largest = &f;
+      shared_plane = static_cast<int>(cm.planes.size());
+      cm.planes.push_back(face_plane(*largest, points));
+    }
     for (const Face& f : e.faces) {
       if (f.ring.size() < 3) continue;
-      const int plane = static_cast<int>(cm.planes.size());
-      cm.planes.push_back(face_plane(f, points));
+      int plane = shared_plane;
+      if (plane < 0) {
+        plane = static_cast<int>(cm.planes.size());
+        cm.planes.push_back(face_plane(f, kNoPoints));
+      }
       std::vector<int> ids;
       for (const Vec3& p : f.ring) ids.push_back(vertex(p));
-      for (auto t : ear_clip(project_2d(f.ring, cm.planes.back().n))) {
+      for (auto t : ear_clip(project_2d(f.ring, cm.planes[plane].n))) {
         cm.mesh.triangles.push_back({ids[t[0]], ids[t[1]], ids[t[2]]});
         cm.tri_plane.push_back(plane);
       }
     }
+  }
   cm.lines = adjacent_plane_lines(cm);
   OptimizerOptions o = options;
   o.split_junctions = false;  // face edges already follow the junctions
