@@ -212,15 +212,30 @@ DenseReport optimize_dense(TriMesh& mesh, const std::vector<Vec3>& points, const
   r.triangles = mesh.triangles.size();
   ConstrainedMesh cm;
   cm.mesh = mesh;
-  cm.planes = detect_planes(kept, o);
+  // Planes are found per tile and constrain only the triangles of their tile:
+  // over a whole town a plane found on one roof must not pull another.
+  auto tile_of = [&](const Vec3& p) {
+    return std::make_pair(std::lround(std::floor(p.x() / o.tile_m)),
+                          std::lround(std::floor(p.y() / o.tile_m)));
+  };
+  std::map<std::pair<long, long>, std::vector<Vec3>> tile_points;
+  for (const Vec3& p : kept) tile_points[tile_of(p)].push_back(p);
+  std::map<std::pair<long, long>, std::vector<int>> tile_planes;
+  for (auto& [key, pts] : tile_points)
+    for (const auto& pl : detect_planes(pts, o)) {
+      tile_planes[key].push_back(static_cast<int>(cm.planes.size()));
+      cm.planes.push_back(pl);
+    }
   r.planes = static_cast<int>(cm.planes.size());
   const double cos_max = std::cos(o.assign_angle_deg * M_PI / 180);
+  static const std::vector<int> kNone;
   for (const auto& t : mesh.triangles) {
     const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     Vec3 n = (b - a).cross(c - a).normalized(), m = (a + b + c) / 3.0;
     int best = -1;
     double best_d = o.assign_distance_m;
-    for (std::size_t k = 0; k < cm.planes.size(); ++k) {
+    auto it = tile_planes.find(tile_of(m));
+    for (int k : it == tile_planes.end() ? kNone : it->second) {
       double d = std::fabs(cm.planes[k].distance(m));
       if (d <= best_d && std::fabs(n.dot(cm.planes[k].n)) >= cos_max) best = int(k), best_d = d;
     }
