@@ -254,6 +254,9 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
       double tp = d.dot(p2), tq = d.dot(q2);
       if (std::min(tp, tq) < -1e-5 || std::max(tp, tq) > len + 1e-5) continue;
       if (std::abs(tp - tq) < 1e-7) continue;
+      tp = std::clamp(tp, 0.0, len);  // welding may put an end a hair past the corner
+      tq = std::clamp(tq, 0.0, len);
+      if (std::abs(tp - tq) < 1e-7) continue;
       if (tp < tq) segs.push_back({tp, p.z(), tq, q.z()});
       else segs.push_back({tq, q.z(), tp, p.z()});
     }
@@ -279,7 +282,8 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   f.ring.emplace_back(a.x(), a.y(), ground_z);
   f.ring.emplace_back(b.x(), b.y(), ground_z);
   auto push = [&](double t, double z) {
-    Vec3 v(a.x() + t * d.x(), a.y() + t * d.y(), z);
+    // A roof below the terrain (bad data) must not fold the wall over itself.
+    Vec3 v(a.x() + t * d.x(), a.y() + t * d.y(), std::max(z, ground_z + 0.01));
     if ((f.ring.back() - v).norm() > 1e-7) f.ring.push_back(v);
   };
   for (size_t k = ts.size(); k-- > 1;) {  // from b back to a
