@@ -1,4 +1,5 @@
 #include "ifc_citygml/detail.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -132,21 +133,7 @@ std::string fixed(double v, int decimals) {
   return s;
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+std::string xml_escape(const std::string& s) { return escape_markup(s); }
 
 const char* citygml_surface(ElementType t) {
   switch (t) {

@@ -24,23 +24,7 @@ std::string read(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> row;
-    std::string cell;
-    bool quoted = false;
-    for (char c : line) {
-      if (c == '"') quoted = !quoted;
-      else if (c == ',' && !quoted) row.push_back(cell), cell.clear();
-      else cell += c;
-    }
-    row.push_back(cell);
-    rows.push_back(row);
-  }
-  return rows;
-}
+using c3d::test::parse_csv;
 
 struct Sample {
   BatchModel model = test::sample_batch(2);

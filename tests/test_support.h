@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: where the shared data is, temp dirs, running the CLI.
 #include <string>
+#include <vector>
 
 namespace c3d::test {
 
@@ -13,6 +14,9 @@ std::string temp_dir(const std::string& name);
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.
 int run_cli(const std::string& args, std::string* output = nullptr);
+
+// Rows of a CSV text (quoted fields may hold commas; blank lines skipped).
+std::vector<std::vector<std::string>> parse_csv(const std::string& text);
 
 }  // namespace c3d::test
 

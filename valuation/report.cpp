@@ -1,4 +1,5 @@
 #include "valuation/report.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,19 +64,7 @@ std::string money(double v) {
   return (v < -0.5 ? "-" : "") + out;
 }
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+std::string html_escape(const std::string& s) { return escape_markup(s); }
 
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
