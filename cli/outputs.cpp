@@ -114,10 +114,21 @@ void write_outputs(const std::string& store_path, const std::string& out_dir, co
   write_report_from_store(store_path, out_dir, cfg);
 #endif
   auto files = export_formats(model, out_dir, formats);
+  // One picture per parcel with buildings, coloured by element type.
+  fs::create_directories(fs::path(out_dir) / "preview");
+  for (size_t i = 0; i < model.parcels.size(); ++i) {
+    if (model.results[i].buildings.empty()) continue;
+    std::ofstream svg(fs::path(out_dir) / "preview" / (model.parcels[i].id + ".svg"));
+    std::string pic = parcel_svg(model.parcels[i], model.results[i], model.frame, 720, 520);
+    // Inline in the report it needs no namespace; a standalone file does.
+    if (pic.rfind("<svg ", 0) == 0) pic.insert(5, "xmlns=\"http://www.w3.org/2000/svg\" ");
+    svg << pic;
+  }
   if (!quiet) {
     std::cout << "summary: " << (fs::path(out_dir) / "summary.json").string() << "\n"
               << "store:   " << store_path << "\n"
-              << "report:  " << (fs::path(out_dir) / "report.html").string() << "\n";
+              << "report:  " << (fs::path(out_dir) / "report.html").string() << "\n"
+              << "preview: " << (fs::path(out_dir) / "preview").string() << "/<parcel>.svg\n";
     for (const auto& f : files) std::cout << "export:  " << f << "\n";
   }
 }
