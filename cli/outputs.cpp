@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 
 #include "cadastre/store.h"
 #include "core/evaluate.h"
@@ -129,7 +130,13 @@ void write_outputs(const std::string& store_path, const std::string& out_dir, co
               << "store:   " << store_path << "\n"
               << "report:  " << (fs::path(out_dir) / "report.html").string() << "\n"
               << "preview: " << (fs::path(out_dir) / "preview").string() << "/<parcel>.svg\n";
-    for (const auto& f : files) std::cout << "export:  " << f << "\n";
+    std::set<std::string> dirs;  // OBJ and STEP: one line per folder, not per file
+    for (const auto& f : files) {
+      std::string parent = fs::path(f).parent_path().filename().string();
+      if (parent == "obj" || parent == "step") dirs.insert(fs::path(f).parent_path().string());
+      else std::cout << "export:  " << f << "\n";
+    }
+    for (const auto& d : dirs) std::cout << "export:  " << d << "/\n";
   }
 }
 
