@@ -165,7 +165,9 @@ ParcelLayer read_parcels(const std::string& path, const ParcelFields& fields,
     }
     return i;
   };
-  const int id_field = field_index(fields.id, true);
+  int id_field = field_index(fields.id, fields.id_required);
+  if (id_field < 0 && !fields.id.empty())
+    warn("no field '" + fields.id + "': feature ids are the parcel ids");
   const int right_field = field_index(fields.right_type, false);
   const int area_field = field_index(fields.official_area, false);
 

@@ -140,6 +140,7 @@ void read_classes(const Section& s, ClassMapping& c) {
 
 void read_fields(const Section& s, ParcelFields& f) {
   s.allow_only({"id", "right_type", "official_area"});
+  if (s.node("id", false)) f.id_required = true;  // named by the user: must exist
   s.text("id", f.id, false);
   s.text("right_type", f.right_type, false);
   s.text("official_area", f.official_area, false);
@@ -226,6 +227,7 @@ Config default_config() {
   Config c;
   c.source = "(defaults)";
   c.fields.id = "NIB";
+  c.fields.id_required = false;  // the built-in default: other layers fall back to feature ids
   ValuationParams& v = c.valuation;
   v.currency = "IDR";
   v.building_age_years = 10;

@@ -12,6 +12,7 @@ namespace c3d {
 
 struct ParcelFields {
   std::string id;             // empty: use the feature id
+  bool id_required = true;    // false: a layer without the id field uses feature ids (a warning says so)
   std::string right_type = "TIPEHAK";
   std::string official_area = "LUASTERTUL";
 };

@@ -81,6 +81,13 @@ TEST(Parcels, DefaultIdIsFeatureIdAndMissingFieldIsAnError) {
     EXPECT_NE(m.find("p.geojson"), std::string::npos) << m;
     EXPECT_NE(m.find("'PARCEL_NO' not found"), std::string::npos) << m;
   }
+  // The built-in default id field is optional: a layer without it uses feature ids.
+  fields.id_required = false;
+  std::vector<std::string> warnings;
+  ParcelLayer fallback = read_parcels(path, fields, &warnings);
+  EXPECT_EQ(fallback.parcels[1].id, "1");
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings.front().find("PARCEL_NO"), std::string::npos) << warnings.front();
 }
 
 TEST(Parcels, SelfIntersectingParcelIsRepairedAndNamed) {
