@@ -11,7 +11,7 @@
 #include <memory>
 #include <sstream>
 
-#include "cadastre/geos_util.h"
+#include "core/geos_util.h"
 #include "core/error.h"
 #include "core/geometry.h"
 

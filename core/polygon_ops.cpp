@@ -20,6 +20,7 @@
 #include <cmath>
 
 #include "core/geometry.h"
+#include "core/geos_util.h"
 
 namespace c3d::poly {
 
@@ -36,53 +37,23 @@ const GeometryFactory& factory() {
   return *f;
 }
 
-std::unique_ptr<geos::geom::LinearRing> make_ring(const Ring2& r) {
-  auto seq = std::make_unique<CoordinateArraySequence>();
-  for (const auto& p : r) seq->add(Coordinate(p.x(), p.y()));
-  seq->add(Coordinate(r.front().x(), r.front().y()));
-  return factory().createLinearRing(std::move(seq));
-}
-
+// Degenerate rings (fewer than 3 vertices) are left out rather than thrown on:
+// stage results may hold them.
 GeomPtr to_geos(const MultiPolygon2& mp) {
-  std::vector<GeomPtr> polys;
+  MultiPolygon2 clean;
   for (const auto& p : mp) {
     if (p.outer.size() < 3) continue;
-    std::vector<std::unique_ptr<geos::geom::LinearRing>> holes;
+    Polygon2 q{p.outer, {}};
     for (const auto& h : p.holes)
-      if (h.size() >= 3) holes.push_back(make_ring(h));
-    polys.push_back(factory().createPolygon(make_ring(p.outer), std::move(holes)));
+      if (h.size() >= 3) q.holes.push_back(h);
+    clean.push_back(std::move(q));
   }
-  return factory().createMultiPolygon(std::move(polys));
-}
-
-Ring2 from_ring(const geos::geom::LineString* ls, bool ccw) {
-  Ring2 r;
-  const auto* seq = ls->getCoordinatesRO();
-  for (size_t i = 0; i + 1 < seq->size(); ++i) r.emplace_back(seq->getX(i), seq->getY(i));
-  if ((signed_area(r) > 0) != ccw) std::reverse(r.begin(), r.end());
-  return r;
-}
-
-void collect(const Geometry* g, MultiPolygon2& out) {
-  if (!g || g->isEmpty()) return;
-  if (auto* p = dynamic_cast<const geos::geom::Polygon*>(g)) {
-    Polygon2 q;
-    q.outer = from_ring(p->getExteriorRing(), true);
-    for (size_t i = 0; i < p->getNumInteriorRing(); ++i)
-      q.holes.push_back(from_ring(p->getInteriorRingN(i), false));
-    if (q.outer.size() >= 3) out.push_back(std::move(q));
-    return;
-  }
-  for (size_t i = 0; i < g->getNumGeometries(); ++i) {
-    const Geometry* part = g->getGeometryN(i);
-    if (part != g) collect(part, out);
-  }
+  return c3d::to_geos(clean, factory());
 }
 
 MultiPolygon2 from_geos(const Geometry* g) {
-  MultiPolygon2 out;
-  collect(g, out);
-  return drop_small(out, 1e-8);
+  if (!g) return {};
+  return drop_small(c3d::from_geos(*g), 1e-8);
 }
 
 // Overlay that survives GEOS topology exceptions on near-degenerate input.

@@ -1,4 +1,4 @@
-#include "cadastre/geos_util.h"
+#include "core/geos_util.h"
 
 #include <geos/geom/CoordinateSequence.h>
 #include <geos/geom/LinearRing.h>

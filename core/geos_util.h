@@ -1,6 +1,7 @@
 #pragma once
 // Conversions between the plain polygon types and GEOS (C++ API), shared by the
-// cadastre module. Kept out of widely included headers: GEOS headers are heavy.
+// reconstruction's polygon operations and the cadastre module. Kept out of
+// widely included headers: GEOS headers are heavy.
 #include <geos/geom/Geometry.h>
 #include <geos/geom/GeometryFactory.h>
 
