@@ -121,28 +121,19 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
     const EdgeInfo& c = edges[i];
     Vec2 dp = (p.b - p.a).normalized(), dc = (c.b - c.a).normalized();
     Vec2 op = p.a - outward(dp) * p.overhang, oc = c.a - outward(dc) * c.overhang;
-    double den = dp.x() * dc.y() - dp.y() * dc.x();
-    if (std::abs(den) < 1e-6) {
-      ring.push_back(oc);
-      continue;
-    }
-    Vec2 w = oc - op;
-    double t = (w.x() * dc.y() - w.y() * dc.x()) / den;
-    ring.push_back(op + t * dp);
+    ring.push_back(intersect_lines(op, dp, oc, dc).value_or(oc));
   }
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({Polygon2{ring, {}}}), 0.5);
   valid = poly::intersect(valid, {in.outline});
   if (valid.empty()) valid = poly::buffer({in.outline}, -in.default_overhang);
   if (valid.empty()) throw std::runtime_error("roof outline too small for a footprint");
-  Polygon2 best = *std::max_element(valid.begin(), valid.end(),
-                                    [](const auto& a, const auto& b) { return area(a) < area(b); });
+  Polygon2 best = poly::largest(valid);
   best.holes.clear();
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
   MultiPolygon2 under = poly::intersect({regularize_polygon(best, 1.0)}, {in.outline});
   if (under.empty()) return best;
-  Polygon2 fp = *std::max_element(under.begin(), under.end(),
-                                  [](const auto& a, const auto& b) { return area(a) < area(b); });
+  Polygon2 fp = poly::largest(under);
   fp.holes.clear();
   return fp;
 }

@@ -63,6 +63,13 @@ Ring2 to_2d(const Ring3& ring) {
   return out;
 }
 
+std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q, const Vec2& e) {
+  double den = d.x() * e.y() - d.y() * e.x();
+  if (std::abs(den) < 1e-6) return std::nullopt;
+  Vec2 w = q - p;
+  return Vec2(p + d * ((w.x() * e.y() - w.y() * e.x()) / den));
+}
+
 BuildingTotals totals(const Building& b) {
   BuildingTotals t;
   auto add = [](double& sum, double& sigma, const Element& e) {

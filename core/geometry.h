@@ -1,6 +1,8 @@
 #pragma once
 // Small exact polygon measures shared by every stage (no library needed for
 // these one-liners; heavy geometry lives with CGAL / GEOS in their stages).
+#include <optional>
+
 #include "core/types.h"
 
 namespace c3d {
@@ -14,6 +16,9 @@ double area(const Face& f);                      // minus holes
 double plan_area(const Face& f);                 // horizontal projection
 Vec3 unit_normal(const Face& f);
 Ring2 to_2d(const Ring3& ring);
+// Where the lines p + t d and q + s e meet (d, e unit); nullopt when they are
+// parallel within 1e-6.
+std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q, const Vec2& e);
 
 // Element totals of one building, as reported everywhere (summary, store,
 // report, exports). sigma_* combine the element sigmas in quadrature.

@@ -37,11 +37,7 @@ Vec2 snap_direction(const Vec2& dir, double dominant, double tol) {
 }
 
 std::optional<Vec2> line_intersection(const EdgeLine& a, const EdgeLine& b) {
-  double den = a.dir.x() * b.dir.y() - a.dir.y() * b.dir.x();
-  if (std::abs(den) < 1e-6) return std::nullopt;
-  Vec2 w = b.origin - a.origin;
-  double t = (w.x() * b.dir.y() - w.y() * b.dir.x()) / den;
-  return Vec2(a.origin + t * a.dir);
+  return intersect_lines(a.origin, a.dir, b.origin, b.dir);
 }
 
 // Consecutive edges with (nearly) the same snapped direction and offset are one line.
@@ -181,9 +177,7 @@ Polygon2 regularize_polygon(const Polygon2& poly, double min_edge) {
   Polygon2 out{rebuild_ring(lines), {}};
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
   if (valid.empty()) return poly;
-  Polygon2 best = *std::max_element(valid.begin(), valid.end(), [](const auto& a, const auto& b) {
-    return area(a) < area(b);
-  });
+  Polygon2 best = poly::largest(valid);
   if (std::abs(area(best) - area(poly)) > 0.05 * area(poly)) return poly;
   best.holes.clear();
   return best;
@@ -237,9 +231,7 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
   if (points.size() < 10) return {};
   MultiPolygon2 hull = poly::concave_hull(points, std::max(1.0, 5.0 * opt.spacing));
   if (hull.empty()) return {};
-  Polygon2 biggest = *std::max_element(hull.begin(), hull.end(), [](const auto& a, const auto& b) {
-    return area(a) < area(b);
-  });
+  Polygon2 biggest = poly::largest(hull);
   biggest.holes.clear();
   MultiPolygon2 simple = poly::simplify({biggest}, std::max(0.15, 1.5 * opt.spacing));
   if (simple.empty() || simple[0].outer.size() < 3) return {};
@@ -273,9 +265,7 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
   Polygon2 out{rebuild_ring(lines), {}};
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
   if (valid.empty()) return {};
-  Polygon2 best = *std::max_element(valid.begin(), valid.end(), [](const auto& a, const auto& b) {
-    return area(a) < area(b);
-  });
+  Polygon2 best = poly::largest(valid);
   // A rebuilt outline far from the hull means the regularisation went wrong.
   if (std::abs(area(best) - area(biggest)) > 0.3 * area(biggest)) return biggest;
   best.holes.clear();

@@ -131,6 +131,12 @@ MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge) {
   return from_geos(hull.get());
 }
 
+Polygon2 largest(const MultiPolygon2& mp) {
+  if (mp.empty()) return {};
+  return *std::max_element(mp.begin(), mp.end(),
+                           [](const auto& a, const auto& b) { return area(a) < area(b); });
+}
+
 MultiPolygon2 drop_small(const MultiPolygon2& a, double min_area) {
   MultiPolygon2 out;
   for (const auto& p : a) {

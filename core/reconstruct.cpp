@@ -138,12 +138,6 @@ std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s
   return party;
 }
 
-Polygon2 largest(const MultiPolygon2& mp) {
-  if (mp.empty()) return {};
-  return *std::max_element(mp.begin(), mp.end(),
-                           [](const auto& a, const auto& b) { return area(a) < area(b); });
-}
-
 struct BuildingPlan {
   Polygon2 outline;
   std::vector<int> components;
@@ -179,7 +173,7 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
     }
     u = poly::buffer(poly::buffer(u, 0.25), -0.25);  // close gaps between roof levels
     if (!cut.empty()) u = poly::subtract(u, cut);
-    bp.outline = largest(poly::simplify(u, 0.02));
+    bp.outline = poly::largest(poly::simplify(u, 0.02));
     bp.outline.holes.clear();
     if (bp.outline.outer.size() >= 3 && area(bp.outline) >= 4.0) plans.push_back(bp);
   }

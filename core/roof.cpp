@@ -248,11 +248,9 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
       if (!line || line->dir.head<2>().norm() < 0.2) continue;
       Vec2 p = line->point.head<2>(), d = line->dir.head<2>().normalized();
       if (edge) {
-        Vec2 e = (eb - ea).normalized();
-        double den = d.x() * e.y() - d.y() * e.x();
-        if (std::abs(den) < 1e-6) continue;
-        Vec2 w = ea - p;
-        target = p + d * ((w.x() * e.y() - w.y() * e.x()) / den);
+        auto x = intersect_lines(p, d, ea, (eb - ea).normalized());
+        if (!x) continue;
+        target = *x;
       } else {
         target = p + d * d.dot(v - p);
       }
