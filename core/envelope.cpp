@@ -415,16 +415,8 @@ void split_crossing_edges(std::vector<Piece>& pieces, const std::vector<RoofRegi
 // Vertices closer than tol become one (the first seen), and rings lose the
 // consecutive duplicates that leaves: validators treat < 1 mm as the same point.
 void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, bool drop_degenerate) {
-  auto snap = [&](Vec3& v) {
-    for (const auto& s : seen)
-      if ((s - v).norm() < tol) {
-        v = s;
-        return;
-      }
-    seen.push_back(v);
-  };
   auto clean = [&](Ring3& r) {
-    for (auto& v : r) snap(v);
+    for (auto& v : r) weld_vertex(v, seen, tol);
     Ring3 out;
     for (const auto& v : r)
       if (out.empty() || (v - out.back()).norm() > 0) out.push_back(v);
@@ -441,9 +433,6 @@ void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, b
                 shell.end());
 }
 
-// Inserts into every shell edge the shell vertices lying on it (a wall corner
-// that meets a step between roof levels, a T-junction left by clipping), so each
-// edge is shared by exactly two faces.
 std::vector<Vec3> shell_vertices(const std::vector<Face>& shell) {
   std::vector<Vec3> verts;
   for (const auto& f : shell) {
@@ -453,32 +442,13 @@ std::vector<Vec3> shell_vertices(const std::vector<Face>& shell) {
   return verts;
 }
 
-Ring3 node_ring(const Ring3& ring, const std::vector<Vec3>& verts, double tol) {
-  Ring3 out;
-  for (size_t i = 0; i < ring.size(); ++i) {
-    const Vec3 a = ring[i], b = ring[(i + 1) % ring.size()];
-    out.push_back(a);
-    Vec3 ab = b - a;
-    double len2 = ab.squaredNorm();
-    if (len2 < tol * tol) continue;
-    std::vector<std::pair<double, Vec3>> inner;
-    for (const auto& v : verts) {
-      double t = (v - a).dot(ab) / len2;
-      if (t <= 1e-9 || t >= 1 - 1e-9) continue;
-      if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
-        inner.emplace_back(t, v);
-    }
-    std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
-    for (auto& [t, v] : inner)
-      if ((v - out.back()).norm() > tol) out.push_back(v);
-  }
-  return out;
-}
-
+// Inserts into every shell edge the shell vertices lying on it (a wall corner
+// that meets a step between roof levels, a T-junction left by clipping), so each
+// edge is shared by exactly two faces.
 void node_faces(std::vector<Face>& shell, const std::vector<Vec3>& verts, double tol) {
   for (auto& f : shell) {
-    f.ring = node_ring(f.ring, verts, tol);
-    for (auto& h : f.holes) h = node_ring(h, verts, tol);
+    f.ring = insert_on_edges(f.ring, verts, tol);
+    for (auto& h : f.holes) h = insert_on_edges(h, verts, tol);
   }
 }
 

@@ -1,7 +1,10 @@
 #pragma once
 // Small exact polygon measures shared by every stage (no library needed for
 // these one-liners; heavy geometry lives with CGAL / GEOS in their stages).
+#include <algorithm>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "core/types.h"
 
@@ -19,6 +22,44 @@ Ring2 to_2d(const Ring3& ring);
 // Where the lines p + t d and q + s e meet (d, e unit); nullopt when they are
 // parallel within 1e-6.
 std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q, const Vec2& e);
+
+// Making faces that share boundaries share vertices (2D rings in the roof
+// partition, 3D rings of the shell), one algorithm for both:
+// weld_vertex snaps v to the first vertex of `seen` closer than tol, else adds it;
+template <class V>
+void weld_vertex(V& v, std::vector<V>& seen, double tol) {
+  for (const auto& s : seen)
+    if ((s - v).norm() < tol) {
+      v = s;
+      return;
+    }
+  seen.push_back(v);
+}
+
+// insert_on_edges puts into each edge of the ring, in order, the vertices of
+// `verts` lying on it within tol (T-junctions), away from its ends.
+template <class V>
+std::vector<V> insert_on_edges(const std::vector<V>& ring, const std::vector<V>& verts, double tol) {
+  std::vector<V> out;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const V a = ring[i], b = ring[(i + 1) % ring.size()];
+    out.push_back(a);
+    const V ab = b - a;
+    double len2 = ab.squaredNorm();
+    if (len2 < tol * tol) continue;
+    std::vector<std::pair<double, V>> inner;
+    for (const auto& v : verts) {
+      double t = (v - a).dot(ab) / len2;
+      if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+      if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
+        inner.emplace_back(t, v);
+    }
+    std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    for (auto& [t, v] : inner)
+      if ((v - out.back()).norm() > tol) out.push_back(v);
+  }
+  return out;
+}
 
 // Element totals of one building, as reported everywhere (summary, store,
 // report, exports). sigma_* combine the element sigmas in quadrature.

@@ -315,38 +315,11 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
 }
 
 void node_rings(std::vector<Ring2*>& rings, double tol) {
-  // Weld: snap every vertex to the first vertex seen within tol.
   std::vector<Vec2> seen;
   for (auto* r : rings)
-    for (auto& v : *r) {
-      bool snapped = false;
-      for (const auto& s : seen)
-        if ((s - v).norm() < tol) {
-          v = s;
-          snapped = true;
-          break;
-        }
-      if (!snapped) seen.push_back(v);
-    }
-  // Insert T-junction vertices into the edges they lie on.
+    for (auto& v : *r) weld_vertex(v, seen, tol);
   for (auto* r : rings) {
-    Ring2 out;
-    for (size_t i = 0; i < r->size(); ++i) {
-      Vec2 a = (*r)[i], b = (*r)[(i + 1) % r->size()];
-      out.push_back(a);
-      Vec2 ab = b - a;
-      double len2 = ab.squaredNorm();
-      if (len2 < tol * tol) continue;
-      std::vector<std::pair<double, Vec2>> inner;
-      for (const auto& s : seen) {
-        double t = (s - a).dot(ab) / len2;
-        if (t <= 1e-9 || t >= 1 - 1e-9) continue;
-        if ((a + t * ab - s).norm() < tol) inner.emplace_back(t, s);
-      }
-      std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
-      for (auto& [t, s] : inner)
-        if ((s - out.back()).norm() >= tol && (s - b).norm() >= tol) out.push_back(s);
-    }
+    Ring2 out = insert_on_edges(*r, seen, tol);
     // Drop consecutive duplicates produced by welding.
     Ring2 clean;
     for (const auto& v : out)
