@@ -212,10 +212,8 @@ std::string run_key_of(const std::string& params, const BatchOptions& opt) {
 
 // Every roof point inside a parcel against the nearest roof of any model, and
 // every wall point within 2 m of a parcel against the nearest wall.
-void any_model_deviation(const std::string& store_path, const Inputs& in,
-                         const ParcelClipper& clipper,
+void any_model_deviation(const BatchModel& model, const Inputs& in, const ParcelClipper& clipper,
                          const ParcelClipper::IndexLists& roof_lists, OutputTimings& t) {
-  BatchModel model = load_batch_model(store_path);
   std::vector<Face> roofs, walls;
   for (const auto& r : model.results)
     for (const auto& b : r.buildings) {
@@ -332,8 +330,9 @@ int run_batch(const BatchOptions& opt) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() - t_ingest;
 
   OutputTimings timings{t_ingest, t_recon, stage_seconds, {}, {}};
-  any_model_deviation(store_path, in, clipper, roof_lists, timings);
-  write_outputs(store_path, opt.out, in.cfg, opt.formats, timings, opt.quiet);
+  BatchModel model = load_batch_model(store_path);  // resumed parcels come from the store too
+  any_model_deviation(model, in, clipper, roof_lists, timings);
+  write_outputs(model, store_path, opt.out, in.cfg, opt.formats, timings, opt.quiet);
   auto t_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (!opt.quiet) {
     std::cout << "batch: " << n << " parcels in " << t_total << " s; outputs in " << opt.out << "\n";

@@ -12,10 +12,7 @@
 #include "core/evaluate.h"
 #include "core/geometry.h"
 #include "ifc_citygml/export.h"
-#if __has_include("valuation/report.h")
 #include "valuation/report.h"
-#define C3D_HAVE_REPORT 1
-#endif
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -106,14 +103,12 @@ void write_summary(const BatchModel& model, const std::string& path,
   if (!f) throw std::runtime_error(path + ": cannot write");
 }
 
-void write_outputs(const std::string& store_path, const std::string& out_dir, const Config& cfg,
+void write_outputs(const BatchModel& model, const std::string& store_path,
+                   const std::string& out_dir, const Config& cfg,
                    const std::vector<std::string>& formats, const OutputTimings& timings,
                    bool quiet) {
-  BatchModel model = load_batch_model(store_path);
   write_summary(model, (fs::path(out_dir) / "summary.json").string(), timings);
-#ifdef C3D_HAVE_REPORT
-  write_report_from_store(store_path, out_dir, cfg);
-#endif
+  write_report_from_store(model, store_path, out_dir, cfg);
   auto files = export_formats(model, out_dir, formats);
   // One picture per parcel with buildings, coloured by element type.
   fs::create_directories(fs::path(out_dir) / "preview");

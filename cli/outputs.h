@@ -19,7 +19,9 @@ struct OutputTimings {
   Deviation any_model_roof, any_model_wall;
 };
 
-void write_outputs(const std::string& store_path, const std::string& out_dir, const Config& cfg,
+// model: the batch model as read back from the store at store_path.
+void write_outputs(const BatchModel& model, const std::string& store_path,
+                   const std::string& out_dir, const Config& cfg,
                    const std::vector<std::string>& formats, const OutputTimings& timings,
                    bool quiet);
 

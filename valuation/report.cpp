@@ -598,7 +598,11 @@ void write_report(const std::string& out_dir, const BatchModel& model,
 
 void write_report_from_store(const std::string& store_path, const std::string& out_dir,
                              const Config& cfg, bool revalue) {
-  BatchModel model = load_batch_model(store_path);
+  write_report_from_store(load_batch_model(store_path), store_path, out_dir, cfg, revalue);
+}
+
+void write_report_from_store(const BatchModel& model, const std::string& store_path,
+                             const std::string& out_dir, const Config& cfg, bool revalue) {
   std::vector<ParcelValuation> vals =
       revalue ? value_batch(model, cfg.valuation) : load_valuations(store_path);
   ReportInfo info;

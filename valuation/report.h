@@ -35,5 +35,8 @@ void write_report(const std::string& out_dir, const BatchModel& model,
 // cfg.valuation instead of using the stored valuations (what-if, --config).
 void write_report_from_store(const std::string& store_path, const std::string& out_dir,
                              const Config& cfg, bool revalue = false);
+// The same with the model already read from that store (the batch has it).
+void write_report_from_store(const BatchModel& model, const std::string& store_path,
+                             const std::string& out_dir, const Config& cfg, bool revalue = false);
 
 }  // namespace c3d
