@@ -39,15 +39,6 @@ struct ReconstructionParams {
   std::string optimize_device = "auto";    // auto | cpu | vulkan
 };
 
-struct ElementCost {
-  double unit_cost = 0;  // currency per m2
-};
-
-struct ZoneRule {
-  std::string name;
-  double land_price_per_m2 = 0;
-};
-
 // Per-parcel valuation facts the parcel layer does not carry (config
 // [valuation.parcels."<id>"]); empty / NaN fields fall back to the defaults.
 struct ParcelValuationOverride {

@@ -196,7 +196,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   EnvelopeInput ei;
   ei.building_id = id;
   ei.outline = bp.outline;
-  clock.lap("roof+envelope");
+  clock.lap("roof partition input");
   ei.roof = partition_roof(rp);
   clock.lap("roof partition");
   for (const auto& r : ei.roof) ei.fits.push_back(seg.components[r.component].fit);
@@ -257,7 +257,6 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
       r.buildings.push_back(model_building(s, seg, plans[k], p, id, clock));
     }
-    clock.lap("roof+envelope");
     if (r.buildings.empty()) {
       r.status = ParcelStatus::Empty;
       r.reason = "roof points form no roof plane large enough for a building";

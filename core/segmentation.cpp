@@ -135,11 +135,6 @@ void reassign(const std::vector<Vec3>& pts, const Cloud::Ptr& cloud, const Tree&
     if (label[i] >= 0) comps[label[i]].points.push_back(i);
 }
 
-double plan_extent_area(const std::vector<Vec3>& pts, const std::vector<int>& idx,
-                        double spacing) {
-  return double(idx.size()) * spacing * spacing;  // area a point stands for, roughly
-}
-
 }  // namespace
 
 Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
@@ -184,7 +179,8 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
     int kept_here = 0;
     for (auto& c : comps) {
       bool big = int(c.points.size()) >= p.min_component_points &&
-                 plan_extent_area(points, c.points, seg.spacing) >= p.min_component_area_m2;
+                 double(c.points.size()) * seg.spacing * seg.spacing >=  // plan area the points stand for
+                     p.min_component_area_m2;
       if (!big) continue;
       int id = int(seg.components.size());
       for (int i : c.points) seg.label[i] = id;
