@@ -1,4 +1,5 @@
-// CityJSON 2.0 writer and reader. Vertices are integers with scale 0.001 and
+// CityJSON 2.0 writer and reader. Vertices are integers with scale kScale (0.1 mm:
+// rounding to whole mm would tilt the thinnest faces) and
 // translate = frame origin, deduplicated; each building has a lod-2 MultiSurface
 // (one semantic surface object per element, carrying its area attributes) on the
 // Building or on its BuildingParts, and a lod-2 Solid (the closed shell) on the Building.
@@ -20,12 +21,13 @@ namespace c3d {
 namespace {
 
 using nlohmann::json;
+constexpr double kScale = 0.0001;  // m per integer unit of the vertices
 
 class Vertices {
  public:
   int index(const Vec3& local) {
-    std::array<long long, 3> k{std::llround(local.x() * 1000), std::llround(local.y() * 1000),
-                               std::llround(local.z() * 1000)};
+    std::array<long long, 3> k{std::llround(local.x() / kScale), std::llround(local.y() / kScale),
+                               std::llround(local.z() / kScale)};
     auto [it, fresh] = map_.try_emplace(key(k), int(list_.size()));
     if (fresh) list_.push_back(json::array({k[0], k[1], k[2]}));
     return it->second;
@@ -142,7 +144,7 @@ json extent(const json& verts, const Vec3& t) {
   if (verts.empty()) return json::array({0, 0, 0, 0, 0, 0});
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const auto& p : verts) {
-    Vec3 q(p[0].get<long long>() * 0.001, p[1].get<long long>() * 0.001, p[2].get<long long>() * 0.001);
+    Vec3 q(p[0].get<long long>() * kScale, p[1].get<long long>() * kScale, p[2].get<long long>() * kScale);
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
@@ -160,7 +162,7 @@ void write_cityjson(const BatchModel& model, const std::string& path) {
     for (const auto& b : r.buildings) add_building(objects, v, model, r, b);
   const Vec3& t = model.frame.origin;
   json doc = {{"type", "CityJSON"}, {"version", "2.0"},
-              {"transform", {{"scale", {0.001, 0.001, 0.001}}, {"translate", {t.x(), t.y(), t.z()}}}},
+              {"transform", {{"scale", {kScale, kScale, kScale}}, {"translate", {t.x(), t.y(), t.z()}}}},
               {"CityObjects", std::move(objects)}};
   json verts = v.take();
   json meta = {{"title", "Cadastre3D LoD2 buildings"}, {"geographicalExtent", extent(verts, t)}};

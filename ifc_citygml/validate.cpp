@@ -75,17 +75,23 @@ struct Checker {
     issues.push_back({b.id, code, where, msg});
   }
 
+  // Whether segments ab and cd share a point. Orientation is zero when the
+  // sine of the angle is below 1e-9: collinear pieces of one wall top (on the
+  // same roof-plane line) must not count as crossing by rounding noise.
   static bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
     auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
-      double v = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
-      return v > 1e-12 ? 1 : v < -1e-12 ? -1 : 0;
+      const Vec2 u = q - p, w = r - p;
+      const double v = u.x() * w.y() - u.y() * w.x();
+      const double eps = 1e-9 * u.norm() * w.norm();
+      return v > eps ? 1 : v < -eps ? -1 : 0;
     };
-    auto on = [](const Vec2& p, const Vec2& q, const Vec2& r) {  // r on segment pq
-      return std::min(p.x(), q.x()) - 1e-12 <= r.x() && r.x() <= std::max(p.x(), q.x()) + 1e-12 &&
-             std::min(p.y(), q.y()) - 1e-12 <= r.y() && r.y() <= std::max(p.y(), q.y()) + 1e-12;
+    auto on = [](const Vec2& p, const Vec2& q, const Vec2& r) {  // r (collinear) within pq
+      const Vec2 u = q - p;
+      const double t = u.dot(r - p), len2 = u.squaredNorm();
+      return t >= -1e-12 * len2 && t <= len2 * (1 + 1e-12);
     };
     int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
-    if (o1 != o2 && o3 != o4) return true;
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;  // proper crossing
     return (o1 == 0 && on(a, b, c)) || (o2 == 0 && on(a, b, d)) || (o3 == 0 && on(c, d, a)) ||
            (o4 == 0 && on(c, d, b));
   }
@@ -120,7 +126,8 @@ struct Checker {
     int drop = 0;  // project on the plane where the normal is largest
     normal.cwiseAbs().maxCoeff(&drop);
     std::vector<Vec2> q;
-    for (const auto& p : clean) q.emplace_back(p[(drop + 1) % 3], p[(drop + 2) % 3]);
+    const Vec3 o = clean.front();  // relative to the ring: no UTM magnitudes in the products
+    for (const auto& p : clean) q.emplace_back(p[(drop + 1) % 3] - o[(drop + 1) % 3], p[(drop + 2) % 3] - o[(drop + 2) % 3]);
     const size_t n = q.size();
     for (size_t i = 0; i < n; ++i)
       for (size_t j = i + 2; j < n; ++j) {
@@ -162,7 +169,12 @@ struct Checker {
     const double cos_tol = std::cos(opt.normals_tol_deg * M_PI / 180);
     for (const auto& tr : t.tris) {
       Vec3 tn = (t.points[tr[1]] - t.points[tr[0]]).cross(t.points[tr[2]] - t.points[tr[0]]);
-      if (tn.norm() < 1e-12) continue;
+      // A sliver thinner than the snap tolerance has no meaningful normal:
+      // its vertices are only known to snap_tol.
+      double longest = 0;
+      for (int k = 0; k < 3; ++k)
+        longest = std::max(longest, (t.points[tr[(k + 1) % 3]] - t.points[tr[k]]).norm());
+      if (tn.norm() < 1e-12 || tn.norm() / std::max(longest, 1e-12) < opt.snap_tol) continue;
       if (tn.normalized().dot(n) < cos_tol) {
         report(kNonPlanarNormalsDeviation, where, "triangle normal deviates from the polygon's");
         return false;

@@ -73,7 +73,7 @@ TEST_F(CityJson, BrokenFileFailsSchema) {
 TEST_F(CityJson, HeaderAndIndices) {
   EXPECT_EQ(doc["version"], "2.0");
   EXPECT_EQ(doc["metadata"]["referenceSystem"], "https://www.opengis.net/def/crs/EPSG/0/32748");
-  EXPECT_DOUBLE_EQ(doc["transform"]["scale"][0].get<double>(), 0.001);
+  EXPECT_DOUBLE_EQ(doc["transform"]["scale"][0].get<double>(), 0.0001);
   EXPECT_DOUBLE_EQ(doc["transform"]["translate"][1].get<double>(), 9237654.0);
   EXPECT_EQ(bad_indices(doc), 0u);
   EXPECT_EQ(doc["CityObjects"]["P-004_b1"]["children"].size(), 2u);

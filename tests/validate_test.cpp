@@ -134,3 +134,25 @@ TEST(ExportCli, FromCityJsonToEveryFormat) {
             2)
       << out;
 }
+
+TEST(Validate, CollinearWallTopPiecesAreNotACrossing) {
+  // A wall under one roof plane with a small step up in the middle (as on Cimahi
+  // parcel 05787): the two top edges either side of the step lie on the same
+  // roof-plane line, at UTM magnitudes. They touch nowhere, so the ring is valid.
+  const Vec3 o(781836.8593649674, 9240021.244433638, 782.42776);
+  const Vec3 along = Vec3(1.62, 1.98, 0).normalized();
+  auto at = [&](double s, double z) { return Vec3(o + s * along + Vec3(0, 0, z)); };
+  const double slope = 0.0014;  // the roof line's rise along the wall
+  Face wall = fx::face({at(6.4, 0), at(0, 0), at(0, 9.08), at(2.56, 9.08 + 2.56 * slope),
+                        at(2.56, 9.33), at(2.93, 9.12), at(3.0, 9.08 + 3.0 * slope),
+                        at(4.64, 9.08 + 4.64 * slope), at(4.64, 8.18), at(6.4, 7.3)});
+  Building b = gable();
+  b.elements[2].faces[0] = wall;
+  auto v = validate_building(b);
+  EXPECT_FALSE(has_code(v, kRingSelfIntersection)) << dump(v);
+  // The same ring with the step folded back over the first piece does cross.
+  wall.ring[6] = at(2.0, 9.08 + 2.0 * slope + 0.001);
+  wall.ring[5] = at(2.2, 9.2);
+  b.elements[2].faces[0] = wall;
+  EXPECT_TRUE(has_code(validate_building(b), kRingSelfIntersection)) << dump(validate_building(b));
+}
