@@ -1,5 +1,7 @@
 #include "core/geometry.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 
 namespace c3d {
@@ -90,6 +92,62 @@ BuildingTotals totals(const Building& b) {
     }
   }
   return t;
+}
+
+namespace {
+
+// Whether segments ab and cd share a point. Orientation is zero when the
+// sine of the angle is below 1e-9: collinear pieces of one wall top (on the
+// same roof-plane line) must not count as crossing by rounding noise.
+bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
+    const Vec2 u = q - p, w = r - p;
+    const double v = u.x() * w.y() - u.y() * w.x();
+    const double eps = 1e-9 * u.norm() * w.norm();
+    return v > eps ? 1 : v < -eps ? -1 : 0;
+  };
+  auto on = [](const Vec2& p, const Vec2& q, const Vec2& r) {  // r (collinear) within pq
+    const Vec2 u = q - p;
+    const double t = u.dot(r - p), len2 = u.squaredNorm();
+    return t >= -1e-12 * len2 && t <= len2 * (1 + 1e-12);
+  };
+  int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;  // proper crossing
+  return (o1 == 0 && on(a, b, c)) || (o2 == 0 && on(a, b, d)) || (o3 == 0 && on(c, d, a)) ||
+         (o4 == 0 && on(c, d, b));
+}
+
+}  // namespace
+
+std::optional<std::pair<size_t, size_t>> ring_crossing(const Ring3& ring, const Vec3& normal) {
+  int drop = 0;  // project on the plane where the normal is largest
+  normal.cwiseAbs().maxCoeff(&drop);
+  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  std::vector<Vec2> q;
+  for (const auto& p : ring)  // relative to the ring: no UTM magnitudes in the products
+    q.emplace_back(p[u] - ring.front()[u], p[v] - ring.front()[v]);
+  const size_t n = q.size();
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
+      if (segments_touch(q[i], q[(i + 1) % n], q[j], q[(j + 1) % n])) return std::make_pair(i, j);
+    }
+  return std::nullopt;
+}
+
+double planarity_deviation(const Face& f) {
+  std::vector<Vec3> pts(f.ring.begin(), f.ring.end());
+  for (const auto& h : f.holes) pts.insert(pts.end(), h.begin(), h.end());
+  if (pts.size() < 4) return 0;
+  Vec3 c = Vec3::Zero();
+  for (const auto& p : pts) c += p;
+  c /= double(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+  const Vec3 n = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+  double worst = 0;
+  for (const auto& p : pts) worst = std::max(worst, std::abs((p - c).dot(n)));
+  return worst;
 }
 
 }  // namespace c3d

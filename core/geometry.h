@@ -23,6 +23,13 @@ Ring2 to_2d(const Ring3& ring);
 // parallel within 1e-6.
 std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q, const Vec2& e);
 
+// Largest distance of a face's vertices (holes too) from their least-squares plane.
+double planarity_deviation(const Face& f);
+
+// The first pair of non-adjacent edges of a planar ring that touch or cross
+// (projected along the largest component of its normal); nullopt for a simple ring.
+std::optional<std::pair<size_t, size_t>> ring_crossing(const Ring3& ring, const Vec3& normal);
+
 // Making faces that share boundaries share vertices (2D rings in the roof
 // partition, 3D rings of the shell), one algorithm for both:
 // weld_vertex snaps v to the first vertex of `seen` closer than tol, else adds it;

@@ -18,6 +18,7 @@
 #include "core/polygon_ops.h"
 #include "core/roof.h"
 #include "core/segmentation.h"
+#include "core/solid_check.h"
 
 namespace c3d {
 namespace {
@@ -180,6 +181,33 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
   return plans;
 }
 
+// Whether a triangle of the face (thicker than 1 mm: thinner ones have no
+// meaningful normal) leans more than 20 degrees from the face: val3dity's 204.
+bool tilted_triangle(const Face& f, const Vec3& n) {
+  for (const auto& t : triangulate(f)) {
+    const Vec3 tn = (t.b - t.a).cross(t.c - t.a);
+    const double longest = std::max({(t.b - t.a).norm(), (t.c - t.b).norm(), (t.a - t.c).norm()});
+    if (tn.norm() / std::max(longest, 1e-12) < 1e-3) continue;
+    if (tn.normalized().dot(n) < std::cos(20 * M_PI / 180)) return true;
+  }
+  return false;
+}
+
+// Why a refined building is unusable ("" when it is fine): every face ring
+// still simple and planar (1 cm, 20 degrees: val3dity's tolerances), the shell still closed, manifold, outward and free of
+// self-intersections.
+std::string refinement_defect(const Building& b) {
+  for (const auto& e : b.elements)
+    for (const auto& f : e.faces) {
+      const Vec3 n = unit_normal(f);
+      if (ring_crossing(f.ring, n)) return std::string("a ") + to_string(e.type) + " face folds over itself";
+      if (planarity_deviation(f) > 0.01 || tilted_triangle(f, n))
+        return std::string("a ") + to_string(e.type) + " face is no longer planar";
+    }
+  const SolidCheck check = check_solid(b.solid);
+  return check.ok ? "" : check.summary();
+}
+
 Building model_building(const ParcelScene& s, const Segmentation& seg, const BuildingPlan& bp,
                         const ReconstructionParams& p, const std::string& id, StageClock& clock) {
   RoofPartitionInput rp;
@@ -214,9 +242,15 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
       for (int i : seg.components[c].points) own.push_back(s.roof_points[i]);
     OptimizerOptions o;
     o.device = parse_compute_device(p.optimize_device);
-    OptimizeReport rep = optimize_building(b, own, o);
+    Building refined = b;
+    OptimizeReport rep = optimize_building(refined, own, o);
     static std::once_flag logged;
     std::call_once(logged, [&] { std::fprintf(stderr, "optimizer: %s\n", rep.device.c_str()); });
+    const std::string why = refinement_defect(refined);
+    if (why.empty())
+      b = std::move(refined);
+    else  // a refinement must never cost a valid solid: keep the reconstruction
+      std::fprintf(stderr, "optimizer: %s kept unrefined (%s)\n", id.c_str(), why.c_str());
   }
   measure_building(b, p.storey_height_m);
   clock.lap("measure");

@@ -75,27 +75,6 @@ struct Checker {
     issues.push_back({b.id, code, where, msg});
   }
 
-  // Whether segments ab and cd share a point. Orientation is zero when the
-  // sine of the angle is below 1e-9: collinear pieces of one wall top (on the
-  // same roof-plane line) must not count as crossing by rounding noise.
-  static bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-    auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
-      const Vec2 u = q - p, w = r - p;
-      const double v = u.x() * w.y() - u.y() * w.x();
-      const double eps = 1e-9 * u.norm() * w.norm();
-      return v > eps ? 1 : v < -eps ? -1 : 0;
-    };
-    auto on = [](const Vec2& p, const Vec2& q, const Vec2& r) {  // r (collinear) within pq
-      const Vec2 u = q - p;
-      const double t = u.dot(r - p), len2 = u.squaredNorm();
-      return t >= -1e-12 * len2 && t <= len2 * (1 + 1e-12);
-    };
-    int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
-    if (o1 * o2 < 0 && o3 * o4 < 0) return true;  // proper crossing
-    return (o1 == 0 && on(a, b, c)) || (o2 == 0 && on(a, b, d)) || (o3 == 0 && on(c, d, a)) ||
-           (o4 == 0 && on(c, d, b));
-  }
-
   // Ring rules; returns the ring's snapped ids without consecutive repeats.
   Ids ring(const Ring3& r, const Vec3& normal, Snap& snap, const std::string& where) {
     Ids ids;
@@ -123,21 +102,10 @@ struct Checker {
       report(kRingSelfIntersection, where, "zero-area (collapsed) ring");
       return ids;
     }
-    int drop = 0;  // project on the plane where the normal is largest
-    normal.cwiseAbs().maxCoeff(&drop);
-    std::vector<Vec2> q;
-    const Vec3 o = clean.front();  // relative to the ring: no UTM magnitudes in the products
-    for (const auto& p : clean) q.emplace_back(p[(drop + 1) % 3] - o[(drop + 1) % 3], p[(drop + 2) % 3] - o[(drop + 2) % 3]);
-    const size_t n = q.size();
-    for (size_t i = 0; i < n; ++i)
-      for (size_t j = i + 2; j < n; ++j) {
-        if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
-        if (segments_touch(q[i], q[(i + 1) % n], q[j], q[(j + 1) % n])) {
-          report(kRingSelfIntersection, where,
-                 "edges " + std::to_string(i) + " and " + std::to_string(j) + " intersect");
-          return ids;
-        }
-      }
+    if (auto cross = ring_crossing(clean, normal))
+      report(kRingSelfIntersection, where,
+             "edges " + std::to_string(cross->first) + " and " + std::to_string(cross->second) +
+                 " intersect");
     return ids;
   }
 
@@ -150,16 +118,7 @@ struct Checker {
     for (size_t k = 0; k < f.holes.size(); ++k)
       rings->push_back(ring(f.holes[k], n, snap, where + " hole " + std::to_string(k)));
     if (issues.size() != before) return false;
-    std::vector<Vec3> pts(f.ring.begin(), f.ring.end());
-    for (const auto& h : f.holes) pts.insert(pts.end(), h.begin(), h.end());
-    Vec3 c = Vec3::Zero();
-    for (const auto& p : pts) c += p;
-    c /= double(pts.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
-    Vec3 pn = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
-    double worst = 0;
-    for (const auto& p : pts) worst = std::max(worst, std::abs((p - c).dot(pn)));
+    const double worst = planarity_deviation(f);
     if (worst > opt.planarity_tol) {
       report(kNonPlanarDistancePlane, where,
              "vertex " + exp::fixed(worst * 100, 1) + " cm from the fitted plane");
