@@ -181,27 +181,15 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
   return plans;
 }
 
-// Whether a triangle of the face (thicker than 1 mm: thinner ones have no
-// meaningful normal) leans more than 20 degrees from the face: val3dity's 204.
-bool tilted_triangle(const Face& f, const Vec3& n) {
-  for (const auto& t : triangulate(f)) {
-    const Vec3 tn = (t.b - t.a).cross(t.c - t.a);
-    const double longest = std::max({(t.b - t.a).norm(), (t.c - t.b).norm(), (t.a - t.c).norm()});
-    if (tn.norm() / std::max(longest, 1e-12) < 1e-3) continue;
-    if (tn.normalized().dot(n) < std::cos(20 * M_PI / 180)) return true;
-  }
-  return false;
-}
-
 // Why a refined building is unusable ("" when it is fine): every face ring
-// still simple and planar (1 cm, 20 degrees: val3dity's tolerances), the shell still closed, manifold, outward and free of
-// self-intersections.
+// still simple and planar (val3dity's tolerances, as `validate` applies them),
+// the shell still closed, manifold, outward and free of self-intersections.
 std::string refinement_defect(const Building& b) {
   for (const auto& e : b.elements)
     for (const auto& f : e.faces) {
       const Vec3 n = unit_normal(f);
       if (ring_crossing(f.ring, n)) return std::string("a ") + to_string(e.type) + " face folds over itself";
-      if (planarity_deviation(f) > 0.01 || tilted_triangle(f, n))
+      if (planarity_deviation(f) > 0.01 || tilted_triangle(f, n, 20, 0.001))
         return std::string("a ") + to_string(e.type) + " face is no longer planar";
     }
   const SolidCheck check = check_solid(b.solid);

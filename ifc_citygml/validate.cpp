@@ -7,7 +7,6 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -16,6 +15,7 @@
 #include <sstream>
 
 #include "core/geometry.h"
+#include "core/solid_check.h"
 #include "ifc_citygml/detail.h"
 
 namespace c3d {
@@ -124,20 +124,9 @@ struct Checker {
              "vertex " + exp::fixed(worst * 100, 1) + " cm from the fitted plane");
       return false;
     }
-    exp::Triangles t = exp::triangulate(f);
-    const double cos_tol = std::cos(opt.normals_tol_deg * M_PI / 180);
-    for (const auto& tr : t.tris) {
-      Vec3 tn = (t.points[tr[1]] - t.points[tr[0]]).cross(t.points[tr[2]] - t.points[tr[0]]);
-      // A sliver thinner than the snap tolerance has no meaningful normal:
-      // its vertices are only known to snap_tol.
-      double longest = 0;
-      for (int k = 0; k < 3; ++k)
-        longest = std::max(longest, (t.points[tr[(k + 1) % 3]] - t.points[tr[k]]).norm());
-      if (tn.norm() < 1e-12 || tn.norm() / std::max(longest, 1e-12) < opt.snap_tol) continue;
-      if (tn.normalized().dot(n) < cos_tol) {
-        report(kNonPlanarNormalsDeviation, where, "triangle normal deviates from the polygon's");
-        return false;
-      }
+    if (tilted_triangle(f, n, opt.normals_tol_deg, opt.snap_tol)) {
+      report(kNonPlanarNormalsDeviation, where, "triangle normal deviates from the polygon's");
+      return false;
     }
     return true;
   }
