@@ -433,6 +433,12 @@ void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, b
                 shell.end());
 }
 
+void set_height(Face& f, double z) {
+  for (auto& v : f.ring) v.z() = z;
+  for (auto& h : f.holes)
+    for (auto& v : h) v.z() = z;
+}
+
 std::vector<Vec3> shell_vertices(const std::vector<Face>& shell) {
   std::vector<Vec3> verts;
   for (const auto& f : shell) {
@@ -452,17 +458,182 @@ void node_faces(std::vector<Face>& shell, const std::vector<Vec3>& verts, double
   }
 }
 
+using EdgeKey = std::pair<std::pair<double, double>, std::pair<double, double>>;
+
+EdgeKey undirected(const Vec2& a, const Vec2& b) {
+  std::pair<double, double> p{a.x(), a.y()}, q{b.x(), b.y()};
+  return p < q ? EdgeKey{p, q} : EdgeKey{q, p};
+}
+
+// Faces of one planar subdivision -> for each face, the length of edge it
+// shares with every other face (edges are identical, so plain keys match).
+std::vector<std::map<int, double>> face_neighbours(const MultiPolygon2& faces) {
+  std::map<EdgeKey, std::vector<int>> users;
+  auto add = [&](const Ring2& r, int f) {
+    for (size_t i = 0; i < r.size(); ++i) users[undirected(r[i], r[(i + 1) % r.size()])].push_back(f);
+  };
+  for (size_t f = 0; f < faces.size(); ++f) {
+    add(faces[f].outer, int(f));
+    for (const auto& h : faces[f].holes) add(h, int(f));
+  }
+  std::vector<std::map<int, double>> shared(faces.size());
+  for (const auto& [e, fs] : users) {
+    double len = std::hypot(e.first.first - e.second.first, e.first.second - e.second.second);
+    for (int a : fs)
+      for (int b : fs)
+        if (a != b) shared[a][b] += len;
+  }
+  return shared;
+}
+
+// Parts of a region narrower than twice this are partition artefacts (spikes
+// along a neighbour, slivers at the footprint), not roof a scan can support.
+constexpr double kThin = 0.05;
+// A separate fragment of a region smaller than this, beside a larger part of
+// the same region, is an artefact too (label-grid teeth touching at corners).
+constexpr double kFragment = 0.5;
+
+struct FaceOwner {
+  int region = -1;  // -1: not roof
+  bool inside = false;
+  bool merge = false;  // to be given to a neighbour
+};
+
+// Faces of one region on one side of the walls that are joined by edges.
+std::vector<int> owner_components(const std::vector<FaceOwner>& owner,
+                                  const std::vector<std::map<int, double>>& shared) {
+  std::vector<int> comp(owner.size(), -1);
+  int next = 0;
+  for (size_t s = 0; s < owner.size(); ++s) {
+    if (comp[s] >= 0) continue;
+    std::vector<int> todo{int(s)};
+    comp[s] = next;
+    while (!todo.empty()) {
+      int f = todo.back();
+      todo.pop_back();
+      for (const auto& [g, len] : shared[f])
+        if (comp[g] < 0 && owner[g].region == owner[f].region && owner[g].inside == owner[f].inside)
+          comp[g] = next, todo.push_back(g);
+    }
+    ++next;
+  }
+  return comp;
+}
+
+// Faces marked merge take the region of the neighbour they share most boundary
+// with, a neighbour on the same side of the walls first; a face never changes
+// side (the solid's top must cover the footprint exactly). Repeated so chains
+// of slivers resolve.
+void merge_marked(std::vector<FaceOwner>& owner, const std::vector<std::map<int, double>>& shared) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (size_t f = 0; f < owner.size(); ++f) {
+      if (!owner[f].merge) continue;
+      int best = -1;
+      double best_score = 0;
+      for (const auto& [g, len] : shared[f]) {
+        double score = len + (owner[g].inside == owner[f].inside ? 1e6 : 0.0);
+        if (!owner[g].merge && owner[g].region >= 0 && score > best_score) best = g, best_score = score;
+      }
+      if (best < 0) continue;
+      owner[f].region = owner[best].region;  // its side of the walls stays
+      owner[f].merge = false;
+      changed = true;
+    }
+  }
+  for (auto& o : owner) o.merge = false;  // nothing to join: it keeps its own region
+}
+
+// Small fragments of a region beside a larger part of it are marked merge.
+bool mark_fragments(const MultiPolygon2& faces, std::vector<FaceOwner>& owner,
+                    const std::vector<std::map<int, double>>& shared) {
+  std::vector<int> comp = owner_components(owner, shared);
+  std::map<int, double> comp_area;
+  std::map<std::pair<int, bool>, double> largest;
+  for (size_t f = 0; f < faces.size(); ++f) comp_area[comp[f]] += area(faces[f]);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    double& l = largest[{owner[f].region, owner[f].inside}];
+    l = std::max(l, comp_area[comp[f]]);
+  }
+  bool any = false;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    double a = comp_area[comp[f]];
+    if (owner[f].region >= 0 && a < kFragment && a < largest[{owner[f].region, owner[f].inside}])
+      owner[f].merge = any = true;
+  }
+  return any;
+}
+
+// The roof regions cut by the footprint into pieces inside the walls and
+// hanging pieces, all from one planar subdivision (GEOS noding + polygonize):
+// pieces that meet share their vertices exactly. Slivers, thin spikes, gaps
+// and stray fragments the partition left are given to the neighbour they
+// share most boundary with, never dropped (a dropped sliver is a hole in the
+// shell, a spike touching a wall a pinched solid).
+std::vector<Piece> roof_pieces(const std::vector<RoofRegion>& roof, const Polygon2& fp) {
+  std::vector<MultiPolygon2> plans;
+  MultiPolygon2 thin;
+  for (const auto& r : roof) {
+    plans.push_back(r.plan);
+    MultiPolygon2 opened = poly::buffer(poly::buffer(r.plan, -kThin), kThin);
+    for (auto& t : poly::drop_small(poly::subtract(r.plan, opened), 1e-4)) thin.push_back(t);
+  }
+  Polygon2 footprint = fp;
+  std::vector<Ring2*> rings{&footprint.outer};
+  auto add_rings = [&](MultiPolygon2& mp) {
+    for (auto& p : mp) {
+      rings.push_back(&p.outer);
+      for (auto& h : p.holes) rings.push_back(&h);
+    }
+  };
+  for (auto& plan : plans) add_rings(plan);
+  add_rings(thin);
+  node_rings(rings, 1e-3);
+  MultiPolygon2 all{footprint};
+  for (const auto& plan : plans) all.insert(all.end(), plan.begin(), plan.end());
+  all.insert(all.end(), thin.begin(), thin.end());
+  MultiPolygon2 faces = poly::planar_faces(all);
+
+  constexpr double kSliver = 1e-3, kGap = 0.05;  // m^2
+  std::vector<FaceOwner> owner(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    Vec2 p = poly::interior_point(faces[f]);
+    for (size_t r = 0; r < plans.size() && owner[f].region < 0; ++r)
+      if (poly::covers(plans[r], p)) owner[f].region = int(r);
+    owner[f].inside = poly::covers({footprint}, p);
+    double a = area(faces[f]);
+    owner[f].merge = a < kSliver || (owner[f].region < 0 && a < kGap) || poly::covers(thin, p);
+  }
+  auto shared = face_neighbours(faces);
+  merge_marked(owner, shared);
+  for (int round = 0; round < 3 && mark_fragments(faces, owner, shared); ++round)
+    merge_marked(owner, shared);
+
+  std::map<std::pair<int, bool>, MultiPolygon2> groups;
+  for (size_t f = 0; f < faces.size(); ++f)
+    if (owner[f].region >= 0) groups[{owner[f].region, owner[f].inside}].push_back(faces[f]);
+  std::vector<Piece> pieces;
+  for (auto& [key, group] : groups)
+    for (auto& p : poly::unite_all({group})) pieces.push_back({key.first, key.second, p});
+  return pieces;
+}
+
 // Developer aid: prints shell edges used by one face only (C3D_DEBUG=1).
 void debug_open_edges(const Building& b) {
   auto key = [](const Vec3& p) {
     return std::make_tuple(std::llround(p.x() * 1e4), std::llround(p.y() * 1e4), std::llround(p.z() * 1e4));
   };
   std::map<std::pair<decltype(key(Vec3())), decltype(key(Vec3()))>, int> use;
-  for (const auto& f : b.solid)
-    for (size_t i = 0; i < f.ring.size(); ++i) {
-      auto a = key(f.ring[i]), c = key(f.ring[(i + 1) % f.ring.size()]);
+  auto count = [&](const Ring3& r) {
+    for (size_t i = 0; i < r.size(); ++i) {
+      auto a = key(r[i]), c = key(r[(i + 1) % r.size()]);
       use[{std::min(a, c), std::max(a, c)}]++;
     }
+  };
+  for (const auto& f : b.solid) {
+    count(f.ring);
+    for (const auto& h : f.holes) count(h);
+  }
   for (auto& [e, n] : use)
     if (n != 2)
       std::fprintf(stderr, "%s open edge x%d (%.3f %.3f %.3f)-(%.3f %.3f %.3f)\n", b.id.c_str(), n,
@@ -529,14 +700,7 @@ Building build_building(const EnvelopeInput& in) {
   Polygon2 fp = footprint_from_edges(edges, in);
   b.terrain_z = mean_terrain(fp, in.terrain);
 
-  std::vector<Piece> pieces;
-  for (size_t r = 0; r < in.roof.size(); ++r) {
-    for (auto& p : poly::intersect(in.roof[r].plan, {fp})) pieces.push_back({int(r), true, p});
-    for (auto& p : poly::subtract(in.roof[r].plan, {fp})) pieces.push_back({int(r), false, p});
-  }
-  pieces.erase(std::remove_if(pieces.begin(), pieces.end(),
-                              [](const Piece& p) { return area(p.plan) < 1e-4; }),
-               pieces.end());
+  std::vector<Piece> pieces = roof_pieces(in.roof, fp);
   Polygon2 fp_copy = fp;
   std::vector<Ring2*> rings{&fp_copy.outer};
   for (auto& p : pieces) {
@@ -643,8 +807,12 @@ Building build_building(const EnvelopeInput& in) {
   const std::vector<Vec3> verts = shell_vertices(solid);
   node_faces(solid, verts, 1e-3);
   for (auto& e : b.elements) {
+    std::vector<double> level;  // an outer ceiling is horizontal: welding must not tilt it
+    for (const auto& f : e.faces) level.push_back(f.ring.empty() ? 0.0 : f.ring[0].z());
     weld_faces(e.faces, 1e-3, pool, false);
     node_faces(e.faces, verts, 1e-3);
+    if (e.type == ElementType::OuterCeiling)
+      for (size_t i = 0; i < e.faces.size(); ++i) set_height(e.faces[i], level[i]);
   }
   b.solid = std::move(solid);
   if (std::getenv("C3D_DEBUG")) debug_open_edges(b);

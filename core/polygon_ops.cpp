@@ -12,6 +12,7 @@
 #include <geos/operation/buffer/BufferOp.h>
 #include <geos/operation/buffer/BufferParameters.h>
 #include <geos/operation/linemerge/LineMerger.h>
+#include <geos/operation/polygonize/Polygonizer.h>
 #include <geos/operation/union/UnaryUnionOp.h>
 #include <geos/operation/valid/MakeValid.h>
 #include <geos/simplify/TopologyPreservingSimplifier.h>
@@ -210,6 +211,37 @@ std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const Mul
     if (line.size() >= 2) out.push_back(std::move(line));
   }
   return out;
+}
+
+MultiPolygon2 planar_faces(const MultiPolygon2& shapes) {
+  std::vector<GeomPtr> lines;
+  auto add_ring = [&](const Ring2& r) {
+    if (r.size() < 3) return;
+    auto seq = std::make_unique<CoordinateArraySequence>();
+    for (const auto& v : r) seq->add(Coordinate(v.x(), v.y()));
+    seq->add(Coordinate(r[0].x(), r[0].y()));
+    lines.push_back(factory().createLineString(std::move(seq)));
+  };
+  for (const auto& p : shapes) {
+    add_ring(p.outer);
+    for (const auto& h : p.holes) add_ring(h);
+  }
+  if (lines.empty()) return {};
+  auto all = factory().createMultiLineString(std::move(lines));
+  GeomPtr noded = all->Union();  // nodes every crossing and shared stretch
+  geos::operation::polygonize::Polygonizer polygonizer;
+  polygonizer.add(static_cast<const Geometry*>(noded.get()));
+  MultiPolygon2 out;
+  for (auto& face : polygonizer.getPolygons())
+    for (auto& p : c3d::from_geos(*face)) out.push_back(std::move(p));
+  return out;
+}
+
+Vec2 interior_point(const Polygon2& p) {
+  auto g = to_geos(MultiPolygon2{p});
+  auto pt = g->getInteriorPoint();
+  if (!pt || pt->isEmpty()) return p.outer.empty() ? Vec2::Zero() : p.outer[0];
+  return {pt->getX(), pt->getY()};
 }
 
 MultiPolygon2 halfplane_box(const Vec2& p, const Vec2& dir, const Vec2& side_point,

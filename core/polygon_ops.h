@@ -33,6 +33,12 @@ MultiPolygon2 box(const Vec2& min, const Vec2& max);
 // Shared boundary of two polygons as line pieces (each a polyline).
 std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,
                                                double tolerance);
+// Faces of the planar subdivision made by all rings of the given polygons:
+// the boundaries are noded together and polygonized, so two faces that meet
+// share the very same vertices along their common edge.
+MultiPolygon2 planar_faces(const MultiPolygon2& shapes);
+// A point strictly inside the polygon (GEOS interior point).
+Vec2 interior_point(const Polygon2& p);
 MultiPolygon2 halfplane_box(const Vec2& point_on_line, const Vec2& dir, const Vec2& side_point,
                             double extent);
 

@@ -188,6 +188,9 @@ std::string refinement_defect(const Building& b) {
   for (const auto& e : b.elements)
     for (const auto& f : e.faces) {
       const Vec3 n = unit_normal(f);
+      for (size_t i = 0; i < f.ring.size(); ++i)
+        if ((f.ring[i] - f.ring[(i + 1) % f.ring.size()]).norm() < 0.001)
+          return std::string("two vertices of a ") + to_string(e.type) + " face merge";
       if (ring_crossing(f.ring, n)) return std::string("a ") + to_string(e.type) + " face folds over itself";
       if (planarity_deviation(f) > 0.01 || tilted_triangle(f, n, 20, 0.001))
         return std::string("a ") + to_string(e.type) + " face is no longer planar";

@@ -7,6 +7,8 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -165,7 +167,7 @@ struct Checker {
           edges[{std::min(a, c), std::max(a, c)}].push_back({int(f), a < c});
         }
     if (!edge_rules(edges)) return;
-    if (!vertex_rules(faces, snap.points.size())) return;
+    if (!vertex_rules(faces, snap.points)) return;
     if (components(faces, edges) > 1) {
       report(kMultipleConnectedComponents, "solid", "shell falls apart into several pieces");
       return;
@@ -202,13 +204,13 @@ struct Checker {
   }
 
   // Around each vertex the faces must form one fan (no "two cones touching at a tip").
-  bool vertex_rules(const std::vector<std::vector<Ids>>& faces, size_t nverts) {
-    std::vector<std::map<int, int>> next(nverts);  // at vertex v: prev -> next neighbour
+  bool vertex_rules(const std::vector<std::vector<Ids>>& faces, const std::vector<Vec3>& points) {
+    std::vector<std::map<int, int>> next(points.size());  // at vertex v: prev -> next neighbour
     for (const auto& f : faces)
       for (const auto& r : f)
         for (size_t i = 0; i < r.size(); ++i)
           next[r[i]][r[(i + r.size() - 1) % r.size()]] = r[(i + 1) % r.size()];
-    for (size_t v = 0; v < nverts; ++v) {
+    for (size_t v = 0; v < points.size(); ++v) {
       if (next[v].empty()) continue;
       int start = next[v].begin()->first, cur = start;
       size_t steps = 0;
@@ -219,7 +221,10 @@ struct Checker {
         ++steps;
       } while (cur != start && steps <= next[v].size());
       if (steps != next[v].size()) {
-        report(kNonManifoldCase, "solid", "faces around a vertex do not form one fan");
+        char at[96];
+        std::snprintf(at, sizeof at, "solid vertex (%.3f %.3f %.3f)", points[v].x(), points[v].y(),
+                      points[v].z());
+        report(kNonManifoldCase, at, "faces around the vertex do not form one fan");
         return false;
       }
     }
@@ -257,17 +262,25 @@ struct Checker {
     Mesh mesh;
     std::vector<Mesh::Vertex_index> vi;
     for (const auto& p : snap.points) vi.push_back(mesh.add_vertex(K::Point_3(p.x(), p.y(), p.z())));
+    std::vector<size_t> solid_face;  // of each triangle
     for (size_t f = 0; f < b.solid.size(); ++f) {
       exp::Triangles t = exp::triangulate(b.solid[f]);
       Ids flat;
       for (const auto& r : faces[f]) flat.insert(flat.end(), r.begin(), r.end());
       if (t.points.size() != flat.size()) return;  // ring had repeats: skip this test
-      for (const auto& tr : t.tris)
+      for (const auto& tr : t.tris) {
         if (mesh.add_face(vi[flat[tr[0]]], vi[flat[tr[1]]], vi[flat[tr[2]]]) == Mesh::null_face())
           return;
+        solid_face.push_back(f);
+      }
     }
-    if (CGAL::Polygon_mesh_processing::does_self_intersect(mesh))
-      report(kShellSelfIntersection, "solid", "faces of the shell intersect");
+    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections(mesh, std::back_inserter(pairs));
+    if (pairs.empty()) return;
+    size_t f1 = solid_face[size_t(pairs[0].first)], f2 = solid_face[size_t(pairs[0].second)];
+    report(kShellSelfIntersection, "solid faces " + std::to_string(std::min(f1, f2)) + " and " +
+                                       std::to_string(std::max(f1, f2)),
+           "faces of the shell intersect");
   }
 };
 

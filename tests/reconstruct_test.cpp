@@ -17,7 +17,9 @@
 #include "core/reconstruct.h"
 #include "core/roof.h"
 #include "core/sample_town.h"
+#include "core/polygon_ops.h"
 #include "core/segmentation.h"
+#include "ifc_citygml/validate.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
@@ -163,6 +165,45 @@ TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
   EXPECT_EQ(measured, 2);
   EXPECT_EQ(propagated, 2);
   EXPECT_GT(b.solid.size(), 5u);
+}
+
+TEST(Envelope, PartitionArtefactsNeverOpenOrPinchTheSolid) {
+  // Two roof levels of a 10 x 8 m building (z 3 west, z 4 east) as a partition
+  // may leave them: a 5 mm gap between the levels, a 2 cm thin spike of the
+  // west level running to the east wall, and a 0.04 m^2 stray fragment of it
+  // inside the east level. The gap must be filled (not a hole in the shell),
+  // the spike must not touch the wall (a pinched solid), the fragment must go.
+  EnvelopeInput in;
+  in.building_id = "t";
+  in.outline = Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}};
+  MultiPolygon2 spike{Polygon2{{{4.995, 3.99}, {10, 4.0}, {4.995, 4.01}}, {}}};
+  MultiPolygon2 fragment = poly::box({7.0, 6.0}, {7.2, 6.2});
+  MultiPolygon2 west = poly::unite_all({poly::box({0, 0}, {4.995, 8}), spike, fragment});
+  MultiPolygon2 east = poly::subtract(poly::box({5.0, 0}, {10, 8}), west);
+  Plane low = plane_through({0, 0, 3}, {0, 0, 1}), high = plane_through({0, 0, 4}, {0, 0, 1});
+  in.roof = {RoofRegion{0, low, west}, RoofRegion{1, high, east}};
+  PlaneFit fit;
+  fit.rmse = 0.02;
+  fit.inliers = 1000;
+  in.fits = {fit, fit};
+  in.terrain = [](double, double) { return 0.0; };
+  in.default_overhang = 0.0;
+  Building b = build_building(in);
+
+  for (const auto& issue : validate_building(b, {}))
+    ADD_FAILURE() << issue.code << " at " << issue.where << ": " << issue.message;
+  BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.roof_plan, 80.0, 1e-6);  // nothing lost, nothing doubled
+  EXPECT_NEAR(t.ground, 80.0, 1e-6);
+  // The east level keeps its full wall: no spike of the low level reaches it.
+  double east_wall = 0;
+  for (const auto& e : b.elements)
+    if (e.type == ElementType::Wall && std::abs(e.azimuth_deg - 90) < 1) east_wall += e.area;
+  EXPECT_NEAR(east_wall, 8 * 4.0, 1e-6);
+  // The fragment went to the level around it: the west level is one rectangle.
+  for (const auto& e : b.elements)
+    if (e.type == ElementType::Roof && e.faces.front().ring.front().z() < 3.5)
+      EXPECT_NEAR(e.plan_area, 5.0 * 8, 0.05);
 }
 
 // The whole batch on a sample town, element by element against truth.json.
