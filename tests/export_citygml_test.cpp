@@ -7,33 +7,15 @@
 #include <set>
 
 #include "ifc_citygml/export.h"
+#include "tests/export_checks.h"
 #include "tests/export_fixtures.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
 namespace fx = c3d::fixture;
+using namespace c3d::check;
 
 namespace {
-
-// Independent xlink check: every href="#id" names an existing gml:id.
-std::vector<std::string> dangling_xlinks(const std::string& xml) {
-  std::set<std::string> ids;
-  std::regex id_re("gml:id=\"([^\"]+)\"");
-  for (std::sregex_iterator it(xml.begin(), xml.end(), id_re), end; it != end; ++it)
-    ids.insert((*it)[1]);
-  std::vector<std::string> bad;
-  std::regex href_re("xlink:href=\"#([^\"]+)\"");
-  for (std::sregex_iterator it(xml.begin(), xml.end(), href_re), end; it != end; ++it)
-    if (!ids.count((*it)[1])) bad.push_back((*it)[1]);
-  return bad;
-}
-
-int xmllint(const std::string& file, std::string* out) {
-  std::string xsd = test::schemas_dir() + "/citygml/citygml2-all.xsd";
-  return fx::sh("xmllint --nonet --noout --schema " + xsd + " " + file, out);
-}
-
-bool can_xmllint() { return fx::have_program("xmllint") && !test::schemas_dir().empty(); }
 
 class CityGml : public ::testing::Test {
  protected:

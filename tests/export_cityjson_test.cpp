@@ -9,36 +9,16 @@
 #include "core/geometry.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
+#include "tests/export_checks.h"
 #include "tests/export_fixtures.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
 using nlohmann::json;
 namespace fx = c3d::fixture;
+using namespace c3d::check;
 
 namespace {
-
-// Independent index check: counts boundary indices outside [0, vertices).
-size_t bad_indices(const json& doc) {
-  const long long n = doc["vertices"].size();
-  size_t bad = 0;
-  std::function<void(const json&)> walk = [&](const json& j) {
-    if (j.is_array()) for (const auto& x : j) walk(x);
-    else if (!j.is_number_integer() || j.get<long long>() < 0 || j.get<long long>() >= n) ++bad;
-  };
-  for (const auto& [id, obj] : doc["CityObjects"].items())
-    for (const auto& g : obj.value("geometry", json::array())) walk(g["boundaries"]);
-  return bad;
-}
-
-int ajv(const std::string& file, std::string* out) {
-  std::string schema = test::schemas_dir() + "/cityjson/2.0.2/cityjson.min.schema.json";
-  return fx::sh("cd " + fx::js_dir() + " && node_modules/.bin/ajv validate --spec=draft7 -c ajv-formats --strict=false -s " +
-                    schema + " -d " + file,
-                out);
-}
-
-bool can_ajv() { return !fx::js_dir().empty() && !test::schemas_dir().empty(); }
 
 class CityJson : public ::testing::Test {
  protected:

@@ -9,23 +9,14 @@
 #include <set>
 
 #include "ifc_citygml/export.h"
+#include "tests/export_checks.h"
 #include "tests/export_fixtures.h"
 #include "tests/test_support.h"
 
-#ifdef C3D_HAVE_IFCPP
-#include <ifcpp/IFC4/include/IfcAreaMeasure.h>
-#include <ifcpp/IFC4/include/IfcElement.h>
-#include <ifcpp/IFC4/include/IfcElementQuantity.h>
-#include <ifcpp/IFC4/include/IfcIdentifier.h>
-#include <ifcpp/IFC4/include/IfcLabel.h>
-#include <ifcpp/IFC4/include/IfcQuantityArea.h>
-#include <ifcpp/IFC4/include/IfcRelDefinesByProperties.h>
-#include <ifcpp/model/BuildingModel.h>
-#include <ifcpp/reader/ReaderSTEP.h>
-#endif
 
 using namespace c3d;
 namespace fx = c3d::fixture;
+using namespace c3d::check;
 
 namespace {
 
@@ -50,53 +41,6 @@ class Ifc : public ::testing::Test {
   std::string dir, path, text;
 };
 
-#ifdef C3D_HAVE_IFCPP
-struct IfcppRead {
-  int problems = 0;
-  std::string messages;
-  size_t entities = 0;
-  std::map<std::string, double> gross;  // tag -> GrossArea / GrossSideArea
-};
-
-void on_message(void* target, shared_ptr<StatusCallback::Message> m) {
-  auto* r = static_cast<IfcppRead*>(target);
-  if (m->m_message_type == StatusCallback::MESSAGE_TYPE_WARNING ||
-      m->m_message_type == StatusCallback::MESSAGE_TYPE_ERROR) {
-    ++r->problems;
-    r->messages += std::string(m->m_message_text.begin(), m->m_message_text.end()) + "\n";
-  }
-}
-
-std::string narrow(const std::wstring& w) { return std::string(w.begin(), w.end()); }
-
-IfcppRead read_with_ifcpp(std::string content) {
-  IfcppRead out;
-  auto model = std::make_shared<BuildingModel>();
-  ReaderSTEP reader;
-  reader.setMessageCallBack(&out, &on_message);
-  model->setMessageCallBack(&out, &on_message);
-  reader.loadModelFromString(content, model);
-  out.entities = model->getMapIfcEntities().size();
-  for (const auto& [id, e] : model->getMapIfcEntities()) {
-    auto rel = std::dynamic_pointer_cast<IfcRelDefinesByProperties>(e);
-    if (!rel) continue;
-    auto qto = std::dynamic_pointer_cast<IfcElementQuantity>(rel->m_RelatingPropertyDefinition);
-    if (!qto) continue;
-    for (const auto& obj : rel->m_RelatedObjects) {
-      auto el = std::dynamic_pointer_cast<IfcElement>(obj);
-      if (!el || !el->m_Tag) continue;
-      for (const auto& q : qto->m_Quantities) {
-        auto qa = std::dynamic_pointer_cast<IfcQuantityArea>(q);
-        if (!qa || !qa->m_Name || !qa->m_AreaValue) continue;
-        std::string name = narrow(qa->m_Name->m_value);
-        if (name == "GrossArea" || name == "GrossSideArea")
-          out.gross[narrow(el->m_Tag->m_value)] = qa->m_AreaValue->m_value;
-      }
-    }
-  }
-  return out;
-}
-#endif
 
 }  // namespace
 

@@ -1,0 +1,134 @@
+#pragma once
+// The independent checks of the export files, shared by the per-format tests and
+// the Cimahi acceptance test: CityGML schema (xmllint) and xlinks, CityJSON schema
+// (ajv) and vertex indices, IFC read back strictly by IFC++ and by web-ifc.
+// Each tool is optional on a developer machine; can_*() says whether it is there.
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tests/export_fixtures.h"
+#include "tests/test_support.h"
+
+#ifdef C3D_HAVE_IFCPP
+#include <ifcpp/IFC4/include/IfcAreaMeasure.h>
+#include <ifcpp/IFC4/include/IfcElement.h>
+#include <ifcpp/IFC4/include/IfcElementQuantity.h>
+#include <ifcpp/IFC4/include/IfcIdentifier.h>
+#include <ifcpp/IFC4/include/IfcLabel.h>
+#include <ifcpp/IFC4/include/IfcQuantityArea.h>
+#include <ifcpp/IFC4/include/IfcRelDefinesByProperties.h>
+#include <ifcpp/model/BuildingModel.h>
+#include <ifcpp/reader/ReaderSTEP.h>
+#endif
+
+namespace c3d::check {
+
+// Every xlink:href="#id" names an existing gml:id; returns the ones that do not.
+inline std::vector<std::string> dangling_xlinks(const std::string& xml) {
+  std::set<std::string> ids;
+  std::regex id_re("gml:id=\"([^\"]+)\"");
+  for (std::sregex_iterator it(xml.begin(), xml.end(), id_re), end; it != end; ++it)
+    ids.insert((*it)[1]);
+  std::vector<std::string> bad;
+  std::regex href_re("xlink:href=\"#([^\"]+)\"");
+  for (std::sregex_iterator it(xml.begin(), xml.end(), href_re), end; it != end; ++it)
+    if (!ids.count((*it)[1])) bad.push_back((*it)[1]);
+  return bad;
+}
+
+inline bool can_xmllint() {
+  return fixture::have_program("xmllint") && !test::schemas_dir().empty();
+}
+
+inline int xmllint(const std::string& file, std::string* out) {
+  std::string xsd = test::schemas_dir() + "/citygml/citygml2-all.xsd";
+  return fixture::sh("xmllint --nonet --noout --schema " + xsd + " " + file, out);
+}
+
+// Boundary indices outside [0, vertices): the CityJSON schema cannot see them.
+inline size_t bad_indices(const nlohmann::json& doc) {
+  const long long n = doc["vertices"].size();
+  size_t bad = 0;
+  std::function<void(const nlohmann::json&)> walk = [&](const nlohmann::json& j) {
+    if (j.is_array()) for (const auto& x : j) walk(x);
+    else if (!j.is_number_integer() || j.get<long long>() < 0 || j.get<long long>() >= n) ++bad;
+  };
+  for (const auto& [id, obj] : doc["CityObjects"].items())
+    for (const auto& g : obj.value("geometry", nlohmann::json::array())) walk(g["boundaries"]);
+  return bad;
+}
+
+inline bool can_ajv() { return !fixture::js_dir().empty() && !test::schemas_dir().empty(); }
+
+inline int ajv(const std::string& file, std::string* out) {
+  std::string schema = test::schemas_dir() + "/cityjson/2.0.2/cityjson.min.schema.json";
+  return fixture::sh("cd " + fixture::js_dir() +
+                         " && node_modules/.bin/ajv validate --spec=draft7 -c ajv-formats --strict=false -s " +
+                         schema + " -d " + file,
+                     out);
+}
+
+inline bool can_web_ifc() { return !fixture::js_dir().empty(); }
+
+// web-ifc's reading (tests/js/ifc_check.js): {elements: [{type, tag, meshes,
+// triangles, mesh_area}], quantities: [{tag, name, value}]}; exit code in *rc.
+inline nlohmann::json web_ifc(const std::string& file, int* rc, std::string* out) {
+  *rc = fixture::sh("node " + fixture::js_dir() + "/ifc_check.js " + file + " 2>/dev/null", out);
+  if (*rc != 0 || out->find('{') == std::string::npos) return {};
+  return nlohmann::json::parse(out->substr(out->find('{')));
+}
+
+#ifdef C3D_HAVE_IFCPP
+struct IfcppRead {
+  int problems = 0;
+  std::string messages;
+  size_t entities = 0;
+  std::map<std::string, double> gross;  // tag -> GrossArea / GrossSideArea
+};
+
+inline void on_message(void* target, shared_ptr<StatusCallback::Message> m) {
+  auto* r = static_cast<IfcppRead*>(target);
+  if (m->m_message_type == StatusCallback::MESSAGE_TYPE_WARNING ||
+      m->m_message_type == StatusCallback::MESSAGE_TYPE_ERROR) {
+    ++r->problems;
+    r->messages += std::string(m->m_message_text.begin(), m->m_message_text.end()) + "\n";
+  }
+}
+
+inline std::string narrow(const std::wstring& w) { return std::string(w.begin(), w.end()); }
+
+inline IfcppRead read_with_ifcpp(std::string content) {
+  IfcppRead out;
+  auto model = std::make_shared<BuildingModel>();
+  ReaderSTEP reader;
+  reader.setMessageCallBack(&out, &on_message);
+  model->setMessageCallBack(&out, &on_message);
+  reader.loadModelFromString(content, model);
+  out.entities = model->getMapIfcEntities().size();
+  for (const auto& [id, e] : model->getMapIfcEntities()) {
+    auto rel = std::dynamic_pointer_cast<IfcRelDefinesByProperties>(e);
+    if (!rel) continue;
+    auto qto = std::dynamic_pointer_cast<IfcElementQuantity>(rel->m_RelatingPropertyDefinition);
+    if (!qto) continue;
+    for (const auto& obj : rel->m_RelatedObjects) {
+      auto el = std::dynamic_pointer_cast<IfcElement>(obj);
+      if (!el || !el->m_Tag) continue;
+      for (const auto& q : qto->m_Quantities) {
+        auto qa = std::dynamic_pointer_cast<IfcQuantityArea>(q);
+        if (!qa || !qa->m_Name || !qa->m_AreaValue) continue;
+        std::string name = narrow(qa->m_Name->m_value);
+        if (name == "GrossArea" || name == "GrossSideArea")
+          out.gross[narrow(el->m_Tag->m_value)] = qa->m_AreaValue->m_value;
+      }
+    }
+  }
+  return out;
+}
+#endif
+
+}  // namespace c3d::check
