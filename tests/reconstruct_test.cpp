@@ -365,6 +365,26 @@ TEST(ReconstructBadInput, TwoTouchingRoofLevelsMakeOneClosedBuilding) {
   EXPECT_GT(b.volume, 0.0);
 }
 
+TEST(ReconstructBadInput, RoofsTouchingAtACornerAreTwoBuildings) {
+  // The gable house and a flat shed roof 1.5 m lower that meets it only at the
+  // house's south-east overhang corner: two buildings, each with its own walls,
+  // not one building whose shed hangs in the air beside it.
+  std::mt19937_64 rng(12);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  Plane shed = plane_through({0, 0, 102}, {0, 0, 1});
+  auto a = sample_plane(shed, 15.6, 19.5, 1.0, 5.4, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 2u);
+  for (const auto& b : r.buildings) {
+    EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    BuildingTotals t = totals(b);
+    EXPECT_GT(t.ground, 0.5 * t.roof_plan) << b.id << ": most of the roof over walls";
+  }
+}
+
 TEST(ReconstructBadInput, RoofCrossingTheBoundaryStaysWholeWithItsOverhang) {
   // The house's north overhang reaches 0.5 m into the neighbour parcel: the
   // whole roof stays with this parcel (it holds most of it).
