@@ -24,7 +24,7 @@ void register_batch(CLI::App& app) {
   cmd->add_option("--config", opt->config, "TOML config (default: built-in, see config/)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--jobs", opt->jobs, "Parallel parcels (default: all cores)");
-  cmd->add_option("--formats", opt->formats, "Exports: gml cityjson ifc obj step")
+  cmd->add_option("--formats", opt->formats, "Exports: gml (CityGML 2.0) gml3 (CityGML 3.0) cityjson ifc obj step")
       ->delimiter(',');
   cmd->add_flag("--resume", opt->resume, "Skip parcels already stored from the same inputs");
   cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");

@@ -1,6 +1,7 @@
 // cadastre3d export --store OUT/cadastre.gpkg --out DIR [--formats gml,cityjson,ifc,obj,step]
 // Reads the model from a store (or a CityJSON file this tool wrote) and writes the
 // requested exchange formats.
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <sstream>
@@ -34,15 +35,16 @@ void register_export(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
-      "export", "Write CityGML 2.0, CityJSON 2.0, IFC4, OBJ and STEP from a store");
+      "export", "Write CityGML 2.0 (or 3.0), CityJSON 2.0, IFC4, OBJ and STEP from a store");
   cmd->add_option("--store", args->store, "Cadastre3D store (.gpkg) or a CityJSON file")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", args->out, "Output directory")->required();
-  cmd->add_option("--formats", args->formats, "Comma-separated: gml,cityjson,ifc,obj,step")
+  cmd->add_option("--formats", args->formats, "Comma-separated: gml,gml3,cityjson,ifc,obj,step")
       ->check([](const std::string& s) {
+        const auto& names = export_format_names();
         for (const auto& f : split(s))
-          if (f != "gml" && f != "cityjson" && f != "ifc" && f != "obj" && f != "step")
+          if (std::find(names.begin(), names.end(), f) == names.end())
             return "unknown format '" + f + "'";
         return std::string();
       });

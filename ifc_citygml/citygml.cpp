@@ -1,6 +1,9 @@
-// CityGML 2.0 writer: Building (BuildingPart per roof level) with thematic boundary
-// surfaces in lod2MultiSurface and a lod2Solid whose shell points at those polygons
-// by xlink:href (solid faces that no element face matches are written inline).
+// CityGML writer, 2.0 or 3.0: Building (BuildingPart per roof level) with thematic
+// boundary surfaces in lod2MultiSurface and a lod2Solid whose shell points at those
+// polygons by xlink:href (solid faces that no element face matches are written
+// inline). The two versions differ in namespaces and wrappers only: 2.0
+// bldg:boundedBy / gen:stringAttribute / measuredHeight, 3.0 core:boundary with
+// con: surfaces / core:genericAttribute / con:height, on GML 3.2.
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -25,7 +28,8 @@ std::string ncname(const std::string& s) {
 
 class GmlWriter {
  public:
-  GmlWriter(std::ostream& os, const BatchModel& m) : os_(os), m_(m) {}
+  GmlWriter(std::ostream& os, const BatchModel& m, int version)
+      : os_(os), m_(m), v3_(version == 3) {}
 
   void run() {
     header();
@@ -37,6 +41,7 @@ class GmlWriter {
  private:
   std::ostream& os_;
   const BatchModel& m_;
+  const bool v3_;
 
   std::string srs() const {
     return m_.epsg > 0 ? " srsName=\"urn:ogc:def:crs:EPSG::" + std::to_string(m_.epsg) + "\"" : "";
@@ -63,27 +68,38 @@ class GmlWriter {
     os_ << "</gml:Polygon>\n";
   }
 
-  void str_attr(const char* name, const std::string& v) {
-    os_ << "<gen:stringAttribute name=\"" << name << "\"><gen:value>" << xml_escape(v)
-        << "</gen:value></gen:stringAttribute>\n";
+  // kind: "string", "double" or "int".
+  void attr(const std::string& kind, const char* name, const std::string& value) {
+    if (v3_) {
+      std::string type = std::string(1, char(std::toupper(kind[0]))) + kind.substr(1) + "Attribute";
+      os_ << "<core:genericAttribute><gen:" << type << "><gen:name>" << name
+          << "</gen:name><gen:value>" << value << "</gen:value></gen:" << type
+          << "></core:genericAttribute>\n";
+    } else {
+      os_ << "<gen:" << kind << "Attribute name=\"" << name << "\"><gen:value>" << value
+          << "</gen:value></gen:" << kind << "Attribute>\n";
+    }
   }
-  void dbl_attr(const char* name, double v, int decimals) {
-    os_ << "<gen:doubleAttribute name=\"" << name << "\"><gen:value>" << fixed(v, decimals)
-        << "</gen:value></gen:doubleAttribute>\n";
-  }
-  void int_attr(const char* name, long v) {
-    os_ << "<gen:intAttribute name=\"" << name << "\"><gen:value>" << v
-        << "</gen:value></gen:intAttribute>\n";
-  }
+  void str_attr(const char* name, const std::string& v) { attr("string", name, xml_escape(v)); }
+  void dbl_attr(const char* name, double v, int decimals) { attr("double", name, fixed(v, decimals)); }
+  void int_attr(const char* name, long v) { attr("int", name, std::to_string(v)); }
 
   void header() {
-    os_ << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-           "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/2.0\""
-           " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
-           " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
-           " xmlns:gml=\"http://www.opengis.net/gml\""
-           " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n"
-           "<gml:name>Cadastre3D LoD2 buildings</gml:name>\n";
+    os_ << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    if (v3_)
+      os_ << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/3.0\""
+             " xmlns:bldg=\"http://www.opengis.net/citygml/building/3.0\""
+             " xmlns:con=\"http://www.opengis.net/citygml/construction/3.0\""
+             " xmlns:gen=\"http://www.opengis.net/citygml/generics/3.0\""
+             " xmlns:gml=\"http://www.opengis.net/gml/3.2\""
+             " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
+    else
+      os_ << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/2.0\""
+             " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
+             " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
+             " xmlns:gml=\"http://www.opengis.net/gml\""
+             " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
+    os_ << "<gml:name>Cadastre3D LoD2 buildings</gml:name>\n";
     envelope();
   }
 
@@ -104,6 +120,14 @@ class GmlWriter {
   }
 
   void parcel_reference(const ParcelResult& r) {
+    if (v3_) {  // the target must be a URI: the parcel id, percent-encoded
+      os_ << "<core:externalReference><core:ExternalReference><core:targetResource>"
+             "urn:cadastre3d:la_spatialunit:"
+          << exp::uri_escape(r.parcel_id)
+          << "</core:targetResource><core:informationSystem>urn:cadastre3d:la_spatialunit"
+             "</core:informationSystem></core:ExternalReference></core:externalReference>\n";
+      return;
+    }
     os_ << "<core:externalReference><core:informationSystem>urn:cadastre3d:la_spatialunit"
            "</core:informationSystem><core:externalObject><core:name>"
         << xml_escape(r.parcel_id) << "</core:name></core:externalObject></core:externalReference>\n";
@@ -133,7 +157,11 @@ class GmlWriter {
     const Element& el = b.elements[e];
     const std::string id = ncname(b.id) + "_e" + std::to_string(e);
     const char* tag = exp::citygml_surface(el.type);
-    os_ << "<bldg:boundedBy><bldg:" << tag << " gml:id=\"" << id << "\">\n";
+    const std::string open = v3_ ? "<core:boundary><con:" : "<bldg:boundedBy><bldg:";
+    const std::string close = v3_ ? "</con:" + std::string(tag) + "></core:boundary>\n"
+                                  : "</bldg:" + std::string(tag) + "></bldg:boundedBy>\n";
+    const char* lod2 = v3_ ? "core:lod2MultiSurface" : "bldg:lod2MultiSurface";
+    os_ << open << tag << " gml:id=\"" << id << "\">\n";
     str_attr("elementType", to_string(el.type));
     str_attr("isPartyWall", el.type == ElementType::PartyWall ? "true" : "false");
     dbl_attr("area", el.area, 4);
@@ -144,19 +172,21 @@ class GmlWriter {
     int_attr("supportPoints", el.support_points);
     dbl_attr("rmse", el.rmse, 4);
     str_attr("wallEvidence", to_string(el.evidence));
-    os_ << "<bldg:lod2MultiSurface><gml:MultiSurface>\n";
+    os_ << "<" << lod2 << "><gml:MultiSurface>\n";
     for (size_t k = 0; k < el.faces.size(); ++k) {
       os_ << "<gml:surfaceMember>";
       polygon(el.faces[k], id + "_f" + std::to_string(k));
       os_ << "</gml:surfaceMember>\n";
     }
-    os_ << "</gml:MultiSurface></bldg:lod2MultiSurface>\n</bldg:" << tag << "></bldg:boundedBy>\n";
+    os_ << "</gml:MultiSurface></" << lod2 << ">\n" << close;
   }
 
   void solid(const Building& b) {
     if (b.solid.empty()) return;
-    os_ << "<bldg:lod2Solid><gml:Solid gml:id=\"" << ncname(b.id) << "_solid\"><gml:exterior>"
-           "<gml:CompositeSurface>\n";
+    const char* lod2 = v3_ ? "core:lod2Solid" : "bldg:lod2Solid";
+    const char* shell = v3_ ? "gml:Shell" : "gml:CompositeSurface";  // GML 3.2 solids have shells
+    os_ << "<" << lod2 << "><gml:Solid gml:id=\"" << ncname(b.id) << "_solid\"><gml:exterior><"
+        << shell << ">\n";
     for (size_t j = 0; j < b.solid.size(); ++j) {
       auto m = exp::matching_element_face(b, b.solid[j]);
       if (m[0] >= 0) {
@@ -168,10 +198,18 @@ class GmlWriter {
         os_ << "</gml:surfaceMember>\n";
       }
     }
-    os_ << "</gml:CompositeSurface></gml:exterior></gml:Solid></bldg:lod2Solid>\n";
+    os_ << "</" << shell << "></gml:exterior></gml:Solid></" << lod2 << ">\n";
   }
 
   void heights(const Building& b) {
+    if (v3_) {
+      os_ << "<con:height><con:Height><con:highReference>highestRoofEdge</con:highReference>"
+             "<con:lowReference>lowestGroundPoint</con:lowReference><con:status>measured"
+             "</con:status><con:value uom=\"m\">"
+          << fixed(b.ridge_height, 3) << "</con:value></con:Height></con:height>\n"
+          << "<bldg:storeysAboveGround>" << std::max(b.storeys, 0) << "</bldg:storeysAboveGround>\n";
+      return;
+    }
     os_ << "<bldg:measuredHeight uom=\"m\">" << fixed(b.ridge_height, 3)
         << "</bldg:measuredHeight>\n<bldg:storeysAboveGround>" << std::max(b.storeys, 0)
         << "</bldg:storeysAboveGround>\n";
@@ -184,20 +222,19 @@ class GmlWriter {
         << "<gml:name>" << xml_escape(b.id) << "</gml:name>\n";
     parcel_reference(r);
     building_attributes(r, b);
-    heights(b);
-    solid(b);
-    if (levels == 1) {
+    // 2.0: heights, solid, then surfaces; 3.0: surfaces, solid, then heights.
+    if (!v3_) heights(b), solid(b);
+    if (levels == 1)
       for (size_t e = 0; e < b.elements.size(); ++e) boundary_surface(b, e);
-    } else {
-      for (int l = 0; l < levels; ++l) {
-        os_ << "<bldg:consistsOfBuildingPart><bldg:BuildingPart gml:id=\"" << ncname(b.id)
-            << "_part" << l << "\">\n<gml:name>" << xml_escape(b.id) << " level " << l
-            << "</gml:name>\n";
-        str_attr("roofLevel", std::to_string(l));
-        for (size_t e = 0; e < b.elements.size(); ++e)
-          if (lv[e] == l) boundary_surface(b, e);
-        os_ << "</bldg:BuildingPart></bldg:consistsOfBuildingPart>\n";
-      }
+    if (v3_) solid(b), heights(b);
+    const char* part = v3_ ? "bldg:buildingPart" : "bldg:consistsOfBuildingPart";
+    for (int l = 0; levels > 1 && l < levels; ++l) {
+      os_ << "<" << part << "><bldg:BuildingPart gml:id=\"" << ncname(b.id) << "_part" << l
+          << "\">\n<gml:name>" << xml_escape(b.id) << " level " << l << "</gml:name>\n";
+      str_attr("roofLevel", std::to_string(l));
+      for (size_t e = 0; e < b.elements.size(); ++e)
+        if (lv[e] == l) boundary_surface(b, e);
+      os_ << "</bldg:BuildingPart></" << part << ">\n";
     }
     os_ << "</bldg:Building></core:cityObjectMember>\n";
   }
@@ -205,10 +242,11 @@ class GmlWriter {
 
 }  // namespace
 
-void write_citygml(const BatchModel& model, const std::string& path) {
+void write_citygml(const BatchModel& model, const std::string& path, int version) {
+  if (version != 2 && version != 3) throw std::invalid_argument("CityGML version must be 2 or 3");
   std::ofstream os(path, std::ios::binary);
   if (!os) throw std::runtime_error(path + ": cannot open for writing");
-  GmlWriter(os, model).run();
+  GmlWriter(os, model, version).run();
   if (!os) throw std::runtime_error(path + ": write failed");
 }
 

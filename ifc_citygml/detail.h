@@ -34,6 +34,8 @@ const Parcel* parcel_of(const BatchModel& m, const ParcelResult& r);
 
 std::string fixed(double v, int decimals);  // "%.*f" without "-0.000"
 std::string xml_escape(const std::string& s);
+// Percent-encoding of everything but RFC 3986 unreserved characters (URI path safe).
+std::string uri_escape(const std::string& s);
 const char* citygml_surface(ElementType t);  // "RoofSurface", ...
 
 }  // namespace c3d::exp

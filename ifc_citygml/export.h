@@ -20,7 +20,8 @@
 
 namespace c3d {
 
-void write_citygml(const BatchModel& model, const std::string& path);
+// CityGML 2.0 (version 2) or 3.0 (version 3, on GML 3.2): the same content.
+void write_citygml(const BatchModel& model, const std::string& path, int version = 2);
 void write_cityjson(const BatchModel& model, const std::string& path);
 void write_ifc(const BatchModel& model, const std::string& path);
 // One <parcel id>.obj per parcel with buildings (groups per element); returns the files.
@@ -31,8 +32,11 @@ std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std
 std::vector<std::string> write_step_per_building(const BatchModel& model, const std::string& dir,
                                                  std::vector<std::string>* skipped = nullptr);
 
-// Writes the named formats ("gml", "cityjson", "ifc", "obj", "step") into dir as
-// buildings.gml, buildings.city.json, buildings.ifc, obj/, step/; returns the paths.
+// The format names export_formats() accepts: gml (CityGML 2.0), gml3 (CityGML
+// 3.0), cityjson, ifc, obj, step.
+const std::vector<std::string>& export_format_names();
+// Writes the named formats into dir as buildings.gml, buildings.citygml3.gml,
+// buildings.city.json, buildings.ifc, obj/, step/; returns the paths.
 // Buildings whose STEP solid fails are listed in `skipped` when given (else it throws).
 // Throws std::invalid_argument on an unknown format name.
 std::vector<std::string> export_formats(const BatchModel& model, const std::string& dir,

@@ -45,9 +45,22 @@ inline bool can_xmllint() {
   return fixture::have_program("xmllint") && !test::schemas_dir().empty();
 }
 
-inline int xmllint(const std::string& file, std::string* out) {
-  std::string xsd = test::schemas_dir() + "/citygml/citygml2-all.xsd";
+// Schema check against the CityGML 2.0 or 3.0 XSDs of ../shared/schemas.
+inline int xmllint(const std::string& file, std::string* out, int version = 2) {
+  std::string xsd = test::schemas_dir() + "/citygml/citygml" + std::to_string(version) + "-all.xsd";
   return fixture::sh("xmllint --nonet --noout --schema " + xsd + " " + file, out);
+}
+
+// Element areas from a CityGML 2.0 or 3.0 file: "<building>/e<k>" -> the area
+// generic attribute of the boundary surface gml:id="c3d_<building>_e<k>".
+inline std::map<std::string, double> citygml_areas(const std::string& xml) {
+  std::regex surf_re(
+      "<(?:bldg|con):\\w+Surface gml:id=\"c3d_([^\"]+)_e(\\d+)\">[\\s\\S]*?"
+      "(?:<gen:doubleAttribute name=\"area\">|<gen:name>area</gen:name>)<gen:value>([0-9.]+)</gen:value>");
+  std::map<std::string, double> read;
+  for (std::sregex_iterator it(xml.begin(), xml.end(), surf_re), end; it != end; ++it)
+    read[(*it)[1].str() + "/e" + (*it)[2].str()] = std::stod((*it)[3]);
+  return read;
 }
 
 // Boundary indices outside [0, vertices): the CityJSON schema cannot see them.

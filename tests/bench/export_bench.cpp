@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     std::printf("%-10s %7.3f s\n", what, s);
   };
   std::printf("%d buildings -> %s\n", n, dir.c_str());
-  for (const char* f : {"gml", "cityjson", "ifc", "obj", "step"})
+  for (const char* f : {"gml", "gml3", "cityjson", "ifc", "obj", "step"})
     timed(f, [&] { c3d::export_formats(m, dir, {f}); });
   timed("validate", [&] { c3d::validate_model(m); });
   return 0;
