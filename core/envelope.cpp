@@ -290,8 +290,11 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   return f;
 }
 
-// Vertical faces where two inside roof pieces meet at different heights.
-std::vector<Face> step_walls(const std::vector<Face>& inside) {
+// Vertical faces where two inside roof pieces meet at different heights,
+// grouped by the roof region above them: one step wall element per roof plane,
+// however many edge pieces (and lower neighbours) its foot is made of.
+std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
+                                            const std::vector<int>& region_of) {
   // Every ring of every piece, holes included: an island piece meets the hole
   // of the piece around it along opposite edges.
   std::vector<const Ring3*> rings;
@@ -309,7 +312,7 @@ std::vector<Face> step_walls(const std::vector<Face>& inside) {
   for (size_t k = 0; k < rings.size(); ++k)
     for (size_t i = 0; i < rings[k]->size(); ++i)
       edge_at[key((*rings[k])[i], (*rings[k])[(i + 1) % rings[k]->size()])] = {int(k), int(i)};
-  std::vector<Face> out;
+  std::map<int, std::vector<Face>> out;
   for (size_t k = 0; k < rings.size(); ++k) {
     const Ring3& r = *rings[k];
     for (size_t i = 0; i < r.size(); ++i) {
@@ -327,7 +330,7 @@ std::vector<Face> step_walls(const std::vector<Face>& inside) {
       w.ring.push_back(oq);
       if (dq > 1e-6) w.ring.push_back(q);
       if (dp > 1e-6) w.ring.push_back(p);
-      if (w.ring.size() >= 3) out.push_back(std::move(w));
+      if (w.ring.size() >= 3) out[region_of[piece_of[k]]].push_back(std::move(w));
     }
   }
   return out;
@@ -349,6 +352,17 @@ Element make_element(ElementType type, std::vector<Face> faces) {
   }
   if (type == ElementType::OuterCeiling) e.area = e.plan_area;
   return e;
+}
+
+// Compass direction (degrees from north, clockwise) a face's normal points to.
+double azimuth_of(const Face& f) {
+  Vec3 n = unit_normal(f);
+  return std::fmod(std::atan2(n.x(), n.y()) * 180 / M_PI + 360.0, 360.0);
+}
+
+const Face& widest_face(const Element& e) {
+  return *std::max_element(e.faces.begin(), e.faces.end(),
+                           [](const Face& x, const Face& y) { return area(x) < area(y); });
 }
 
 // Footprint edge -> outline edge it came from (parallel and nearest).
@@ -723,6 +737,7 @@ Building build_building(const EnvelopeInput& in) {
   }
   std::vector<std::vector<Face>> roof_faces(in.roof.size());
   std::vector<Face> inside, soffits;
+  std::vector<int> inside_region;
   for (const auto& p : pieces) {
     const Plane& pl = in.roof[p.region].plane;
     Face f{lift(p.plan.outer, pl, heights), {}};
@@ -730,6 +745,7 @@ Building build_building(const EnvelopeInput& in) {
     roof_faces[p.region].push_back(f);
     if (p.inside) {
       inside.push_back(f);
+      inside_region.push_back(p.region);
     } else {
       double zmin = 1e18;
       for (const auto& v : f.ring) zmin = std::min(zmin, v.z());
@@ -757,33 +773,47 @@ Building build_building(const EnvelopeInput& in) {
     b.elements.push_back(std::move(e));
   }
 
-  // Walls along the footprint, from the terrain up to the roof underside.
+  // Walls along the footprint, from the terrain up to the roof underside: one
+  // element per outline edge they stand under (a notch in the footprint does
+  // not split a facade into separate elements).
   std::vector<Face> solid;
   double sigma_ground2 = 0;
+  std::vector<std::pair<const EdgeInfo*, std::vector<Face>>> facades;
   for (size_t i = 0; i < fp.outer.size(); ++i) {
     Vec2 a = fp.outer[i], c = fp.outer[(i + 1) % fp.outer.size()];
     auto profile = roof_profile(a, c, inside);
     if (profile.empty()) continue;
     Face f = wall_face(a, c, b.terrain_z, profile);
-    const EdgeInfo& src = source_edge(edges, a, c);
-    Element e = make_element(src.party ? ElementType::PartyWall : ElementType::Wall, {f});
-    e.evidence = src.evidence;
-    e.support_points = src.support;
-    Vec3 nrm = unit_normal(f);
-    e.azimuth_deg = std::fmod(std::atan2(nrm.x(), nrm.y()) * 180 / M_PI + 360.0, 360.0);
-    e.slope_deg = 90.0;
-    double len = (c - a).norm(), height = e.area / std::max(len, 1e-9);
-    double s_top = 0.05, s_len = src.sigma;
-    e.sigma_area = std::sqrt(std::pow(len * s_top, 2) + std::pow(height * s_len, 2));
-    sigma_ground2 += std::pow(len * src.sigma, 2);
+    const EdgeInfo* src = &source_edge(edges, a, c);
+    sigma_ground2 += std::pow((c - a).norm() * src->sigma, 2);
     solid.push_back(f);
+    if (facades.empty() || facades.back().first != src) facades.push_back({src, {}});
+    facades.back().second.push_back(std::move(f));
+  }
+  if (facades.size() > 1 && facades.front().first == facades.back().first) {  // wraps round
+    auto& last = facades.back().second;
+    facades.front().second.insert(facades.front().second.begin(), last.begin(), last.end());
+    facades.pop_back();
+  }
+  for (auto& [src, faces] : facades) {
+    double len = 0;
+    for (const auto& f : faces) len += (f.ring[1] - f.ring[0]).head<2>().norm();  // ground edge
+    Element e = make_element(src->party ? ElementType::PartyWall : ElementType::Wall, std::move(faces));
+    e.evidence = src->evidence;
+    e.support_points = src->support;
+    e.azimuth_deg = azimuth_of(widest_face(e));
+    e.slope_deg = 90.0;
+    double height = e.area / std::max(len, 1e-9);
+    double s_top = 0.05, s_len = src->sigma;
+    e.sigma_area = std::sqrt(std::pow(len * s_top, 2) + std::pow(height * s_len, 2));
     b.elements.push_back(std::move(e));
   }
-  for (auto& w : step_walls(inside)) {
-    Element e = make_element(ElementType::Wall, {w});
+  for (auto& [above, faces] : step_walls(inside, inside_region)) {
+    solid.insert(solid.end(), faces.begin(), faces.end());
+    Element e = make_element(ElementType::Wall, std::move(faces));
     e.slope_deg = 90.0;
     e.sigma_area = 0.05 * std::sqrt(e.area);
-    solid.push_back(w);
+    e.azimuth_deg = azimuth_of(widest_face(e));
     b.elements.push_back(std::move(e));
   }
 

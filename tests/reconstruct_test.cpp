@@ -200,6 +200,15 @@ TEST(Envelope, PartitionArtefactsNeverOpenOrPinchTheSolid) {
   for (const auto& e : b.elements)
     if (e.type == ElementType::Wall && std::abs(e.azimuth_deg - 90) < 1) east_wall += e.area;
   EXPECT_NEAR(east_wall, 8 * 4.0, 1e-6);
+  // The step between the levels is one wall element (under the east roof),
+  // 8 m long and 1 m high, whatever the edge pieces its foot is made of.
+  int steps = 0;
+  for (const auto& e : b.elements)
+    if (e.type == ElementType::Wall && e.evidence == WallEvidence::None) {
+      ++steps;
+      EXPECT_NEAR(e.area, 8.0, 0.05);
+    }
+  EXPECT_EQ(steps, 1);
   // The fragment went to the level around it: the west level is one rectangle.
   for (const auto& e : b.elements)
     if (e.type == ElementType::Roof && e.faces.front().ring.front().z() < 3.5)
