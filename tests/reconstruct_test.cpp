@@ -318,6 +318,17 @@ std::vector<Vec3> gable_points(std::mt19937_64& rng, double x0 = 5, double z0 = 
 
 ReconstructionParams params() { return default_config().reconstruction; }
 
+// The gable house and a flat roof 1.5 m lower over [x0,x1] x [y0,y1].
+ParcelScene house_and_flat_roof(unsigned seed, double x0, double x1, double y0, double y1) {
+  std::mt19937_64 rng(seed);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  Plane flat = plane_through({0, 0, 102}, {0, 0, 1});
+  auto a = sample_plane(flat, x0, x1, y0, y1, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
+  return s;
+}
+
 }  // namespace
 
 TEST(ReconstructBadInput, ThreeRoofPointsGiveEmptyWithReason) {
@@ -359,12 +370,7 @@ TEST(ReconstructBadInput, TerrainMissingUnderTheBuildingFailsWithReason) {
 
 TEST(ReconstructBadInput, TwoTouchingRoofLevelsMakeOneClosedBuilding) {
   // A gable house with a flat annex roof 1.5 m lower against its east gable.
-  std::mt19937_64 rng(11);
-  ParcelScene s = square_parcel_scene();
-  s.roof_points = gable_points(rng);
-  Plane annex = plane_through({0, 0, 102}, {0, 0, 1});
-  auto a = sample_plane(annex, 15.5, 19.0, 7, 13, 40, 0.02, rng);
-  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
+  ParcelScene s = house_and_flat_roof(11, 15.5, 19.0, 7, 13);
   ParcelResult r = reconstruct_parcel(s, params());
   ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
   ASSERT_EQ(r.buildings.size(), 1u);
@@ -378,12 +384,7 @@ TEST(ReconstructBadInput, RoofsTouchingAtACornerAreTwoBuildings) {
   // The gable house and a flat shed roof 1.5 m lower that meets it only at the
   // house's south-east overhang corner: two buildings, each with its own walls,
   // not one building whose shed hangs in the air beside it.
-  std::mt19937_64 rng(12);
-  ParcelScene s = square_parcel_scene();
-  s.roof_points = gable_points(rng);
-  Plane shed = plane_through({0, 0, 102}, {0, 0, 1});
-  auto a = sample_plane(shed, 15.6, 19.5, 1.0, 5.4, 40, 0.02, rng);
-  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
+  ParcelScene s = house_and_flat_roof(12, 15.6, 19.5, 1.0, 5.4);
   ParcelResult r = reconstruct_parcel(s, params());
   ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
   ASSERT_EQ(r.buildings.size(), 2u);
