@@ -290,6 +290,16 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   return f;
 }
 
+// An edge in plan by its exact end coordinates: pieces of one planar
+// subdivision share edges exactly, so plain keys match across pieces.
+using EdgeKey = std::pair<std::pair<double, double>, std::pair<double, double>>;
+
+EdgeKey directed(const Vec2& a, const Vec2& b) { return {{a.x(), a.y()}, {b.x(), b.y()}}; }
+
+EdgeKey undirected(const Vec2& a, const Vec2& b) {
+  return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()) ? directed(a, b) : directed(b, a);
+}
+
 // Vertical faces where two inside roof pieces meet at different heights,
 // grouped by the roof region above them: one step wall element per roof plane,
 // however many edge pieces (and lower neighbours) its foot is made of.
@@ -304,11 +314,8 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
     piece_of.push_back(int(f));
     for (const auto& h : inside[f].holes) rings.push_back(&h), piece_of.push_back(int(f));
   }
-  using Key = std::pair<std::pair<double, double>, std::pair<double, double>>;
-  auto key = [](const Vec3& p, const Vec3& q) {
-    return Key{{p.x(), p.y()}, {q.x(), q.y()}};
-  };
-  std::map<Key, std::pair<int, int>> edge_at;  // (ring, vertex)
+  auto key = [](const Vec3& p, const Vec3& q) { return directed(p.head<2>(), q.head<2>()); };
+  std::map<EdgeKey, std::pair<int, int>> edge_at;  // (ring, vertex)
   for (size_t k = 0; k < rings.size(); ++k)
     for (size_t i = 0; i < rings[k]->size(); ++i)
       edge_at[key((*rings[k])[i], (*rings[k])[(i + 1) % rings[k]->size()])] = {int(k), int(i)};
@@ -385,23 +392,19 @@ const EdgeInfo& source_edge(const std::vector<EdgeInfo>& edges, const Vec2& a, c
 // (one is higher at one end, the other at the other end), the crossing point is
 // inserted into both rings, so the step wall between them is two triangles.
 void split_crossing_edges(std::vector<Piece>& pieces, const std::vector<RoofRegion>& roof) {
-  using Key = std::pair<std::pair<double, double>, std::pair<double, double>>;
-  auto key = [](const Vec2& a, const Vec2& b) {
-    return Key{{a.x(), a.y()}, {b.x(), b.y()}};
-  };
-  std::map<Key, size_t> owner;
+  std::map<EdgeKey, size_t> owner;
   for (size_t k = 0; k < pieces.size(); ++k) {
     if (!pieces[k].inside) continue;
     const Ring2& r = pieces[k].plan.outer;
-    for (size_t i = 0; i < r.size(); ++i) owner[key(r[i], r[(i + 1) % r.size()])] = k;
+    for (size_t i = 0; i < r.size(); ++i) owner[directed(r[i], r[(i + 1) % r.size()])] = k;
   }
-  std::map<Key, Vec2> cuts;  // directed edge -> crossing point
+  std::map<EdgeKey, Vec2> cuts;  // directed edge -> crossing point
   for (size_t k = 0; k < pieces.size(); ++k) {
     if (!pieces[k].inside) continue;
     const Ring2& r = pieces[k].plan.outer;
     for (size_t i = 0; i < r.size(); ++i) {
       Vec2 a = r[i], b = r[(i + 1) % r.size()];
-      auto it = owner.find(key(b, a));
+      auto it = owner.find(directed(b, a));
       if (it == owner.end() || it->second == k) continue;
       const Plane& pa = roof[pieces[k].region].plane;
       const Plane& pb = roof[pieces[it->second].region].plane;
@@ -409,8 +412,8 @@ void split_crossing_edges(std::vector<Piece>& pieces, const std::vector<RoofRegi
       double db = pa.z_at(b.x(), b.y()) - pb.z_at(b.x(), b.y());
       if (std::abs(da) < 1e-4 || std::abs(db) < 1e-4 || (da > 0) == (db > 0)) continue;
       Vec2 x = a + (b - a) * (da / (da - db));
-      cuts[key(a, b)] = x;
-      cuts[key(b, a)] = x;
+      cuts[directed(a, b)] = x;
+      cuts[directed(b, a)] = x;
     }
   }
   if (cuts.empty()) return;
@@ -419,7 +422,7 @@ void split_crossing_edges(std::vector<Piece>& pieces, const std::vector<RoofRegi
     const Ring2& r = p.plan.outer;
     for (size_t i = 0; i < r.size(); ++i) {
       out.push_back(r[i]);
-      auto it = cuts.find(key(r[i], r[(i + 1) % r.size()]));
+      auto it = cuts.find(directed(r[i], r[(i + 1) % r.size()]));
       if (it != cuts.end()) out.push_back(it->second);
     }
     p.plan.outer = out;
@@ -470,13 +473,6 @@ void node_faces(std::vector<Face>& shell, const std::vector<Vec3>& verts, double
     f.ring = insert_on_edges(f.ring, verts, tol);
     for (auto& h : f.holes) h = insert_on_edges(h, verts, tol);
   }
-}
-
-using EdgeKey = std::pair<std::pair<double, double>, std::pair<double, double>>;
-
-EdgeKey undirected(const Vec2& a, const Vec2& b) {
-  std::pair<double, double> p{a.x(), a.y()}, q{b.x(), b.y()};
-  return p < q ? EdgeKey{p, q} : EdgeKey{q, p};
 }
 
 // Faces of one planar subdivision -> for each face, the length of edge it
