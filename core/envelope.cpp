@@ -20,8 +20,10 @@ Vec2 outward(const Vec2& d) { return Vec2(d.y(), -d.x()); }  // for counter-cloc
 // Wall points further inside a roof edge than this belong to another wall
 // (an inner facade, a neighbour): hanging roofs reach about 1.5 m.
 constexpr double kMaxOverhang = 1.8;
-// A measured overhang this far from the building's median is taken as a
-// misread (another wall behind the edge) and replaced by the median.
+// A measured overhang this much larger than the building's median is taken as
+// a misread (another wall behind the edge) and replaced by the median. A wall
+// found closer to the edge is believed: gable ends and walls under a lower
+// roof often have little or no overhang.
 constexpr double kOverhangOutlier = 0.6;
 
 struct EdgeInfo {
@@ -90,7 +92,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   if (!measured.empty()) {
     typical = median(measured);
     for (auto& e : edges)
-      if (e.evidence == WallEvidence::Measured && std::abs(e.overhang - typical) > kOverhangOutlier) {
+      if (e.evidence == WallEvidence::Measured && e.overhang - typical > kOverhangOutlier) {
         e.evidence = WallEvidence::Default;  // re-filled below as propagated
         e.support = 0;
       }

@@ -141,6 +141,25 @@ std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s
     }
     party[i] = across >= std::max(10.0, 2.0 * len);
   }
+  // A short jog on the parcel line (left where the outline snaps to the
+  // building's axes but the boundary runs a little askew) continues the party
+  // wall beside it; as an exterior wall it would take the overhang and pull the
+  // party wall inward.
+  const size_t n = r.size();
+  const MultiPolygon2 core = poly::buffer(s.parcel, -0.3);  // parcel minus its boundary strip
+  std::vector<bool> jog(n, false);
+  for (size_t i = 0; i < n; ++i) {
+    Vec2 a = r[i], b = r[(i + 1) % n];
+    if (party[i] || (b - a).norm() >= 1.0) continue;
+    Vec2 m = 0.5 * (a + b);
+    if (poly::covers(core, m) || poly::distance(s.parcel, m) > 0.3) continue;  // off the parcel line
+    Vec2 d = (b - a).normalized();
+    for (size_t k : {(i + n - 1) % n, (i + 1) % n}) {
+      Vec2 e = (r[(k + 1) % n] - r[k]).normalized();
+      if (party[k] && d.dot(e) > std::cos(20.0 * M_PI / 180)) jog[i] = true;
+    }
+  }
+  for (size_t i = 0; i < n; ++i) party[i] = party[i] || jog[i];
   return party;
 }
 

@@ -818,6 +818,26 @@ Placement place_row(BuildingParams& p, const std::vector<TownParcel>& tp, int fi
   return {toloc.to_local(Vec2(s_start, v0)), town_angle};
 }
 
+// Moves the ground floor (every vertex at z = 0, group frame) to z = dz:
+// ground faces and wall feet follow, the roof stays.
+void move_floor(TruthBuilding& tb, double dz) {
+  if (dz == 0) return;
+  auto shift = [&](Face& f) {
+    for (auto& p : f.ring)
+      if (p.z() == 0) p.z() = dz;
+  };
+  Building& m = tb.model;
+  for (auto& e : m.elements) {
+    for (auto& f : e.faces) shift(f);
+    measure(e);
+  }
+  for (auto& f : m.solid) shift(f);
+  m.eave_height -= dz;
+  m.ridge_height -= dz;
+  tb.wall_top_height -= dz;
+  m.volume = shell_volume(m.solid);
+}
+
 Vec3 place3(const Placement& pl, const Vec3& q, double dz) {
   Vec2 xy = pl.to_local(q.head<2>());
   return {xy.x(), xy.y(), q.z() + dz};
@@ -859,10 +879,10 @@ Dtm make_dtm(const std::vector<Parcel>& parcels, const LocalFrame& frame, const 
   return d;
 }
 
-// Mean DTM value over the cells whose centres fall in the group's footprints
-// (world z); marks those cells NoData.
+// Mean DTM value over the cells whose centres fall in the footprints of the
+// group's blocks owned by `owner` (-1: all blocks), world z; marks those cells NoData.
 double ground_level(const Group& g, const Placement& pl, const LocalFrame& frame, const Dtm& d,
-                    std::vector<std::uint8_t>& nodata) {
+                    std::vector<std::uint8_t>& nodata, int owner = -1) {
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const auto& B : g.blocks)
     for (const auto& q : B.footprint.ring()) {
@@ -877,7 +897,7 @@ double ground_level(const Group& g, const Placement& pl, const LocalFrame& frame
     for (int i = i0; i <= i1; ++i) {
       Vec2 q = pl.to_group(frame.to_local(Vec2(d.x0 + i, d.y0 - j)));
       for (const auto& B : g.blocks)
-        if (B.footprint.contains(q)) {
+        if ((owner < 0 || B.owner == owner) && B.footprint.contains(q)) {
           size_t idx = size_t(j) * d.nx + i;
           sum += d.z[idx];
           ++n;
@@ -1091,8 +1111,14 @@ SampleTown make_sample_town(const SampleOptions& opt) {
     for (size_t k = 0; k < buildings.size(); ++k) {
       TruthBuilding& tb = buildings[k];
       tb.params = bp;
-      tb.ground_level = level;
+      // Attached houses share one roof but each floor follows its own terrain.
+      double own = buildings.size() > 1
+                       ? ground_level(g, pl, town.frame, town.dtm, town.dtm_nodata, int(k))
+                       : level;
+      move_floor(tb, own - level);
+      tb.ground_level = own;
       transform(tb, pl, level - town.frame.origin.z());
+      tb.model.terrain_z = own - town.frame.origin.z();
       tb.model.id = nib(int(i + k)) + "_b0";
       for (auto& a : tb.attached_to) a = nib(int(i) + std::stoi(a.substr(1))) + "_b0";
       town.truth[i + k].push_back(std::move(tb));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <set>
 #include <random>
 
 #include "core/config.h"
@@ -102,6 +103,35 @@ TEST(Outline, RectangleEdgesWhereDensityEnds) {
   EXPECT_EQ(o.outer.size(), 4u);
   EXPECT_NEAR(area(o), 96.0, 0.96);
   EXPECT_NEAR(dominant_direction(o.outer), 0.4, 0.01);
+}
+
+// The edges are placed by maximum likelihood on the density profile across
+// them: over 40 random 12 x 8 m roofs (40 pts/m2, 3 cm noise) the area error
+// has an RMS of 0.32 m2 (about 1.5 cm per edge). Counting the points beyond a
+// line, as before, gives 0.66 m2 on the same roofs.
+TEST(Outline, EdgePlacementNearTheSamplingLimit) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> n(0, 0.03);
+  double sq = 0;
+  const int runs = 40;
+  for (int r = 0; r < runs; ++r) {
+    double a = u(rng) * M_PI / 2, c = std::cos(a), s = std::sin(a);
+    std::poisson_distribution<int> count(12 * 8 * 40);
+    std::vector<Vec2> pts;
+    for (int i = count(rng); i > 0; --i) {
+      double x = 12 * u(rng), y = 8 * u(rng);
+      pts.emplace_back(c * x - s * y + n(rng), s * x + c * y + n(rng));
+    }
+    OutlineOptions opt;
+    opt.spacing = 0.16;
+    Polygon2 o = roof_outline(pts, opt);
+    ASSERT_EQ(o.outer.size(), 4u) << r;
+    sq += std::pow(area(o) - 96.0, 2);
+  }
+  double rms = std::sqrt(sq / runs);
+  EXPECT_LT(rms, 0.4);
+  std::printf("outline area error RMS over %d roofs: %.3f m2\n", runs, rms);
 }
 
 TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
@@ -228,12 +258,13 @@ TEST(SampleTownBatch, AreasMatchTruthPerBuildingType) {
   auto truth = nlohmann::json::parse(std::ifstream(dir + "/town/truth.json"));
   auto summary = nlohmann::json::parse(std::ifstream(dir + "/out/summary.json"));
   ASSERT_EQ(truth["parcels"].size(), summary["parcels"].size());
-  // Tolerances reached today per layout (README states them against the targets).
-  struct Tol { double roof, ground, wall, volume; };
-  std::map<std::string, Tol> tol = {
-      {"gable", {0.025, 0.04, 0.04, 0.04}},      {"hip", {0.025, 0.04, 0.04, 0.04}},
-      {"cross_gable", {0.025, 0.04, 0.04, 0.04}}, {"shed", {0.025, 0.05, 0.05, 0.05}},
-      {"flat", {0.025, 0.04, 0.04, 0.04}}};
+  // The targets (roof and ground 1 %, walls and volume 2 %) for every
+  // layout; the outer ceiling (a difference of two areas, roof plan minus
+  // footprint, so a 1 cm shift of an edge moves it by about 2 %) is held at
+  // 6 %, what is reached today, not at its 2 % target.
+  const double roof_tol = 0.01, ground_tol = 0.01, wall_tol = 0.02, volume_tol = 0.02,
+               ceiling_tol = 0.06;
+  std::set<std::string> layouts;
   int checked = 0;
   for (size_t i = 0; i < truth["parcels"].size(); ++i) {
     const auto& tp = truth["parcels"][i];
@@ -245,23 +276,28 @@ TEST(SampleTownBatch, AreasMatchTruthPerBuildingType) {
       continue;
     }
     EXPECT_EQ(sp["status"], "ok") << tp["parcel_id"] << " " << sp["reason"];
-    if (!tol.count(layout)) continue;
     ASSERT_EQ(sp["buildings"].size(), tp["buildings"].size()) << tp["parcel_id"];
-    const auto& t = tp["buildings"][0];
-    const auto& s = sp["buildings"][0];
-    const Tol& k = tol[layout];
-    auto rel = [&](const char* key) {
-      return std::abs(s[key].get<double>() - t[key].get<double>()) / t[key].get<double>();
-    };
-    EXPECT_LT(rel("roof_area_m2"), k.roof) << layout << " " << tp["parcel_id"];
-    EXPECT_LT(rel("roof_plan_area_m2"), k.roof) << layout;
-    EXPECT_LT(rel("ground_area_m2"), k.ground) << layout;
-    EXPECT_LT(rel("wall_area_m2"), k.wall) << layout;
-    EXPECT_LT(rel("volume_m3"), k.volume) << layout;
-    EXPECT_EQ(s["roof_planes"], t["roof_planes"]) << layout;
-    EXPECT_TRUE(s["solid_valid"].get<bool>()) << layout << " " << s["solid_problem"];
-    ++checked;
+    for (size_t k = 0; k < tp["buildings"].size(); ++k) {
+      const auto& t = tp["buildings"][k];
+      const auto& s = sp["buildings"][k];
+      auto rel = [&](const char* key) {
+        return std::abs(s[key].get<double>() - t[key].get<double>()) / t[key].get<double>();
+      };
+      std::string where = layout + " " + t["building_id"].get<std::string>();
+      EXPECT_LT(rel("roof_area_m2"), roof_tol) << where;
+      EXPECT_LT(rel("roof_plan_area_m2"), roof_tol) << where;
+      EXPECT_LT(rel("ground_area_m2"), ground_tol) << where;
+      EXPECT_LT(rel("wall_area_m2"), wall_tol) << where;
+      if (t["party_wall_area_m2"].get<double>() > 0) EXPECT_LT(rel("party_wall_area_m2"), wall_tol) << where;
+      EXPECT_LT(rel("outer_ceiling_area_m2"), ceiling_tol) << where;
+      EXPECT_LT(rel("volume_m3"), volume_tol) << where;
+      EXPECT_EQ(s["roof_planes"], t["roof_planes"]) << where;
+      EXPECT_TRUE(s["solid_valid"].get<bool>()) << where << " " << s["solid_problem"];
+      layouts.insert(layout);
+      ++checked;
+    }
   }
+  EXPECT_EQ(layouts.size(), 7u);  // every building type of the generator
   EXPECT_GE(checked, 10);
 }
 
