@@ -197,6 +197,41 @@ TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
   EXPECT_GT(b.solid.size(), 5u);
 }
 
+TEST(Envelope, FlushGableWallIsBelievedNotTakenForAMisread) {
+  // Flat roof over 10 x 8 m walls: 0.8 m overhang on three sides, none on the
+  // east gable (x = 10). Each wall is seen. The east wall lies much nearer the
+  // edge than the median overhang, yet it is where the points are: a wall
+  // right under the roof edge is no misread (those lie further inside).
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> n(0, 0.02);
+  std::uniform_real_distribution<double> u(0, 1);
+  EnvelopeInput in;
+  in.building_id = "flush";
+  in.outline = Polygon2{{{-0.8, -0.8}, {10.0, -0.8}, {10.0, 8.8}, {-0.8, 8.8}}, {}};
+  Plane roof = plane_through({0, 0, 3}, {0, 0, 1});
+  in.roof = {RoofRegion{0, roof, {in.outline}}};
+  PlaneFit fit;
+  fit.plane = roof;
+  fit.rmse = 0.02;
+  fit.inliers = 3000;
+  in.fits = {fit};
+  for (int i = 0; i < 1500; ++i) {
+    in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));   // south
+    in.wall_points.emplace_back(10 * u(rng), 8 + n(rng), 3 * u(rng));   // north
+    in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));    // west
+    in.wall_points.emplace_back(10 + n(rng), 8 * u(rng), 3 * u(rng));   // east, flush
+  }
+  in.terrain = [](double, double) { return 0.0; };
+  in.default_overhang = 0.3;
+  Building b = build_building(in);
+  BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.ground, 80.0, 0.3);
+  EXPECT_NEAR(t.outer_ceiling, 10.8 * 9.6 - 80.0, 0.3);
+  int measured = 0;
+  for (const auto& e : b.elements) measured += e.evidence == WallEvidence::Measured;
+  EXPECT_EQ(measured, 4);
+}
+
 TEST(Envelope, PartitionArtefactsNeverOpenOrPinchTheSolid) {
   // Two roof levels of a 10 x 8 m building (z 3 west, z 4 east) as a partition
   // may leave them: a 5 mm gap between the levels, a 2 cm thin spike of the
