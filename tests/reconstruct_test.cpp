@@ -47,6 +47,23 @@ Plane plane_through(const Vec3& p, Vec3 n) {
   return Plane{n, n.dot(p)};
 }
 
+// A flat roof at z = 3 over `outline` on flat terrain at z = 0; wall points to add.
+EnvelopeInput flat_roof_input(const std::string& id, const Polygon2& outline) {
+  EnvelopeInput in;
+  in.building_id = id;
+  in.outline = outline;
+  Plane roof = plane_through({0, 0, 3}, {0, 0, 1});
+  in.roof = {RoofRegion{0, roof, {in.outline}}};
+  PlaneFit fit;
+  fit.plane = roof;
+  fit.rmse = 0.02;
+  fit.inliers = 3000;
+  in.fits = {fit};
+  in.terrain = [](double, double) { return 0.0; };
+  in.default_overhang = 0.3;
+  return in;
+}
+
 }  // namespace
 
 TEST(Planes, SvdFitRecoversNoisyPlane) {
@@ -165,22 +182,11 @@ TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> n(0, 0.02);
   std::uniform_real_distribution<double> u(0, 1);
-  EnvelopeInput in;
-  in.building_id = "t";
-  in.outline = Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}};
-  Plane roof = plane_through({0, 0, 3}, {0, 0, 1});
-  in.roof = {RoofRegion{0, roof, {in.outline}}};
-  PlaneFit fit;
-  fit.plane = roof;
-  fit.rmse = 0.02;
-  fit.inliers = 3000;
-  in.fits = {fit};
+  EnvelopeInput in = flat_roof_input("t", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
   for (int i = 0; i < 2000; ++i) {
     in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));  // south wall y = 0
     in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));   // west wall x = 0
   }
-  in.terrain = [](double, double) { return 0.0; };
-  in.default_overhang = 0.3;
   Building b = build_building(in);
   BuildingTotals t = totals(b);
   EXPECT_NEAR(t.ground, 80.0, 0.8);  // unseen walls take the measured overhang
@@ -205,24 +211,13 @@ TEST(Envelope, FlushGableWallIsBelievedNotTakenForAMisread) {
   std::mt19937_64 rng(9);
   std::normal_distribution<double> n(0, 0.02);
   std::uniform_real_distribution<double> u(0, 1);
-  EnvelopeInput in;
-  in.building_id = "flush";
-  in.outline = Polygon2{{{-0.8, -0.8}, {10.0, -0.8}, {10.0, 8.8}, {-0.8, 8.8}}, {}};
-  Plane roof = plane_through({0, 0, 3}, {0, 0, 1});
-  in.roof = {RoofRegion{0, roof, {in.outline}}};
-  PlaneFit fit;
-  fit.plane = roof;
-  fit.rmse = 0.02;
-  fit.inliers = 3000;
-  in.fits = {fit};
+  EnvelopeInput in = flat_roof_input("flush", Polygon2{{{-0.8, -0.8}, {10.0, -0.8}, {10.0, 8.8}, {-0.8, 8.8}}, {}});
   for (int i = 0; i < 1500; ++i) {
     in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));   // south
     in.wall_points.emplace_back(10 * u(rng), 8 + n(rng), 3 * u(rng));   // north
     in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));    // west
     in.wall_points.emplace_back(10 + n(rng), 8 * u(rng), 3 * u(rng));   // east, flush
   }
-  in.terrain = [](double, double) { return 0.0; };
-  in.default_overhang = 0.3;
   Building b = build_building(in);
   BuildingTotals t = totals(b);
   EXPECT_NEAR(t.ground, 80.0, 0.3);
