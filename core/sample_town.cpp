@@ -819,7 +819,8 @@ Placement place_row(BuildingParams& p, const std::vector<TownParcel>& tp, int fi
 }
 
 // Moves the ground floor (every vertex at z = 0, group frame) to z = dz:
-// ground faces and wall feet follow, the roof stays.
+// ground faces and wall feet follow, the roof stays. Element areas are
+// measured afterwards by transform().
 void move_floor(TruthBuilding& tb, double dz) {
   if (dz == 0) return;
   auto shift = [&](Face& f) {
@@ -827,10 +828,8 @@ void move_floor(TruthBuilding& tb, double dz) {
       if (p.z() == 0) p.z() = dz;
   };
   Building& m = tb.model;
-  for (auto& e : m.elements) {
+  for (auto& e : m.elements)
     for (auto& f : e.faces) shift(f);
-    measure(e);
-  }
   for (auto& f : m.solid) shift(f);
   m.eave_height -= dz;
   m.ridge_height -= dz;

@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <set>
 #include <random>
 
@@ -290,7 +289,7 @@ TEST(SampleTownBatch, AreasMatchTruthPerBuildingType) {
   ASSERT_EQ(truth["parcels"].size(), summary["parcels"].size());
   // The targets (roof and ground 1 %, walls and volume 2 %) for every
   // layout; the outer ceiling (a difference of two areas, roof plan minus
-  // footprint, so a 1 cm shift of an edge moves it by about 2 %) is held at
+  // footprint, so a 1 cm shift of every edge moves it by 1-2 %) is held at
   // 6 %, what is reached today, not at its 2 % target.
   const double roof_tol = 0.01, ground_tol = 0.01, wall_tol = 0.02, volume_tol = 0.02,
                ceiling_tol = 0.06;
