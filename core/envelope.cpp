@@ -41,15 +41,24 @@ struct Piece {
   Polygon2 plan;
 };
 
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
+// Median of values weighted by length: a building's overhang is what most of
+// its eave length shows, not what most of its (often short) wall pieces show.
+struct Weighted {
+  double value, weight;
+};
+double weighted_median(std::vector<Weighted> v) {
+  std::sort(v.begin(), v.end(), [](const Weighted& a, const Weighted& b) { return a.value < b.value; });
+  double total = 0, run = 0;
+  for (const auto& w : v) total += w.weight;
+  for (const auto& w : v)
+    if ((run += w.weight) >= 0.5 * total) return w.value;
+  return v.back().value;
 }
 
 std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<EdgeInfo> edges(ring.size());
-  std::vector<double> measured;
+  std::vector<Weighted> measured;
   for (size_t i = 0; i < ring.size(); ++i) {
     EdgeInfo& e = edges[i];
     e.a = ring[i];
@@ -68,7 +77,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       e.evidence = WallEvidence::Measured;
       e.support = fit.support;
       e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support));
-      measured.push_back(e.overhang);
+      measured.push_back({e.overhang, (e.b - e.a).norm()});
     }
   }
   if (measured.empty()) {
@@ -90,27 +99,27 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   double typical = in.default_overhang;
   WallEvidence fill = WallEvidence::Default;
   if (!measured.empty()) {
-    typical = median(measured);
+    typical = weighted_median(measured);
     for (auto& e : edges)
       if (e.evidence == WallEvidence::Measured && e.overhang - typical > kOverhangOutlier) {
         e.evidence = WallEvidence::Default;  // re-filled below as propagated
         e.support = 0;
       }
-    std::vector<double> dev;
-    for (double m : measured) dev.push_back(std::abs(m - typical));
-    spread = std::max(0.05, 1.4826 * median(dev));
+    std::vector<Weighted> dev;
+    for (const auto& m : measured) dev.push_back({std::abs(m.value - typical), m.weight});
+    spread = std::max(0.05, 1.4826 * weighted_median(dev));
     fill = WallEvidence::Propagated;
   }
-  if (std::getenv("C3D_DEBUG"))
-    for (auto& e : edges)
-      std::fprintf(stderr, "%s edge len %.2f ev %s overhang %.3f support %d\n", in.building_id.c_str(),
-                   (e.b - e.a).norm(), to_string(e.evidence), e.overhang, e.support);
   for (auto& e : edges)
     if (!e.party && e.evidence != WallEvidence::Measured && e.support == 0) {
       e.overhang = typical;
       e.evidence = fill;
       e.sigma = spread;
     }
+  if (std::getenv("C3D_DEBUG"))
+    for (auto& e : edges)
+      std::fprintf(stderr, "%s edge len %.2f ev %s overhang %.3f support %d\n", in.building_id.c_str(),
+                   (e.b - e.a).norm(), to_string(e.evidence), e.overhang, e.support);
   return edges;
 }
 
