@@ -55,6 +55,32 @@ double weighted_median(std::vector<Weighted> v) {
   return v.back().value;
 }
 
+// Roof height at p from the region over it (NaN where no region is).
+double roof_z(const std::vector<RoofRegion>& roof, const Vec2& p) {
+  for (const auto& r : roof)
+    if (poly::covers(r.plan, p)) return r.plane.z_at(p.x(), p.y());
+  return kNaN;
+}
+
+// Whether a short edge's line runs on into the roof as a step between levels
+// (the gable of a higher part beside a lower annex). The step wall stands
+// right under the step, so an unseen wall under such an edge is that same wall
+// carried on: no overhang, where the building's typical one would cut a notch
+// of that depth into the footprint. A longer edge is a wall of its own.
+constexpr double kStepHeight = 0.5;  // m between the levels beside the line
+constexpr double kStepJog = 2.0;     // m, longest edge taken for a continuation
+bool continues_step(const EdgeInfo& e, const std::vector<RoofRegion>& roof) {
+  if ((e.b - e.a).norm() > kStepJog) return false;
+  const Vec2 d = (e.b - e.a).normalized(), n = outward(d);
+  for (const auto& [end, sign] : {std::pair{e.a, -1.0}, std::pair{e.b, 1.0}})
+    for (double t : {0.3, 0.6, 1.0}) {
+      const Vec2 p = end + sign * t * d;
+      const double z1 = roof_z(roof, p - 0.1 * n), z2 = roof_z(roof, p + 0.1 * n);
+      if (std::abs(z1 - z2) > kStepHeight) return true;  // false while either is NaN
+    }
+  return false;
+}
+
 std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<EdgeInfo> edges(ring.size());
@@ -112,9 +138,10 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   }
   for (auto& e : edges)
     if (!e.party && e.evidence != WallEvidence::Measured && e.support == 0) {
-      e.overhang = typical;
-      e.evidence = fill;
-      e.sigma = spread;
+      const bool step = continues_step(e, in.roof);
+      e.overhang = step ? 0.0 : typical;
+      e.evidence = step ? WallEvidence::Propagated : fill;
+      e.sigma = step ? 0.05 : spread;
     }
   if (std::getenv("C3D_DEBUG"))
     for (auto& e : edges)

@@ -19,6 +19,7 @@
 #include "core/sample_town.h"
 #include "core/polygon_ops.h"
 #include "core/segmentation.h"
+#include "core/solid_check.h"
 #include "ifc_citygml/validate.h"
 #include "tests/test_support.h"
 
@@ -249,6 +250,29 @@ TEST(Envelope, UnseenWallsTakeTheOverhangOfMostEaveLength) {
   BuildingTotals t = totals(b);
   EXPECT_NEAR(t.ground, 10 * 8 + 2 * 1.2, 0.3);
   EXPECT_NEAR(t.outer_ceiling, 11 * 9 - 10 * 8, 0.3);
+}
+
+TEST(Envelope, UnseenWallBesideALowerAnnexContinuesTheStepWall) {
+  // A 10 x 8 m house (flat roof at 6 m, 0.5 m overhang, none on its east
+  // gable) with a 4 x 4 m annex (roof at 3 m) against the middle of that gable.
+  // No wall is seen. The two short outline edges beside the annex lie on the
+  // step between the levels: the wall under them is the step wall carried
+  // down, not set back by the overhang (which would notch 2 m2 out).
+  EnvelopeInput in = flat_roof_input(
+      "annex", Polygon2{{{-0.5, -0.5}, {10, -0.5}, {10, 1.5}, {14.5, 1.5}, {14.5, 6.5}, {10, 6.5}, {10, 8.5}, {-0.5, 8.5}},
+                        {}});
+  in.default_overhang = 0.5;
+  Plane high = plane_through({0, 0, 6}, {0, 0, 1}), low = plane_through({0, 0, 3}, {0, 0, 1});
+  in.roof = {RoofRegion{0, high, poly::box({-0.5, -0.5}, {10, 8.5})},
+             RoofRegion{1, low, poly::box({10, 1.5}, {14.5, 6.5})}};
+  in.fits = {in.fits[0], in.fits[0]};
+  in.fits[0].plane = high;
+  in.fits[1].plane = low;
+  Building b = build_building(in);
+  BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.ground, 10 * 8 + 4 * 4, 0.01);
+  const SolidCheck check = check_solid(b.solid);
+  EXPECT_TRUE(check.ok) << check.summary();
 }
 
 TEST(Envelope, PartitionArtefactsNeverOpenOrPinchTheSolid) {
