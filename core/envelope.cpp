@@ -301,7 +301,10 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   std::vector<double> ts;
   for (const auto& s : profile) ts.push_back(s.t0), ts.push_back(s.t1);
   std::sort(ts.begin(), ts.end());
-  ts.erase(std::unique(ts.begin(), ts.end(), [](double x, double y) { return y - x < 1e-6; }),
+  // Breakpoints closer than the weld tolerance are one: a roof piece touching
+  // the edge over less than a millimetre (a corner on a step line) would put a
+  // spike of no width into the wall.
+  ts.erase(std::unique(ts.begin(), ts.end(), [](double x, double y) { return y - x < 1e-3; }),
            ts.end());
   auto z_on = [](const ProfileSegment& s, double t) {
     return s.z0 + (s.z1 - s.z0) * (t - s.t0) / (s.t1 - s.t0);

@@ -225,7 +225,7 @@ std::vector<EdgeLine> turned(const std::vector<EdgeLine>& lines, double angle) {
   return out;
 }
 
-void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines) {
+void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines, bool turn_axes) {
   Ring2 first = rebuild_ring(lines);
   double a = std::abs(signed_area(first));
   if (a < 4.0) return;
@@ -263,12 +263,14 @@ void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines)
   // ... and the building's orientation: the hull's edge directions are good to
   // about 0.3 degrees, which at the ends of a 12 m edge is 3 cm, as much as
   // the noise. One turn for all axis edges, within a degree, to 0.02 degree.
-  const double limit = M_PI / 180;
-  double turn = golden_max([&](double t) { return total(samples_of(turned(lines, t)), sigma); }, -limit,
-                           limit, 9);
-  lines = turned(lines, turn);
-  samples = samples_of(lines);
-  sigma = fit_sigma(samples, sigma / 1.5, sigma * 1.5, 7);  // narrower once turned
+  if (turn_axes) {
+    const double limit = M_PI / 180;
+    double turn = golden_max([&](double t) { return total(samples_of(turned(lines, t)), sigma); }, -limit,
+                             limit, 9);
+    lines = turned(lines, turn);
+    samples = samples_of(lines);
+    sigma = fit_sigma(samples, sigma / 1.5, sigma * 1.5, 7);  // narrower once turned
+  }
   for (size_t i = 0; i < lines.size(); ++i) {
     if (samples[i].s.empty()) continue;
     double off = edge_mle(samples[i], sigma).first;
@@ -383,7 +385,7 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
     if (std::isnan(off)) off = 0.5 * opt.spacing;  // too short to measure: half a spacing
     l.origin += outward(l.dir) * off;
   }
-  refine_edges(points, lines);
+  refine_edges(points, lines, opt.refine_orientation);
   Polygon2 out{rebuild_ring(lines), {}};
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
   if (valid.empty()) return {};

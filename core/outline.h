@@ -12,6 +12,7 @@ namespace c3d {
 struct OutlineOptions {
   double spacing = 0.2;          // point spacing, m
   double snap_angle_deg = 12.0;  // edges this close to an axis are snapped to it
+  bool refine_orientation = true;  // turn the axes to where the edge likelihood is best
 };
 
 // The outline polygon (counter-clockwise, no holes); empty if the points do not

@@ -169,7 +169,7 @@ struct BuildingPlan {
 };
 
 std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentation& seg,
-                                         const std::set<int>& split_with) {
+                                         const std::set<int>& split_with, bool turn_axes) {
   std::map<int, std::vector<int>> comps_of_roof;
   for (size_t c = 0; c < seg.components.size(); ++c)
     if (!seg.components[c].points.empty()) comps_of_roof[seg.components[c].roof].push_back(int(c));
@@ -177,6 +177,7 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
   std::vector<std::vector<int>> roof_comps;
   OutlineOptions opt;
   opt.spacing = seg.spacing;
+  opt.refine_orientation = turn_axes;
   for (auto& [roof, comps] : comps_of_roof) {
     std::vector<Vec2> pts;
     for (int c : comps)
@@ -205,10 +206,9 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
   return plans;
 }
 
-// Why a refined building is unusable ("" when it is fine): every face ring
-// still simple and planar (val3dity's tolerances, as `validate` applies them),
-// the shell still closed, manifold, outward and free of self-intersections.
-std::string refinement_defect(const Building& b) {
+// Why a building's faces would fail validation ("" when they pass): every
+// ring simple and planar (val3dity's tolerances, as `validate` applies them).
+std::string face_defect(const Building& b) {
   for (const auto& e : b.elements)
     for (const auto& f : e.faces) {
       const Vec3 n = unit_normal(f);
@@ -219,6 +219,14 @@ std::string refinement_defect(const Building& b) {
       if (planarity_deviation(f) > 0.01 || tilted_triangle(f, n, 20, 0.001))
         return std::string("a ") + to_string(e.type) + " face is no longer planar";
     }
+  return "";
+}
+
+// Why a refined building is unusable ("" when it is fine): faces as above,
+// the shell still closed, manifold, outward and free of self-intersections.
+std::string refinement_defect(const Building& b) {
+  const std::string faces = face_defect(b);
+  if (!faces.empty()) return faces;
   const SolidCheck check = check_solid(b.solid);
   return check.ok ? "" : check.summary();
 }
@@ -272,6 +280,32 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   return b;
 }
 
+// A building whose solid or faces fail is modelled again from outlines on the
+// hull's own axes: turning the axes moves edges by millimetres, and where four
+// planes meet that can make the difference between one clean vertex and a
+// sliver. The second model is kept only if it passes.
+void remodel_defective(const ParcelScene& s, const Segmentation& seg, const std::set<int>& split_with,
+                       const std::vector<BuildingPlan>& plans, const ReconstructionParams& p,
+                       std::vector<Building>& buildings, StageClock& clock) {
+  std::vector<BuildingPlan> fallback;
+  for (size_t k = 0; k < buildings.size(); ++k) {
+    Building& b = buildings[k];
+    if (b.solid_valid && face_defect(b).empty()) continue;
+    if (fallback.empty()) fallback = plan_buildings(s, seg, split_with, false);
+    for (const auto& bp : fallback) {
+      if (bp.components != plans[k].components) continue;
+      Building again = model_building(s, seg, bp, p, b.id, clock);
+      if (again.solid_valid && face_defect(again).empty()) b = std::move(again);
+      break;
+    }
+    const std::string faces = face_defect(b);
+    if (b.solid_valid && !faces.empty()) {  // closed, but `validate` would reject it: say so
+      b.solid_valid = false;
+      b.solid_problem = faces;
+    }
+  }
+}
+
 }  // namespace
 
 ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams& p) {
@@ -300,12 +334,13 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
         c.fit = fit_plane_robust(s.roof_points, c.points, p.plane_inlier_m);
       }
     clock.lap("ownership");
-    auto plans = plan_buildings(s, seg, split_with);
+    auto plans = plan_buildings(s, seg, split_with, true);
     clock.lap("boundary");
     for (size_t k = 0; k < plans.size(); ++k) {
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
       r.buildings.push_back(model_building(s, seg, plans[k], p, id, clock));
     }
+    remodel_defective(s, seg, split_with, plans, p, r.buildings, clock);
     if (r.buildings.empty()) {
       r.status = ParcelStatus::Empty;
       r.reason = "roof points form no roof plane large enough for a building";

@@ -300,6 +300,7 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     std::sort(pairs.rbegin(), pairs.rend());
     for (auto& [len, i, j] : pairs) cut_pair(in, regions, i, j);
     fix_coverage(in.outline, regions, 0.3);
+    absorb_fragments(regions);
     for (auto& r : regions) r = poly::simplify(r, 0.02);
     fix_coverage(in.outline, regions, 0.05);
     snap_to_intersections(in.outline, regions, in.planes);
@@ -312,6 +313,33 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     out.push_back(RoofRegion{in.components[i], in.planes[i], regions[i]});
   }
   return out;
+}
+
+void absorb_fragments(std::vector<MultiPolygon2>& regions) {
+  constexpr double kFragment = 1.5;  // m^2
+  for (size_t i = 0; i < regions.size(); ++i) {
+    if (regions[i].size() < 2) continue;
+    double biggest = 0;
+    for (const auto& part : regions[i]) biggest = std::max(biggest, area(part));
+    MultiPolygon2 keep;
+    for (const auto& part : regions[i]) {
+      const double a = area(part);
+      int best = -1;
+      double best_len = 0;
+      if (a < kFragment && a < biggest)
+        for (size_t j = 0; j < regions.size(); ++j) {
+          if (j == i) continue;
+          double len = polyline_length(poly::shared_boundary({part}, regions[j], 1e-4));
+          if (len > best_len) best_len = len, best = int(j);
+        }
+      if (best < 0) {
+        keep.push_back(part);
+        continue;
+      }
+      regions[size_t(best)] = poly::unite(regions[size_t(best)], {part});
+    }
+    regions[i] = keep;
+  }
 }
 
 void node_rings(std::vector<Ring2*>& rings, double tol) {

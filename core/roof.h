@@ -32,4 +32,10 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in);
 // another ring's edge into that edge and welds vertices closer than tol.
 void node_rings(std::vector<Ring2*>& rings, double tol);
 
+// Detached bits (< 1.5 m^2, not a region's largest part) of the regions of a
+// partition go to the neighbour they share the most boundary with: label noise
+// around a junction of four planes, which no cut between two of them reaches,
+// would otherwise become steps and slivers in the roof.
+void absorb_fragments(std::vector<MultiPolygon2>& regions);
+
 }  // namespace c3d

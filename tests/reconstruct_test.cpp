@@ -153,6 +153,21 @@ TEST(Outline, EdgePlacementNearTheSamplingLimit) {
   std::printf("outline area error RMS over %d roofs: %.3f m2\n", runs, rms);
 }
 
+TEST(RoofPartition, DetachedFragmentGoesToTheRegionAroundIt) {
+  // Region 0: 10 x 4 m, a 2 x 2 m second part (a real piece: kept) and a
+  // 0.5 x 0.5 m bit inside region 1 (label noise: given to region 1).
+  MultiPolygon2 bit = poly::box({5, 6}, {5.5, 6.5});
+  MultiPolygon2 far = poly::box({12, 0}, {14, 2});
+  std::vector<MultiPolygon2> regions{poly::unite_all({poly::box({0, 0}, {10, 4}), far, bit}),
+                                     poly::subtract(poly::box({0, 4}, {10, 8}), bit)};
+  absorb_fragments(regions);
+  EXPECT_EQ(regions[0].size(), 2u);
+  EXPECT_NEAR(area(regions[0]), 44.0, 1e-9);
+  ASSERT_EQ(regions[1].size(), 1u);
+  EXPECT_TRUE(regions[1][0].holes.empty());
+  EXPECT_NEAR(area(regions[1]), 40.0, 1e-9);
+}
+
 TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
   std::mt19937_64 rng(6);
   Plane north = plane_through({0, 4, 6}, {0, 0.7, 1}), south = plane_through({0, 4, 6}, {0, -0.7, 1});
