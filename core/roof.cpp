@@ -300,12 +300,17 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     std::sort(pairs.rbegin(), pairs.rend());
     for (auto& [len, i, j] : pairs) cut_pair(in, regions, i, j);
     fix_coverage(in.outline, regions, 0.3);
-    absorb_fragments(regions);
+    std::vector<int> region_of_point(in.labels.size(), -1);
+    for (size_t p = 0; p < in.labels.size(); ++p)
+      for (size_t r = 0; r < k; ++r)
+        if (in.components[r] == in.labels[p]) region_of_point[p] = int(r);
+    absorb_fragments(regions, in.points, region_of_point);
     for (auto& r : regions) r = poly::simplify(r, 0.02);
     fix_coverage(in.outline, regions, 0.05);
     snap_to_intersections(in.outline, regions, in.planes);
     remove_overlaps(regions);
     fix_coverage(in.outline, regions, 0.05);
+    absorb_fragments(regions, in.points, region_of_point);  // snapping can detach more
   }
   std::vector<RoofRegion> out;
   for (size_t i = 0; i < k; ++i) {
@@ -315,7 +320,8 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
   return out;
 }
 
-void absorb_fragments(std::vector<MultiPolygon2>& regions) {
+void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec2>& points,
+                      const std::vector<int>& region_of_point) {
   constexpr double kFragment = 1.5;  // m^2
   for (size_t i = 0; i < regions.size(); ++i) {
     if (regions[i].size() < 2) continue;
@@ -324,19 +330,28 @@ void absorb_fragments(std::vector<MultiPolygon2>& regions) {
     MultiPolygon2 keep;
     for (const auto& part : regions[i]) {
       const double a = area(part);
-      int best = -1;
-      double best_len = 0;
-      if (a < kFragment && a < biggest)
-        for (size_t j = 0; j < regions.size(); ++j) {
-          if (j == i) continue;
-          double len = polyline_length(poly::shared_boundary({part}, regions[j], 1e-4));
-          if (len > best_len) best_len = len, best = int(j);
-        }
-      if (best < 0) {
+      if (a >= kFragment || a >= biggest) {
         keep.push_back(part);
         continue;
       }
-      regions[size_t(best)] = poly::unite(regions[size_t(best)], {part});
+      std::vector<int> votes(regions.size(), 0);  // the fragment's points, by their region
+      const MultiPolygon2 piece{part};
+      for (size_t k = 0; k < points.size(); ++k)
+        if (region_of_point[k] >= 0 && poly::covers(piece, points[k])) ++votes[size_t(region_of_point[k])];
+      int best = -1;
+      double best_len = 0;
+      for (size_t j = 0; j < regions.size(); ++j) {
+        if (j == i) continue;
+        double len = polyline_length(poly::shared_boundary(piece, regions[j], 1e-4));
+        if (len <= 0) continue;  // not a neighbour
+        if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len))
+          best_len = len, best = int(j);
+      }
+      if (best < 0 || votes[i] > votes[size_t(best)]) {  // no neighbour, or its own points hold it
+        keep.push_back(part);
+        continue;
+      }
+      regions[size_t(best)] = poly::unite(regions[size_t(best)], piece);
     }
     regions[i] = keep;
   }

@@ -33,9 +33,12 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in);
 void node_rings(std::vector<Ring2*>& rings, double tol);
 
 // Detached bits (< 1.5 m^2, not a region's largest part) of the regions of a
-// partition go to the neighbour they share the most boundary with: label noise
-// around a junction of four planes, which no cut between two of them reaches,
-// would otherwise become steps and slivers in the roof.
-void absorb_fragments(std::vector<MultiPolygon2>& regions);
+// partition go to the neighbour whose points they hold most of (the one sharing
+// the most boundary when they hold none): a cut along one ridge carried past a
+// junction of four planes leaves such bits on the wrong side, and they would
+// become steps and tilted slivers in the roof. A bit its own points hold stays.
+// region_of_point: per point, the index of its region in `regions`, or -1.
+void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec2>& points,
+                      const std::vector<int>& region_of_point);
 
 }  // namespace c3d

@@ -153,19 +153,27 @@ TEST(Outline, EdgePlacementNearTheSamplingLimit) {
   std::printf("outline area error RMS over %d roofs: %.3f m2\n", runs, rms);
 }
 
-TEST(RoofPartition, DetachedFragmentGoesToTheRegionAroundIt) {
-  // Region 0: 10 x 4 m, a 2 x 2 m second part (a real piece: kept) and a
-  // 0.5 x 0.5 m bit inside region 1 (label noise: given to region 1).
-  MultiPolygon2 bit = poly::box({5, 6}, {5.5, 6.5});
+TEST(RoofPartition, DetachedFragmentGoesToTheRegionItsPointsBelongTo) {
+  // Region 0: 10 x 4 m, a 2 x 2 m second part (a real piece: kept) and two
+  // 0.5 x 0.5 m bits (label noise from a cut carried too far). Region 1 lies
+  // around both bits; region 2, a 1 m strip, touches the second bit on one
+  // side only, but that bit's points are region 2's: it goes there, the first
+  // (with no points) to the neighbour sharing the most boundary.
+  MultiPolygon2 bit1 = poly::box({3, 6}, {3.5, 6.5}), bit2 = poly::box({7, 6}, {7.5, 6.5});
   MultiPolygon2 far = poly::box({12, 0}, {14, 2});
-  std::vector<MultiPolygon2> regions{poly::unite_all({poly::box({0, 0}, {10, 4}), far, bit}),
-                                     poly::subtract(poly::box({0, 4}, {10, 8}), bit)};
-  absorb_fragments(regions);
+  MultiPolygon2 strip = poly::box({7.5, 5}, {8.5, 7.5});
+  std::vector<MultiPolygon2> regions{
+      poly::unite_all({poly::box({0, 0}, {10, 4}), far, bit1, bit2}),
+      poly::subtract(poly::box({0, 4}, {10, 8}), poly::unite_all({bit1, bit2, strip})), strip};
+  std::vector<Vec2> points{{7.2, 6.2}, {7.3, 6.3}, {7.1, 6.4}, {5, 2}};
+  std::vector<int> region_of_point{2, 2, 2, 0};
+  absorb_fragments(regions, points, region_of_point);
   EXPECT_EQ(regions[0].size(), 2u);
   EXPECT_NEAR(area(regions[0]), 44.0, 1e-9);
-  ASSERT_EQ(regions[1].size(), 1u);
-  EXPECT_TRUE(regions[1][0].holes.empty());
-  EXPECT_NEAR(area(regions[1]), 40.0, 1e-9);
+  EXPECT_NEAR(area(regions[1]), 40.0 - 2.5 - 2 * 0.25 + 0.25, 1e-9);
+  EXPECT_NEAR(area(regions[2]), 2.5 + 0.25, 1e-9);
+  EXPECT_TRUE(poly::covers(regions[2], Vec2(7.25, 6.25)));
+  EXPECT_TRUE(poly::covers(regions[1], Vec2(3.25, 6.25)));
 }
 
 TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
