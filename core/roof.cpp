@@ -179,6 +179,8 @@ Vec2 local_side_point(const RoofPartitionInput& in, int slot, const MultiPolygon
   return n > 0 ? Vec2(sum / n) : fallback;
 }
 
+constexpr double kCutOverrun = 0.25;  // m a cut may reach past the ends of the shared boundary
+
 void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
   auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
   if (polyline_length(shared) < 0.4) return;
@@ -188,6 +190,18 @@ void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions,
   if (!cut) return;
   MultiPolygon2 corridor;
   for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, 1.0));
+  // Only along the shared stretch: carried past its end (where a third plane
+  // takes over, as at a valley reaching a ridge) the line would hand that
+  // plane's area to one of these two.
+  const Vec2 dir = cut->dir.normalized(), across(-dir.y(), dir.x());
+  double t0 = 1e18, t1 = -1e18;
+  for (const auto& v : verts) {
+    const double t = dir.dot(v - cut->point);
+    t0 = std::min(t0, t), t1 = std::max(t1, t);
+  }
+  const Vec2 start = cut->point + (t0 - kCutOverrun) * dir, end = cut->point + (t1 + kCutOverrun) * dir;
+  corridor = poly::intersect(corridor, poly::intersect(poly::halfplane_box(start, across, end, 1e4),
+                                                       poly::halfplane_box(end, across, start, 1e4)));
   MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
   Vec2 side = local_side_point(in, i, corridor, verts.front());
   if (std::abs(Vec2(-cut->dir.y(), cut->dir.x()).dot(side - cut->point)) < 1e-6) return;
