@@ -25,6 +25,9 @@ constexpr double kMaxOverhang = 1.8;
 // found closer to the edge is believed: gable ends and walls under a lower
 // roof often have little or no overhang.
 constexpr double kOverhangOutlier = 0.6;
+// Vertices closer than this are one vertex (validators snap at a millimetre);
+// the plan rings, the shell and the wall profiles all weld at it.
+constexpr double kWeldTol = 1e-3;  // m
 
 struct EdgeInfo {
   Vec2 a, b;
@@ -279,7 +282,7 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
       const Vec3& p = r[i];
       const Vec3& q = r[(i + 1) % r.size()];
       Vec2 p2 = p.head<2>() - a, q2 = q.head<2>() - a;
-      if (std::abs(n.dot(p2)) > 2e-3 || std::abs(n.dot(q2)) > 2e-3) continue;  // welding moves up to 1 mm
+      if (std::abs(n.dot(p2)) > 2 * kWeldTol || std::abs(n.dot(q2)) > 2 * kWeldTol) continue;  // welded ends may sit off the line
       double tp = d.dot(p2), tq = d.dot(q2);
       if (std::min(tp, tq) < -1e-5 || std::max(tp, tq) > len + 1e-5) continue;
       if (std::abs(tp - tq) < 1e-7) continue;
@@ -304,7 +307,7 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   // Breakpoints closer than the weld tolerance are one: a roof piece touching
   // the edge over less than a millimetre (a corner on a step line) would put a
   // spike of no width into the wall.
-  ts.erase(std::unique(ts.begin(), ts.end(), [](double x, double y) { return y - x < 1e-3; }),
+  ts.erase(std::unique(ts.begin(), ts.end(), [](double x, double y) { return y - x < kWeldTol; }),
            ts.end());
   auto z_on = [](const ProfileSegment& s, double t) {
     return s.z0 + (s.z1 - s.z0) * (t - s.t0) / (s.t1 - s.t0);
@@ -639,7 +642,7 @@ std::vector<Piece> roof_pieces(const std::vector<RoofRegion>& roof, const Polygo
   };
   for (auto& plan : plans) add_rings(plan);
   add_rings(thin);
-  node_rings(rings, 1e-3);
+  node_rings(rings, kWeldTol);
   MultiPolygon2 all{footprint};
   for (const auto& plan : plans) all.insert(all.end(), plan.begin(), plan.end());
   all.insert(all.end(), thin.begin(), thin.end());
@@ -758,7 +761,7 @@ Building build_building(const EnvelopeInput& in) {
     rings.push_back(&p.plan.outer);
     for (auto& h : p.plan.holes) rings.push_back(&h);
   }
-  node_rings(rings, 1e-3);
+  node_rings(rings, kWeldTol);
   std::vector<Piece> simple;
   for (const auto& p : pieces)
     for (auto& part : split_pinched(p.plan)) simple.push_back({p.region, p.inside, part});
@@ -870,14 +873,14 @@ Building build_building(const EnvelopeInput& in) {
   // Weld and node the shell, then the element faces against the same vertices,
   // so an element face and its copy in the shell stay identical.
   std::vector<Vec3> pool;
-  weld_faces(solid, 1e-3, pool, true);
+  weld_faces(solid, kWeldTol, pool, true);
   const std::vector<Vec3> verts = shell_vertices(solid);
-  node_faces(solid, verts, 1e-3);
+  node_faces(solid, verts, kWeldTol);
   for (auto& e : b.elements) {
     std::vector<double> level;  // an outer ceiling is horizontal: welding must not tilt it
     for (const auto& f : e.faces) level.push_back(f.ring.empty() ? 0.0 : f.ring[0].z());
-    weld_faces(e.faces, 1e-3, pool, false);
-    node_faces(e.faces, verts, 1e-3);
+    weld_faces(e.faces, kWeldTol, pool, false);
+    node_faces(e.faces, verts, kWeldTol);
     if (e.type == ElementType::OuterCeiling)
       for (size_t i = 0; i < e.faces.size(); ++i) set_height(e.faces[i], level[i]);
   }
