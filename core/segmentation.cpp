@@ -1,7 +1,8 @@
 #include "core/segmentation.h"
 
+#include "core/neighbours.h"
+
 #include <pcl/features/normal_3d_omp.h>
-#include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
@@ -17,6 +18,13 @@ namespace {
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Tree = pcl::search::KdTree<pcl::PointXYZ>;
 
+// Region growing that hands back the neighbour lists it searched, so the
+// reassignment of points to planes does not search the same roof again.
+class RegionGrowingKeepingNeighbours : public pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> {
+ public:
+  std::vector<pcl::Indices> take_neighbours() { return std::move(point_neighbours_); }
+};
+
 Cloud::Ptr to_pcl(const std::vector<Vec3>& pts) {
   Cloud::Ptr c(new Cloud);
   c->reserve(pts.size());
@@ -25,26 +33,16 @@ Cloud::Ptr to_pcl(const std::vector<Vec3>& pts) {
 }
 
 // Median plan distance to the nearest other point: the scan's point spacing.
-double median_spacing(const Cloud::Ptr& cloud, const Tree::Ptr& tree) {
+double median_spacing(const Cloud::Ptr& cloud, const NeighbourTable& table) {
   std::vector<double> d;
   pcl::Indices nn(2);
   std::vector<float> dist(2);
   size_t step = std::max<size_t>(1, cloud->size() / 2000);
   for (size_t i = 0; i < cloud->size(); i += step)
-    if (tree->nearestKSearch(int(i), 2, nn, dist) == 2) d.push_back(std::sqrt(dist[1]));
+    if (table.nearestKSearch(int(i), 2, nn, dist) == 2) d.push_back(std::sqrt(dist[1]));
   if (d.empty()) return 0.2;
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
   return std::max(d[d.size() / 2], 0.02);
-}
-
-pcl::Indices remove_outliers(const Cloud::Ptr& cloud, const ReconstructionParams& p) {
-  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
-  sor.setInputCloud(cloud);
-  sor.setMeanK(p.outlier_neighbours);
-  sor.setStddevMulThresh(p.outlier_std);
-  pcl::Indices kept;
-  sor.filter(kept);
-  return kept;
 }
 
 std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl::Indices& kept, double tolerance,
@@ -61,11 +59,14 @@ std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl:
   return clusters;
 }
 
+// Planar regions of one roof, and each roof point's nearest roof points
+// (indexed by point, sorted by distance, the point itself first).
 std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
                                                const pcl::PointCloud<pcl::Normal>::Ptr& normals,
                                                const pcl::Indices& roof,
-                                               const ReconstructionParams& p) {
-  pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> rg;
+                                               const ReconstructionParams& p,
+                                               std::vector<pcl::Indices>& neighbours) {
+  RegionGrowingKeepingNeighbours rg;
   rg.setMinClusterSize(std::max(5, p.min_component_points / 3));
   rg.setMaxClusterSize(std::numeric_limits<int>::max());
   rg.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
@@ -78,6 +79,7 @@ std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
   rg.setSmoothModeFlag(false);  // compare with the seed normal: no drift across hips and ridges
   std::vector<pcl::PointIndices> regions;
   rg.extract(regions);
+  neighbours = rg.take_neighbours();
   return regions;
 }
 
@@ -110,18 +112,18 @@ void merge_coplanar(const std::vector<Vec3>& pts, std::vector<RoofComponent>& co
 }
 
 // Gives every roof point to the component whose plane fits it best among the
-// components found around it; points no plane explains stay unlabelled.
-void reassign(const std::vector<Vec3>& pts, const Cloud::Ptr& cloud, const Tree& tree,
+// components of its 12 nearest roof points; points no plane explains stay unlabelled.
+void reassign(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& neighbours,
               const pcl::Indices& roof, std::vector<RoofComponent>& comps, std::vector<int>& label,
               double tol) {
   std::vector<int> old = label;
-  pcl::Indices nn;
-  std::vector<float> dist;
+  static const pcl::Indices none;  // region growing gave up before searching
   for (int i : roof) {
-    tree.nearestKSearch((*cloud)[i], 12, nn, dist);
+    const auto& nn = size_t(i) < neighbours.size() ? neighbours[size_t(i)] : none;
     int best = -1;
     double best_d = 1e9;
-    for (int k : nn) {
+    for (size_t n = 0; n < std::min<size_t>(12, nn.size()); ++n) {
+      int k = nn[n];
       int c = old[k];
       if (c < 0) continue;
       double d = std::abs(comps[c].fit.plane.distance(pts[i]));
@@ -142,23 +144,24 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   seg.label.assign(points.size(), -1);
   if (points.size() < 10) return seg;
   auto cloud = to_pcl(points);
-  Tree::Ptr tree(new Tree);
-  tree->setInputCloud(cloud);
-  seg.spacing = median_spacing(cloud, tree);
+  const int normal_neighbours = 16;
+  auto table = std::make_shared<NeighbourTable>(cloud, std::max(normal_neighbours, p.outlier_neighbours + 1));
+  seg.spacing = median_spacing(cloud, *table);
 
-  pcl::Indices kept = remove_outliers(cloud, p);
+  pcl::Indices kept = remove_statistical_outliers(*table, p.outlier_neighbours, p.outlier_std);
   pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
   ne.setInputCloud(cloud);
-  ne.setSearchMethod(tree);
-  ne.setKSearch(16);
+  ne.setSearchMethod(table);
+  ne.setKSearch(normal_neighbours);
   ne.compute(*normals);
 
   double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
   auto roofs = cluster_roofs(cloud, kept, tolerance, p.min_component_points);
   for (const auto& roof : roofs) {
     std::vector<RoofComponent> comps;
-    for (const auto& region : grow_components(cloud, normals, roof.indices, p)) {
+    std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
+    for (const auto& region : grow_components(cloud, normals, roof.indices, p, roof_neighbours)) {
       RoofComponent c;
       c.points.assign(region.indices.begin(), region.indices.end());
       c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
@@ -169,10 +172,8 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
     std::vector<int> local_label(points.size(), -1);
     for (size_t c = 0; c < comps.size(); ++c)
       for (int i : comps[c].points) local_label[i] = int(c);
-    Tree roof_tree;  // the roof's own points: neighbours never come from another roof
-    roof_tree.setInputCloud(cloud, pcl::make_shared<pcl::Indices>(roof.indices));
     for (int round = 0; round < 2; ++round) {
-      reassign(points, cloud, roof_tree, roof.indices, comps, local_label, p.plane_inlier_m);
+      reassign(points, roof_neighbours, roof.indices, comps, local_label, p.plane_inlier_m);
       for (auto& c : comps)
         if (c.points.size() >= 3) c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
     }
