@@ -66,6 +66,53 @@ TEST(Dtm, ReadFillsNoDataHoles) {
   EXPECT_NEAR(d.height_at(1001.0 + 2 * 10, 4999.0 - 2 * 5), 701.0, 0.25);
 }
 
+// Rolling terrain (1 m cells; slope, a 70 m wave and a 200 m swell) with a
+// detached house's hole (10 x 12 m) and a row of houses' hole (40 x 10 m).
+double rolling(double x, double y) {
+  return 720.0 + 0.015 * x - 0.01 * y + 0.5 * std::sin(2 * M_PI * (x + y) / 70.0 + 1.0) +
+         1.2 * std::sin(2 * M_PI * x / 200.0) * std::cos(2 * M_PI * y / 180.0);
+}
+bool in_detached(int i, int j) { return i >= 10 && i < 20 && j >= 10 && j < 22; }
+bool in_row(int i, int j) { return i >= 35 && i < 75 && j >= 30 && j < 40; }
+
+std::string write_rolling_tif(const std::string& dir) {
+  GDALAllRegister();
+  std::string path = dir + "/rolling.tif";
+  const int nx = 90, ny = 60;
+  GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(path.c_str(), nx, ny, 1, GDT_Float32, nullptr);
+  double gt[6] = {0.0, 1.0, 0.0, 60.0, 0.0, -1.0};
+  ds->SetGeoTransform(gt);
+  std::vector<float> z(size_t(nx) * ny);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      z[size_t(j) * nx + i] = in_detached(i, j) || in_row(i, j) ? -9999.0f : float(rolling(i + 0.5, 59.5 - j));
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  band->SetNoDataValue(-9999.0);
+  EXPECT_EQ(band->RasterIO(GF_Write, 0, 0, nx, ny, z.data(), nx, ny, GDT_Float32, 0, 0), CE_None);
+  GDALClose(ds);
+  return path;
+}
+
+// A floor stands at the mean terrain under the footprint: the fill must carry
+// the terrain's slope and curvature under the house. An inverse-distance fill
+// alone is 1.2 and 4.4 cm off here on average, up to 16 cm at a cell.
+TEST(Dtm, BuildingHolesFollowTheTerrainsCurvature) {
+  Dtm d = read_dtm(write_rolling_tif(test::temp_dir("dtm_rolling")));
+  for (auto in_hole : {in_detached, in_row}) {
+    double filled = 0, truth = 0, worst = 0;
+    int n = 0;
+    for (int j = 0; j < d.ny; ++j)
+      for (int i = 0; i < d.nx; ++i) {
+        if (!in_hole(i, j)) continue;
+        double t = rolling(i + 0.5, 59.5 - j);
+        filled += d.z[size_t(j) * d.nx + i], truth += t, ++n;
+        worst = std::max(worst, std::abs(d.z[size_t(j) * d.nx + i] - t));
+      }
+    EXPECT_NEAR(filled / n, truth / n, 0.01) << n << " cells";
+    EXPECT_LT(worst, 0.04) << n << " cells";
+  }
+}
+
 TEST(Dtm, FromGroundPointsMinAndMean) {
   std::vector<Vec3> ground;
   for (int i = 0; i < 10; ++i)
