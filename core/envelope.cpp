@@ -58,6 +58,19 @@ double weighted_median(std::vector<Weighted> v) {
   return v.back().value;
 }
 
+// The building's overhang from its seen walls: the length-weighted mean of
+// those within kOverhangInlier of the weighted median. An edge's position is
+// known to within σ² ∝ 1/length, so weighting by length is the least-variance
+// estimate (the median alone throws a third of that information away); the
+// median's window keeps flush jogs and step walls (overhang 0) out of it.
+constexpr double kOverhangInlier = 0.1;  // m
+double typical_overhang(const std::vector<Weighted>& measured) {
+  double median = weighted_median(measured), sum = 0, weight = 0;
+  for (const auto& m : measured)
+    if (std::abs(m.value - median) <= kOverhangInlier) sum += m.value * m.weight, weight += m.weight;
+  return sum / weight;  // the median itself is always within the window
+}
+
 // Roof height at p from the region over it (NaN where no region is).
 double roof_z(const std::vector<RoofRegion>& roof, const Vec2& p) {
   for (const auto& r : roof)
@@ -128,7 +141,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   double typical = in.default_overhang;
   WallEvidence fill = WallEvidence::Default;
   if (!measured.empty()) {
-    typical = weighted_median(measured);
+    typical = typical_overhang(measured);
     for (auto& e : edges)
       if (e.evidence == WallEvidence::Measured && e.overhang - typical > kOverhangOutlier) {
         e.evidence = WallEvidence::Default;  // re-filled below as propagated
