@@ -202,16 +202,26 @@ TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
     }
 }
 
-TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
-  // Flat roof 10 x 8 m at z = 3 with 0.5 m overhang; walls seen on two sides.
-  std::mt19937_64 rng(7);
+namespace {
+
+// 2000 wall points each (2 cm noise, up to 3 m) on the south wall y = 0 and
+// the west wall x = 0 of a 10 x 8 m house with its south-west corner at the origin.
+void see_south_and_west_walls(EnvelopeInput& in, unsigned seed) {
+  std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0, 0.02);
   std::uniform_real_distribution<double> u(0, 1);
-  EnvelopeInput in = flat_roof_input("t", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
   for (int i = 0; i < 2000; ++i) {
     in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));  // south wall y = 0
     in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));   // west wall x = 0
   }
+}
+
+}  // namespace
+
+TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
+  // Flat roof 10 x 8 m at z = 3 with 0.5 m overhang; walls seen on two sides.
+  EnvelopeInput in = flat_roof_input("t", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
+  see_south_and_west_walls(in, 7);
   Building b = build_building(in);
   BuildingTotals t = totals(b);
   EXPECT_NEAR(t.ground, 80.0, 0.8);  // unseen walls take the measured overhang
@@ -282,14 +292,8 @@ TEST(Envelope, UnseenWallsTakeTheLengthWeightedMeanOfTheSeenEaves) {
   // length (its position is known to within σ² ∝ 1/length): the unseen north
   // and east walls take (0.46·11.0 + 0.54·9.0) / 20.0 = 0.496 m, not the
   // median's 0.46 m (ground 0.65 m² larger).
-  std::mt19937_64 rng(14);
-  std::normal_distribution<double> n(0, 0.02);
-  std::uniform_real_distribution<double> u(0, 1);
   EnvelopeInput in = flat_roof_input("two-eaves", Polygon2{{{-0.54, -0.46}, {10.5, -0.46}, {10.5, 8.5}, {-0.54, 8.5}}, {}});
-  for (int i = 0; i < 2000; ++i) {
-    in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));  // south wall y = 0
-    in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));   // west wall x = 0
-  }
+  see_south_and_west_walls(in, 14);
   Building b = build_building(in);
   const double typical = (0.46 * 11.04 + 0.54 * 8.96) / 20.0;
   EXPECT_NEAR(totals(b).ground, (10.5 - typical) * (8.5 - typical), 0.2);
