@@ -159,23 +159,21 @@ void fill_with_surface(std::vector<float>& z, const std::vector<char>& hole, con
   double scale = std::max(2.0, kSurfaceScale_m / cell_m);
   auto surface = [&](size_t cell) { return mls_height(ring, z, nx, double(cell % nx), double(cell / nx), scale); };
   int w = h.x1 - h.x0 + 1, hgt = h.y1 - h.y0 + 1;
+  auto local = [&](size_t cell) { return size_t(int(cell / nx) - h.y0) * w + size_t(int(cell % nx) - h.x0); };
   std::vector<float> residual(size_t(w) * size_t(hgt), std::nanf(""));
   double sq = 0;
   for (size_t r : ring) {
     double d = z[r] - surface(r);
     if (!std::isfinite(d)) return;
     sq += d * d;
-    residual[size_t(int(r / nx) - h.y0) * w + size_t(int(r % nx) - h.x0)] = float(d);
+    residual[local(r)] = float(d);
   }
   if (!(std::sqrt(sq / double(ring.size())) <= kRingFitRms)) return;
   std::vector<double> fitted(h.cells.size());
   for (size_t k = 0; k < h.cells.size(); ++k)
     if (!std::isfinite(fitted[k] = surface(h.cells[k]))) return;
   idw_fill(residual, w, hgt, source);
-  for (size_t k = 0; k < h.cells.size(); ++k) {
-    size_t c = h.cells[k];
-    z[c] = float(fitted[k] + residual[size_t(int(c / nx) - h.y0) * w + size_t(int(c % nx) - h.x0)]);
-  }
+  for (size_t k = 0; k < h.cells.size(); ++k) z[h.cells[k]] = float(fitted[k] + residual[local(h.cells[k])]);
 }
 
 // Fills NaN cells of dtm.z: inverse-distance interpolation (GDALFillNodata),

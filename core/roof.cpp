@@ -204,7 +204,7 @@ void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions,
                                                        poly::halfplane_box(end, across, start, 1e4)));
   MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
   Vec2 side = local_side_point(in, i, corridor, verts.front());
-  if (std::abs(Vec2(-cut->dir.y(), cut->dir.x()).dot(side - cut->point)) < 1e-6) return;
+  if (std::abs(across.dot(side - cut->point)) < 1e-6) return;
   MultiPolygon2 half = poly::halfplane_box(cut->point, cut->dir, side, 1e4);
   regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, half));
   regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, half));
