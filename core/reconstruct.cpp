@@ -46,54 +46,75 @@ class StageClock {
 
 Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
-// Ownership: a component goes whole to the parcel holding most of its points
-// (an overhang reaches at most the overhang buffer across a boundary); a
-// component reaching deeper into a neighbour is a roof shared by attached
-// houses and is split at the boundary. Returns the neighbours split against.
+// Ownership: a component goes whole to the land holding most of its points (an
+// overhang reaches at most the overhang buffer across a boundary) and is
+// modelled here only when that is this parcel. A component reaching deeper
+// into a neighbour is a roof shared by attached houses: it is split at the
+// parcel boundary first, and what remains is voted on. Land outside every
+// parcel of the layer (streets, parcels the layer leaves out) votes against a
+// component only when it also holds most of the component's roof: the corner
+// of a building on a parcel the layer leaves out is nobody's here, while a
+// porch of this parcel's house reaching over an alley stays with the house.
+// Land outside the layer is never split against: roofs here overhang streets
+// and alleys by metres. Returns the neighbours split against.
 std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double depth_margin) {
+  const int outside = int(s.neighbours.size());  // land outside the layer
+  auto land_of = [&](const Vec2& p) {            // -1: this parcel
+    if (poly::covers(s.parcel, p)) return -1;
+    for (size_t n = 0; n < s.neighbours.size(); ++n)
+      if (poly::covers(s.neighbours[n], p)) return int(n);
+    return outside;
+  };
+  std::vector<std::vector<int>> lands(seg.components.size());
+  std::vector<long> roof_own(size_t(seg.roof_count), 0), roof_outside(size_t(seg.roof_count), 0);
+  for (size_t c = 0; c < seg.components.size(); ++c)
+    for (int i : seg.components[c].points) {
+      const int land = land_of(plan(s.roof_points[i]));
+      lands[c].push_back(land);
+      roof_own[size_t(seg.components[c].roof)] += land < 0;
+      roof_outside[size_t(seg.components[c].roof)] += land == outside;
+    }
   std::set<int> split_with;
   const double shared_depth = s.overhang_buffer_m + depth_margin;
-  for (auto& c : seg.components) {
+  for (size_t ci = 0; ci < seg.components.size(); ++ci) {
+    auto& c = seg.components[ci];
+    const auto& where = lands[ci];
     long own = 0;
-    std::vector<long> nb(s.neighbours.size(), 0);
+    std::vector<long> held(s.neighbours.size() + 1, 0);
     std::vector<std::vector<double>> depth(s.neighbours.size());
-    std::vector<int> where(c.points.size(), -2);  // -1 own, n neighbour, -2 no parcel
     for (size_t k = 0; k < c.points.size(); ++k) {
-      Vec2 p = plan(s.roof_points[c.points[k]]);
-      if (poly::covers(s.parcel, p)) {
+      if (where[k] < 0) {
         ++own;
-        where[k] = -1;
         continue;
       }
-      for (size_t n = 0; n < s.neighbours.size(); ++n)
-        if (poly::covers(s.neighbours[n], p)) {
-          ++nb[n];
-          depth[n].push_back(poly::distance(s.parcel, p));
-          where[k] = int(n);
-          break;
-        }
+      ++held[size_t(where[k])];
+      if (where[k] != outside) depth[size_t(where[k])].push_back(poly::distance(s.parcel, plan(s.roof_points[c.points[k]])));
     }
-    long best_nb = nb.empty() ? 0 : *std::max_element(nb.begin(), nb.end());
     std::set<int> shared;
-    for (size_t n = 0; n < nb.size(); ++n) {
+    for (size_t n = 0; n < depth.size(); ++n) {
       if (depth[n].size() < 10) continue;
       auto& d = depth[n];
       std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
       if (d[d.size() * 9 / 10] > shared_depth) shared.insert(int(n));
     }
-    if (shared.empty()) {
-      if (own >= best_nb) continue;  // whole: ours, overhang included
-      for (int i : c.points) seg.label[i] = -1;  // the neighbour's
+    // A roof reaching deep into a neighbour (ours or the neighbour's own roof)
+    // means the buildings meet there: outlines are cut at that boundary.
+    split_with.insert(shared.begin(), shared.end());
+    if (!shared.empty())  // split: the parts on the neighbours' parcels are theirs
+      for (int n = 0; n < outside; ++n) held[size_t(n)] = 0;
+    if (roof_own[size_t(c.roof)] >= roof_outside[size_t(c.roof)]) held[size_t(outside)] = 0;
+    if (own == 0 || own < *std::max_element(held.begin(), held.end())) {
+      for (int i : c.points) seg.label[i] = -1;  // another's
       c.points.clear();
       continue;
     }
+    if (shared.empty()) continue;  // whole: ours, overhang included
     std::vector<int> kept;
     for (size_t k = 0; k < c.points.size(); ++k) {
-      if (where[k] >= 0) seg.label[c.points[k]] = -1;
+      if (where[k] >= 0 && where[k] != outside) seg.label[c.points[k]] = -1;
       else kept.push_back(c.points[k]);
     }
     c.points = kept;
-    split_with.insert(shared.begin(), shared.end());
   }
   return split_with;
 }

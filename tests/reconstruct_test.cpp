@@ -576,3 +576,37 @@ TEST(ReconstructBadInput, RoofCrossingTheBoundaryStaysWholeWithItsOverhang) {
   ASSERT_EQ(r.buildings.size(), 1u);
   EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.02);
 }
+
+TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
+  // East of the parcel lies land no parcel of the layer holds. A flat roof
+  // standing there reaches 1 m into this parcel: it is not this parcel's
+  // building (before, it became a second building here).
+  std::mt19937_64 rng(13);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  Plane flat = plane_through({0, 0, 104}, {0, 0, 1});
+  auto foreign = sample_plane(flat, 19, 23, 3, 17, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), foreign.begin(), foreign.end());
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.02);
+}
+
+TEST(ReconstructBadInput, PorchOverLandOutsideTheLayerStaysWithTheHouse) {
+  // The parcel ends 1 m inside the house's south eave; a flat porch roof
+  // continues the eave 3.5 m over land outside the layer (an alley). Most of
+  // the porch lies outside, but the roof it belongs to is this parcel's.
+  std::mt19937_64 rng(14);
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {Polygon2{{{0, 4.5}, {20, 4.5}, {20, 20}, {0, 20}}, {}}};
+  s.roof_points = gable_points(rng);
+  Plane porch = plane_through({0, 5.5, 102.6}, {0, -0.05, 1});
+  auto a = sample_plane(porch, 4.5, 15.5, 2.0, 5.5, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  EXPECT_EQ(totals(r.buildings[0]).roof_planes, 3);
+  EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 12.5, 11.0 * 12.5 * 0.03);
+}
