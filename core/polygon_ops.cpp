@@ -15,6 +15,7 @@
 #include <geos/operation/polygonize/Polygonizer.h>
 #include <geos/operation/union/UnaryUnionOp.h>
 #include <geos/operation/valid/MakeValid.h>
+#include <geos/simplify/DouglasPeuckerSimplifier.h>
 #include <geos/simplify/TopologyPreservingSimplifier.h>
 
 #include <algorithm>
@@ -102,11 +103,34 @@ MultiPolygon2 buffer(const MultiPolygon2& a, double distance) {
   return from_geos(geos::operation::buffer::BufferOp::bufferOp(g.get(), distance, params).get());
 }
 
-MultiPolygon2 buffer_line(const std::vector<Vec2>& line, double distance) {
+namespace {
+std::unique_ptr<geos::geom::LineString> line_string(const std::vector<Vec2>& line) {
   auto seq = std::make_unique<CoordinateArraySequence>();
   for (const auto& p : line) seq->add(Coordinate(p.x(), p.y()));
-  auto ls = factory().createLineString(std::move(seq));
-  return from_geos(ls->buffer(distance, 4).get());
+  return factory().createLineString(std::move(seq));
+}
+}  // namespace
+
+MultiPolygon2 buffer_line(const std::vector<Vec2>& line, double distance) {
+  return from_geos(line_string(line)->buffer(distance, 4).get());
+}
+
+std::vector<Vec2> simplify_line(const std::vector<Vec2>& line, double tolerance) {
+  auto g = geos::simplify::DouglasPeuckerSimplifier::simplify(line_string(line).get(), tolerance);
+  std::vector<Vec2> out;
+  auto coords = g->getCoordinates();
+  for (size_t i = 0; i < coords->size(); ++i) out.emplace_back(coords->getX(i), coords->getY(i));
+  return out;
+}
+
+MultiPolygon2 side_strip(const std::vector<Vec2>& line, double width) {
+  geos::operation::buffer::BufferParameters params;
+  params.setSingleSided(true);
+  params.setEndCapStyle(geos::operation::buffer::BufferParameters::CAP_FLAT);
+  params.setJoinStyle(geos::operation::buffer::BufferParameters::JOIN_MITRE);
+  params.setMitreLimit(4.0);
+  auto ls = line_string(line);
+  return from_geos(geos::operation::buffer::BufferOp::bufferOp(ls.get(), width, params).get());
 }
 
 MultiPolygon2 simplify(const MultiPolygon2& a, double tolerance) {

@@ -17,6 +17,11 @@ MultiPolygon2 buffer(const MultiPolygon2& a, double distance);
 // Buffer of a polyline (round ends) - corridors around boundaries.
 MultiPolygon2 buffer_line(const std::vector<Vec2>& line, double distance);
 MultiPolygon2 simplify(const MultiPolygon2& a, double tolerance);
+// Douglas-Peucker simplification of a polyline.
+std::vector<Vec2> simplify_line(const std::vector<Vec2>& line, double tolerance);
+// The strip along one side of a polyline, |width| wide and cut square at its
+// ends (single-sided buffer): left of the line's direction for width > 0.
+MultiPolygon2 side_strip(const std::vector<Vec2>& line, double width);
 MultiPolygon2 make_valid(const MultiPolygon2& a);
 bool is_valid(const MultiPolygon2& a);
 // GEOS ConcaveHull of points, edges no longer than max_edge (holes not allowed).

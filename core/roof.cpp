@@ -148,19 +148,47 @@ std::optional<CutLine> intersection_cut(const Plane& a, const Plane& b,
   return CutLine{p, dir};
 }
 
+// Least-squares line through points, with the RMS of their distances to it.
+std::pair<CutLine, double> fit_line(const std::vector<Vec2>& pts) {
+  Vec2 c = Vec2::Zero();
+  for (const auto& v : pts) c += v;
+  c /= double(pts.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& v : pts) cov += (v - c) * (v - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  return {CutLine{c, es.eigenvectors().col(1)}, std::sqrt(std::max(es.eigenvalues()(0), 0.0) / double(pts.size()))};
+}
+
 // Step between roof levels: the straight line through the boundary.
 std::optional<CutLine> step_cut(const std::vector<Vec2>& boundary) {
   if (boundary.size() < 2) return std::nullopt;
-  Vec2 c = Vec2::Zero();
-  for (const auto& v : boundary) c += v;
-  c /= boundary.size();
-  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-  for (const auto& v : boundary) cov += (v - c) * (v - c).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  Vec2 dir = es.eigenvectors().col(1);
-  double rms = std::sqrt(std::max(es.eigenvalues()(0), 0.0) / boundary.size());
+  auto [line, rms] = fit_line(boundary);
   if (rms > 0.3) return std::nullopt;
-  return CutLine{c, dir};
+  return line;
+}
+
+// A staircase polyline as straight legs: its corners found by Douglas-Peucker,
+// each leg the least-squares line through the stretch between two corners,
+// neighbouring legs meeting where their lines cross.
+std::vector<Vec2> straight_legs(const std::vector<Vec2>& stairs, double tolerance) {
+  const std::vector<Vec2> corners = poly::simplify_line(stairs, tolerance);
+  std::vector<CutLine> legs;
+  size_t from = 0;
+  for (size_t c = 1; c < corners.size(); ++c) {
+    size_t to = from + 1;  // Douglas-Peucker keeps original vertices
+    while (to + 1 < stairs.size() && (stairs[to] - corners[c]).norm() > 1e-12) ++to;
+    legs.push_back(fit_line({stairs.begin() + long(from), stairs.begin() + long(to) + 1}).first);
+    from = to;
+  }
+  auto foot = [](const CutLine& l, const Vec2& p) { return Vec2(l.point + l.dir * l.dir.dot(p - l.point)); };
+  std::vector<Vec2> out{foot(legs.front(), stairs.front())};
+  for (size_t k = 1; k < legs.size(); ++k) {
+    auto x = intersect_lines(legs[k - 1].point, legs[k - 1].dir, legs[k].point, legs[k].dir);
+    if (x && (*x - corners[k]).norm() < 2 * tolerance) out.push_back(*x);
+    else out.push_back(corners[k]);  // legs nearly parallel: keep the corner
+  }
+  out.push_back(foot(legs.back(), stairs.back()));
+  return out;
 }
 
 std::vector<Vec2> flatten(const std::vector<std::vector<Vec2>>& lines) {
@@ -181,13 +209,68 @@ Vec2 local_side_point(const RoofPartitionInput& in, int slot, const MultiPolygon
 
 constexpr double kCutOverrun = 0.25;  // m a cut may reach past the ends of the shared boundary
 
+// Pieces of a boundary as chains: a piece whose end lies within `gap` of a
+// chain's end carries that chain on (shared boundaries come back broken where
+// the regions do not quite touch).
+std::vector<std::vector<Vec2>> chain_pieces(std::vector<std::vector<Vec2>> pieces, double gap) {
+  std::vector<std::vector<Vec2>> chains;
+  while (!pieces.empty()) {
+    std::vector<Vec2> chain = std::move(pieces.back());
+    pieces.pop_back();
+    for (bool grown = true; grown;) {
+      grown = false;
+      for (size_t k = 0; k < pieces.size() && !grown; ++k) {
+        auto& p = pieces[k];
+        if ((p.front() - chain.back()).norm() < gap) chain.insert(chain.end(), p.begin(), p.end());
+        else if ((p.back() - chain.back()).norm() < gap) chain.insert(chain.end(), p.rbegin(), p.rend());
+        else if ((p.back() - chain.front()).norm() < gap) chain.insert(chain.begin(), p.begin(), p.end());
+        else if ((p.front() - chain.front()).norm() < gap) chain.insert(chain.begin(), p.rbegin(), p.rend());
+        else continue;
+        pieces.erase(pieces.begin() + long(k));
+        grown = true;
+      }
+    }
+    chains.push_back(std::move(chain));
+  }
+  return chains;
+}
+
+// A boundary no single line fits (an L-shaped step between roof levels): the
+// label grid's staircase along it is replaced by straight legs, each region
+// taking its side of them within a corridor.
+// Left as a staircase, a step at 45 degrees to the grid is 41 % longer, and so
+// is the step wall built on it.
+void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j,
+                  const std::vector<std::vector<Vec2>>& shared) {
+  const double tolerance = 2.0 * in.cell;  // the staircase's steps are one cell
+  for (const auto& piece : chain_pieces(shared, tolerance)) {
+    if (piece.size() < 2 || polyline_length({piece}) < 0.4) continue;
+    std::vector<Vec2> line = straight_legs(piece, tolerance);
+    line.front() += kCutOverrun * (line[0] - line[1]).normalized();
+    line.back() += kCutOverrun * (line.back() - line[line.size() - 2]).normalized();
+    const MultiPolygon2 left = poly::side_strip(line, 1.0), right = poly::side_strip(line, -1.0);
+    long on_left = 0, on_right = 0;  // region i's points on either side
+    for (size_t k = 0; k < in.points.size(); ++k)
+      if (in.labels[k] == in.components[size_t(i)]) {
+        if (poly::covers(left, in.points[k])) ++on_left;
+        else if (poly::covers(right, in.points[k])) ++on_right;
+      }
+    if (on_left == on_right) continue;
+    const MultiPolygon2& side = on_left > on_right ? left : right;
+    const MultiPolygon2 corridor = poly::unite(left, right);
+    const MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
+    regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, side));
+    regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, side));
+  }
+}
+
 void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
   auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
   if (polyline_length(shared) < 0.4) return;
   auto verts = flatten(shared);
   auto cut = intersection_cut(in.planes[i], in.planes[j], verts);
   if (!cut) cut = step_cut(verts);
-  if (!cut) return;
+  if (!cut) return polyline_cut(in, regions, i, j, shared);
   MultiPolygon2 corridor;
   for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, 1.0));
   // Only along the shared stretch: carried past its end (where a third plane

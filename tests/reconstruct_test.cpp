@@ -202,6 +202,34 @@ TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
     }
 }
 
+TEST(RoofPartition, LShapedStepFollowsTheBuildingNotTheGrid) {
+  // A 12 x 10 m building turned 30 degrees from the label grid: a flat roof
+  // level 3 m higher over its corner block [6,12] x [5,10], the lower level
+  // round it in an L. The step between them runs 5 m + 6 m; left as the grid's
+  // staircase it would be 11 (cos 30 + sin 30) = 15 m, and so would its wall.
+  std::mt19937_64 rng(15);
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+  auto turn = [&](double x, double y) { return Vec2(c * x - s * y, s * x + c * y); };
+  Plane high = plane_through({0, 0, 6}, {0, 0, 1}), low = plane_through({0, 0, 3}, {0, 0, 1});
+  RoofPartitionInput in;
+  in.outline = Polygon2{{turn(0, 0), turn(12, 0), turn(12, 10), turn(0, 10)}, {}};
+  in.components = {0, 1};
+  in.planes = {high, low};
+  in.cell = 0.2;
+  for (const auto& p : sample_plane(high, 6, 12, 5, 10, 40, 0.02, rng))
+    in.points.push_back(turn(p.x(), p.y())), in.labels.push_back(0);
+  for (const auto& p : sample_plane(low, 0, 12, 0, 10, 40, 0.02, rng))
+    if (p.x() < 6 || p.y() < 5) in.points.push_back(turn(p.x(), p.y())), in.labels.push_back(1);
+  auto regions = partition_roof(in);
+  ASSERT_EQ(regions.size(), 2u);
+  EXPECT_NEAR(area(regions[0].plan), 30.0, 0.3);
+  const auto step = poly::shared_boundary(regions[0].plan, regions[1].plan, 1e-6);
+  double length = 0;
+  for (const auto& line : step)
+    for (size_t k = 1; k < line.size(); ++k) length += (line[k] - line[k - 1]).norm();
+  EXPECT_NEAR(length, 11.0, 0.3);
+}
+
 namespace {
 
 // 2000 wall points each (2 cm noise, up to 3 m) on the south wall y = 0 and
