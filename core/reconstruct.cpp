@@ -16,6 +16,7 @@
 #include "core/optimizer.h"
 #include "core/outline.h"
 #include "core/polygon_ops.h"
+#include "core/polygon_rules.h"
 #include "core/roof.h"
 #include "core/segmentation.h"
 #include "core/solid_check.h"
@@ -227,18 +228,17 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
   return plans;
 }
 
-// Why a building's faces would fail validation ("" when they pass): every
-// ring simple and planar (val3dity's tolerances, as `validate` applies them).
+// Why a building's faces would fail validation ("" when they pass): the ring
+// and polygon rules `validate` applies, with its tolerances.
 std::string face_defect(const Building& b) {
   for (const auto& e : b.elements)
     for (const auto& f : e.faces) {
-      const Vec3 n = unit_normal(f);
-      for (size_t i = 0; i < f.ring.size(); ++i)
-        if ((f.ring[i] - f.ring[(i + 1) % f.ring.size()]).norm() < 0.001)
-          return std::string("two vertices of a ") + to_string(e.type) + " face merge";
-      if (ring_crossing(f.ring, n)) return std::string("a ") + to_string(e.type) + " face folds over itself";
-      if (planarity_deviation(f) > 0.01 || tilted_triangle(f, n, 20, 0.001))
-        return std::string("a ") + to_string(e.type) + " face is no longer planar";
+      VertexSnap snap(PolygonRules{}.snap_tol);
+      std::vector<std::vector<int>> rings;
+      std::vector<PolygonIssue> issues;
+      if (!check_polygon(f, PolygonRules{}, snap, rings, issues))
+        return std::string("a ") + to_string(e.type) + " face" + issues.front().where + ": " +
+               issues.front().message;
     }
   return "";
 }

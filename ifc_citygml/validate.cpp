@@ -49,24 +49,6 @@ namespace {
 
 using Ids = std::vector<int>;
 
-// Vertices snapped to a grid of snap_tol: equal ids mean "same vertex".
-class Snap {
- public:
-  explicit Snap(double tol) : tol_(tol) {}
-  int id(const Vec3& p) {
-    std::array<long long, 3> k{std::llround(p.x() / tol_), std::llround(p.y() / tol_),
-                               std::llround(p.z() / tol_)};
-    auto [it, fresh] = map_.try_emplace(k, int(points.size()));
-    if (fresh) points.push_back(p);
-    return it->second;
-  }
-  std::vector<Vec3> points;
-
- private:
-  double tol_;
-  std::map<std::array<long long, 3>, int> map_;
-};
-
 struct Checker {
   const Building& b;
   const ValidationOptions& opt;
@@ -76,66 +58,18 @@ struct Checker {
     issues.push_back({b.id, code, where, msg});
   }
 
-  // Ring rules; returns the ring's snapped ids without consecutive repeats.
-  Ids ring(const Ring3& r, const Vec3& normal, Snap& snap, const std::string& where) {
-    Ids ids;
-    bool repeated = false;
-    for (const auto& p : r) {
-      int i = snap.id(p);
-      if (!ids.empty() && ids.back() == i) { repeated = true; continue; }
-      ids.push_back(i);
-    }
-    if (ids.size() > 1 && ids.front() == ids.back()) { ids.pop_back(); repeated = true; }
-    if (repeated) report(kConsecutivePointsSame, where, "consecutive duplicate vertices");
-    if (ids.size() < 3) {
-      report(kTooFewPoints, where, std::to_string(ids.size()) + " distinct vertices");
-      return ids;
-    }
-    Ids sorted = ids;
-    std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
-      report(kRingSelfIntersection, where, "ring passes twice through one vertex");
-      return ids;
-    }
-    Ring3 clean;
-    for (int i : ids) clean.push_back(snap.points[i]);
-    if (area(clean) < 1e-6) {
-      report(kRingSelfIntersection, where, "zero-area (collapsed) ring");
-      return ids;
-    }
-    if (auto cross = ring_crossing(clean, normal))
-      report(kRingSelfIntersection, where,
-             "edges " + std::to_string(cross->first) + " and " + std::to_string(cross->second) +
-                 " intersect");
-    return ids;
-  }
-
-  // Polygon rules: rings, then planarity (distance to the least-squares plane, then
-  // the normals of its triangles). Returns false when the polygon is unusable.
-  bool polygon(const Face& f, Snap& snap, const std::string& where, std::vector<Ids>* rings) {
-    const Vec3 n = unit_normal(f);
-    size_t before = issues.size();
-    rings->push_back(ring(f.ring, n, snap, where));
-    for (size_t k = 0; k < f.holes.size(); ++k)
-      rings->push_back(ring(f.holes[k], n, snap, where + " hole " + std::to_string(k)));
-    if (issues.size() != before) return false;
-    const double worst = planarity_deviation(f);
-    if (worst > opt.planarity_tol) {
-      report(kNonPlanarDistancePlane, where,
-             "vertex " + exp::fixed(worst * 100, 1) + " cm from the fitted plane");
-      return false;
-    }
-    if (tilted_triangle(f, n, opt.normals_tol_deg, opt.snap_tol)) {
-      report(kNonPlanarNormalsDeviation, where, "triangle normal deviates from the polygon's");
-      return false;
-    }
-    return true;
+  // Ring and polygon rules (core/polygon_rules); false when the polygon is unusable.
+  bool polygon(const Face& f, VertexSnap& snap, const std::string& where, std::vector<Ids>* rings) {
+    std::vector<PolygonIssue> found;
+    const bool ok = check_polygon(f, opt, snap, *rings, found);
+    for (const auto& i : found) report(i.code, where + i.where, i.message);
+    return ok;
   }
 
   void elements() {
     for (size_t e = 0; e < b.elements.size(); ++e)
       for (size_t k = 0; k < b.elements[e].faces.size(); ++k) {
-        Snap snap(opt.snap_tol);
+        VertexSnap snap(opt.snap_tol);
         std::vector<Ids> rings;
         polygon(b.elements[e].faces[k], snap,
                 "element " + std::to_string(e) + " (" + to_string(b.elements[e].type) + ") face " +
@@ -151,7 +85,7 @@ struct Checker {
       report(kTooFewPolygons, "solid", std::to_string(b.solid.size()) + " faces");
       return;
     }
-    Snap snap(opt.snap_tol);
+    VertexSnap snap(opt.snap_tol);
     std::vector<std::vector<Ids>> faces(b.solid.size());
     bool polygons_ok = true;
     for (size_t f = 0; f < b.solid.size(); ++f)
@@ -255,7 +189,7 @@ struct Checker {
     return v;
   }
 
-  void self_intersection(const std::vector<std::vector<Ids>>& faces, Snap& snap) {
+  void self_intersection(const std::vector<std::vector<Ids>>& faces, VertexSnap& snap) {
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     using Mesh = CGAL::Surface_mesh<K::Point_3>;
     Mesh mesh;

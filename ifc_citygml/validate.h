@@ -4,24 +4,11 @@
 #include <string>
 #include <vector>
 
+#include "core/polygon_rules.h"
 #include "core/types.h"
 
 namespace c3d {
 
-// val3dity error codes used here.
-enum Val3dityCode : int {
-  kTooFewPoints = 101,
-  kConsecutivePointsSame = 102,
-  kRingSelfIntersection = 104,   // also: ring that touches itself, zero-area ring
-  kNonPlanarDistancePlane = 203,
-  kNonPlanarNormalsDeviation = 204,
-  kTooFewPolygons = 301,
-  kShellNotClosed = 302,
-  kNonManifoldCase = 303,
-  kMultipleConnectedComponents = 305,
-  kShellSelfIntersection = 306,
-  kPolygonWrongOrientation = 307,
-};
 const char* val3dity_name(int code);
 
 struct ValidationIssue {
@@ -31,11 +18,7 @@ struct ValidationIssue {
   std::string message;  // human-readable detail
 };
 
-struct ValidationOptions {
-  double snap_tol = 0.001;       // vertices closer than this are one vertex (m)
-  double planarity_tol = 0.01;   // max distance to the fitted plane (m)
-  double normals_tol_deg = 20;   // max triangle-normal deviation (204)
-};
+using ValidationOptions = PolygonRules;  // snap, planarity and normals tolerances
 
 std::vector<ValidationIssue> validate_building(const Building& b,
                                                const ValidationOptions& opt = {});

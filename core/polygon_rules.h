@@ -1,0 +1,59 @@
+#pragma once
+// val3dity's ring and polygon rules (ISO 19107 as val3dity applies them), in
+// one place for `cadastre3d validate` and for the reconstruction, which checks
+// its own faces against them before it calls a building valid.
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+// val3dity error codes.
+enum Val3dityCode : int {
+  kTooFewPoints = 101,
+  kConsecutivePointsSame = 102,
+  kRingSelfIntersection = 104,   // also: ring that touches itself, zero-area ring
+  kNonPlanarDistancePlane = 203,
+  kNonPlanarNormalsDeviation = 204,
+  kTooFewPolygons = 301,
+  kShellNotClosed = 302,
+  kNonManifoldCase = 303,
+  kMultipleConnectedComponents = 305,
+  kShellSelfIntersection = 306,
+  kPolygonWrongOrientation = 307,
+};
+
+struct PolygonRules {
+  double snap_tol = 0.001;       // vertices closer than this are one vertex (m)
+  double planarity_tol = 0.01;   // max distance to the fitted plane (m)
+  double normals_tol_deg = 20;   // max triangle-normal deviation (204)
+};
+
+// Vertices snapped to a grid of snap_tol: equal ids mean "same vertex".
+class VertexSnap {
+ public:
+  explicit VertexSnap(double tol) : tol_(tol) {}
+  int id(const Vec3& p);
+  std::vector<Vec3> points;  // by id
+
+ private:
+  double tol_;
+  std::map<std::array<long long, 3>, int> map_;
+};
+
+struct PolygonIssue {
+  int code = 0;
+  std::string where;    // "" for the outer ring, " hole k" for a hole
+  std::string message;
+};
+
+// Checks one face: each ring (101, 102, 104), then planarity (203, then 204).
+// Appends each ring's vertex ids (consecutive repeats dropped) to `rings` and
+// any issue to `issues`; false when the face is unusable.
+bool check_polygon(const Face& f, const PolygonRules& rules, VertexSnap& snap,
+                   std::vector<std::vector<int>>& rings, std::vector<PolygonIssue>& issues);
+
+}  // namespace c3d
