@@ -514,15 +514,19 @@ std::vector<Vec3> gable_points(std::mt19937_64& rng, double x0 = 5, double z0 = 
 
 ReconstructionParams params() { return default_config().reconstruction; }
 
-// The gable house and a flat roof 1.5 m lower over [x0,x1] x [y0,y1].
-ParcelScene house_and_flat_roof(unsigned seed, double x0, double x1, double y0, double y1) {
+// The gable house and a second roof on `plane` over [x0,x1] x [y0,y1].
+ParcelScene house_and_roof(unsigned seed, const Plane& plane, double x0, double x1, double y0, double y1) {
   std::mt19937_64 rng(seed);
   ParcelScene s = square_parcel_scene();
   s.roof_points = gable_points(rng);
-  Plane flat = plane_through({0, 0, 102}, {0, 0, 1});
-  auto a = sample_plane(flat, x0, x1, y0, y1, 40, 0.02, rng);
+  auto a = sample_plane(plane, x0, x1, y0, y1, 40, 0.02, rng);
   s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
   return s;
+}
+
+// The gable house and a flat roof 1.5 m lower over [x0,x1] x [y0,y1].
+ParcelScene house_and_flat_roof(unsigned seed, double x0, double x1, double y0, double y1) {
+  return house_and_roof(seed, plane_through({0, 0, 102}, {0, 0, 1}), x0, x1, y0, y1);
 }
 
 }  // namespace
@@ -609,12 +613,7 @@ TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
   // East of the parcel lies land no parcel of the layer holds. A flat roof
   // standing there reaches 1 m into this parcel: it is not this parcel's
   // building (before, it became a second building here).
-  std::mt19937_64 rng(13);
-  ParcelScene s = square_parcel_scene();
-  s.roof_points = gable_points(rng);
-  Plane flat = plane_through({0, 0, 104}, {0, 0, 1});
-  auto foreign = sample_plane(flat, 19, 23, 3, 17, 40, 0.02, rng);
-  s.roof_points.insert(s.roof_points.end(), foreign.begin(), foreign.end());
+  ParcelScene s = house_and_roof(13, plane_through({0, 0, 104}, {0, 0, 1}), 19, 23, 3, 17);
   ParcelResult r = reconstruct_parcel(s, params());
   ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
   ASSERT_EQ(r.buildings.size(), 1u);
@@ -625,13 +624,8 @@ TEST(ReconstructBadInput, PorchOverLandOutsideTheLayerStaysWithTheHouse) {
   // The parcel ends 1 m inside the house's south eave; a flat porch roof
   // continues the eave 3.5 m over land outside the layer (an alley). Most of
   // the porch lies outside, but the roof it belongs to is this parcel's.
-  std::mt19937_64 rng(14);
-  ParcelScene s = square_parcel_scene();
+  ParcelScene s = house_and_roof(14, plane_through({0, 5.5, 102.6}, {0, -0.05, 1}), 4.5, 15.5, 2.0, 5.5);
   s.parcel = {Polygon2{{{0, 4.5}, {20, 4.5}, {20, 20}, {0, 20}}, {}}};
-  s.roof_points = gable_points(rng);
-  Plane porch = plane_through({0, 5.5, 102.6}, {0, -0.05, 1});
-  auto a = sample_plane(porch, 4.5, 15.5, 2.0, 5.5, 40, 0.02, rng);
-  s.roof_points.insert(s.roof_points.end(), a.begin(), a.end());
   ParcelResult r = reconstruct_parcel(s, params());
   ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
   ASSERT_EQ(r.buildings.size(), 1u);
