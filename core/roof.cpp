@@ -245,9 +245,12 @@ void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regi
   const double tolerance = 2.0 * in.cell;  // the staircase's steps are one cell
   for (const auto& piece : chain_pieces(shared, tolerance)) {
     if (piece.size() < 2 || polyline_length({piece}) < 0.4) continue;
+    if ((piece.front() - piece.back()).norm() < tolerance) continue;  // a ring round an island level
     std::vector<Vec2> line = straight_legs(piece, tolerance);
-    line.front() += kCutOverrun * (line[0] - line[1]).normalized();
-    line.back() += kCutOverrun * (line.back() - line[line.size() - 2]).normalized();
+    const Vec2 out0 = line[0] - line[1], out1 = line.back() - line[line.size() - 2];
+    if (out0.norm() < 1e-6 || out1.norm() < 1e-6) continue;
+    line.front() += kCutOverrun * out0.normalized();
+    line.back() += kCutOverrun * out1.normalized();
     const MultiPolygon2 left = poly::side_strip(line, 1.0), right = poly::side_strip(line, -1.0);
     long on_left = 0, on_right = 0;  // region i's points on either side
     for (size_t k = 0; k < in.points.size(); ++k)
