@@ -240,9 +240,10 @@ void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines,
   for (size_t i = 0; i < lines.size(); ++i) {
     const EdgeLine& l = lines[i];
     const double pad = 0.02 * (l.t1 - l.t0) + 0.1;
+    const Vec2 n = outward(l.dir);
     for (const auto& p : points) {
       Vec2 q = p - l.origin;
-      double t = l.dir.dot(q), s = outward(l.dir).dot(q);
+      double t = l.dir.dot(q), s = n.dot(q);
       if (t >= l.t0 - pad && t <= l.t1 + pad && s >= -kBand - pad && s <= kBeyond + pad) near[i].push_back(p);
     }
   }

@@ -231,12 +231,13 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
 // Why a building's faces would fail validation ("" when they pass): the ring
 // and polygon rules `validate` applies, with its tolerances.
 std::string face_defect(const Building& b) {
+  const PolygonRules rules;  // validate's defaults
   for (const auto& e : b.elements)
     for (const auto& f : e.faces) {
-      VertexSnap snap(PolygonRules{}.snap_tol);
+      VertexSnap snap(rules.snap_tol);
       std::vector<std::vector<int>> rings;
       std::vector<PolygonIssue> issues;
-      if (!check_polygon(f, PolygonRules{}, snap, rings, issues))
+      if (!check_polygon(f, rules, snap, rings, issues))
         return std::string("a ") + to_string(e.type) + " face" + issues.front().where + ": " +
                issues.front().message;
     }
