@@ -25,6 +25,14 @@ constexpr double kMaxOverhang = 1.8;
 // found closer to the edge is believed: gable ends and walls under a lower
 // roof often have little or no overhang.
 constexpr double kOverhangOutlier = 0.6;
+// A wall seen up to this far outside the roof outline is the wall under that
+// edge, flush with the eave: the outline (a hull of roof points) stops short of
+// the true eave where the eave's points are missing. Farther out stands
+// something else (a fence, a neighbour across a gap).
+constexpr double kMaxOutside = 0.6;
+// Wall points more than this above the roof along an edge belong to a taller
+// neighbour's wall behind it (a parapet rises less).
+constexpr double kAboveRoof = 0.5;
 // Vertices closer than this are one vertex (validators snap at a millimetre);
 // the plan rings, the shell and the wall profiles all weld at it.
 constexpr double kWeldTol = 1e-3;  // m
@@ -97,6 +105,20 @@ bool continues_step(const EdgeInfo& e, const std::vector<RoofRegion>& roof) {
   return false;
 }
 
+// Highest point of the roof over the band where this edge's wall may stand
+// (+inf where no roof region covers it): wall points above it plus kAboveRoof
+// are not this edge's wall.
+double wall_top(const EdgeInfo& e, const std::vector<RoofRegion>& roof) {
+  const Vec2 in = -outward((e.b - e.a).normalized());
+  double top = -INFINITY;
+  for (double t : {0.05, 0.5, 0.95})
+    for (double depth : {0.2, kMaxOverhang}) {
+      const double z = roof_z(roof, e.a + t * (e.b - e.a) + depth * in);
+      if (std::isfinite(z)) top = std::max(top, z);
+    }
+  return std::isfinite(top) ? top + kAboveRoof : INFINITY;
+}
+
 std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<EdgeInfo> edges(ring.size());
@@ -113,7 +135,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
     }
     Vec2 mid = 0.5 * (e.a + e.b);
     double tz = in.terrain(mid.x(), mid.y());
-    WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3);
+    WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof));
     if (fit.found && -fit.offset < kMaxOverhang) {
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Measured;
@@ -122,14 +144,17 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       measured.push_back({e.overhang, (e.b - e.a).norm()});
     }
   }
-  if (measured.empty()) {
+  const bool seen = std::any_of(edges.begin(), edges.end(),
+                                [](const EdgeInfo& e) { return e.evidence == WallEvidence::Measured; });
+  if (!seen) {
     // No wall of this building seen (a row house between its neighbours): the
     // facade line may continue on the neighbours just past the edge's ends.
     for (auto& e : edges) {
       if (e.party) continue;
       Vec2 mid = 0.5 * (e.a + e.b);
       double tz = in.terrain(mid.x(), mid.y());
-      WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, true);
+      WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof),
+                             true);
       if (!fit.found) continue;
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Propagated;
@@ -710,34 +735,13 @@ void debug_open_edges(const Building& b) {
 
 }  // namespace
 
-WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z,
-                 bool beyond_ends) {
+namespace {
+
+// The wall at offset `centre` (points within 0.08 m of it), or found=false
+// when too few points show it or they cover too little of the edge.
+WallFit wall_at(const std::vector<std::pair<double, double>>& st, double centre, double len,
+                bool beyond_ends) {
   WallFit fit;
-  Vec2 d = b - a;
-  double len = d.norm();
-  if (len < 0.8) return fit;
-  d /= len;
-  Vec2 n = outward(d);
-  const double lo = -kMaxOverhang, hi = 0.3, bin = 0.04;
-  std::vector<int> hist(int((hi - lo) / bin) + 1, 0);
-  std::vector<std::pair<double, double>> st;  // (s, t)
-  for (const auto& p : pts) {
-    if (p.z() < min_z) continue;
-    Vec2 q = p.head<2>() - a;
-    double t = d.dot(q), s = n.dot(q);
-    bool along = beyond_ends ? ((t < 0 && t > -kMaxOverhang) || (t > len && t < len + kMaxOverhang))
-                             : (t >= 0.1 * len && t <= 0.9 * len);
-    if (!along || s < lo || s > hi) continue;
-    ++hist[int((s - lo) / bin)];
-    st.emplace_back(s, t);
-  }
-  if (st.size() < 25) return fit;
-  int peak = 0, best = -1;
-  for (size_t i = 0; i < hist.size(); ++i) {
-    int c = hist[i] + (i > 0 ? hist[i - 1] : 0) + (i + 1 < hist.size() ? hist[i + 1] : 0);
-    if (c > best) best = c, peak = int(i);
-  }
-  double centre = lo + (peak + 0.5) * bin;
   double sum = 0, sum2 = 0;
   int count = 0;
   std::vector<bool> covered(size_t(len / 0.5) + 1, false);
@@ -758,6 +762,47 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
   fit.support = count;
   fit.rms = std::sqrt(sum2 / count);
   return fit;
+}
+
+}  // namespace
+
+WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z, double max_z,
+                 bool beyond_ends) {
+  Vec2 d = b - a;
+  double len = d.norm();
+  if (len < 0.8) return {};
+  d /= len;
+  Vec2 n = outward(d);
+  const double lo = -kMaxOverhang, hi = kMaxOutside, bin = 0.04;
+  std::vector<int> hist(int((hi - lo) / bin) + 1, 0);
+  std::vector<std::pair<double, double>> st;  // (s, t)
+  for (const auto& p : pts) {
+    if (p.z() < min_z || p.z() > max_z) continue;
+    Vec2 q = p.head<2>() - a;
+    double t = d.dot(q), s = n.dot(q);
+    bool along = beyond_ends ? ((t < 0 && t > -kMaxOverhang) || (t > len && t < len + kMaxOverhang))
+                             : (t >= 0.1 * len && t <= 0.9 * len);
+    if (!along || s < lo || s > hi) continue;
+    ++hist[int((s - lo) / bin)];
+    st.emplace_back(s, t);
+  }
+  if (st.size() < 25) return {};
+  // Peaks of the offset histogram (3 bins wide), most points first: a short
+  // bright patch (a pole, a gate) must not hide the wall behind it.
+  const size_t bins = hist.size();
+  std::vector<int> smooth(bins);
+  for (size_t i = 0; i < bins; ++i)
+    smooth[i] = hist[i] + (i > 0 ? hist[i - 1] : 0) + (i + 1 < bins ? hist[i + 1] : 0);
+  std::vector<std::pair<int, int>> peaks;  // (count, bin)
+  for (size_t i = 0; i < bins; ++i)
+    if ((i == 0 || smooth[i] > smooth[i - 1]) && (i + 1 == bins || smooth[i] >= smooth[i + 1]))
+      peaks.emplace_back(smooth[i], int(i));
+  std::sort(peaks.rbegin(), peaks.rend());
+  for (const auto& [count, i] : peaks) {
+    const WallFit fit = wall_at(st, lo + (i + 0.5) * bin, len, beyond_ends);
+    if (fit.found) return fit;
+  }
+  return {};
 }
 
 Building build_building(const EnvelopeInput& in) {

@@ -32,7 +32,8 @@ struct EnvelopeInput {
 Building build_building(const EnvelopeInput& in);
 
 // Wall evidence for one outline edge: offset (m, negative = inside the edge) of
-// the wall seen by the scanner, with its support. found=false without evidence.
+// the wall seen by the scanner between heights min_z and max_z, with its
+// support. found=false without evidence.
 struct WallFit {
   bool found = false;
   double offset = 0;
@@ -42,6 +43,6 @@ struct WallFit {
 // beyond_ends: look only just past the edge's ends (the facade of attached
 // neighbours continuing the same line), without the coverage check.
 WallFit fit_wall(const std::vector<Vec3>& wall_points, const Vec2& a, const Vec2& b,
-                 double min_z, bool beyond_ends = false);
+                 double min_z, double max_z, bool beyond_ends = false);
 
 }  // namespace c3d

@@ -327,6 +327,62 @@ TEST(Envelope, UnseenWallsTakeTheLengthWeightedMeanOfTheSeenEaves) {
   EXPECT_NEAR(totals(b).ground, (10.5 - typical) * (8.5 - typical), 0.2);
 }
 
+// Wall points (2 cm noise, 0.3 to 3 m high unless given) along a segment.
+void see_wall(EnvelopeInput& in, const Vec2& a, const Vec2& b, unsigned seed, double z0 = 0.3,
+              double z1 = 3.0) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0, 0.02);
+  std::uniform_real_distribution<double> u(0, 1), z(z0, z1);
+  const Vec2 normal = Vec2((b - a).y(), -(b - a).x()).normalized();
+  for (int i = 0; i < 1500; ++i) {
+    const Vec2 p = a + u(rng) * (b - a) + n(rng) * normal;
+    in.wall_points.emplace_back(p.x(), p.y(), z(rng));
+  }
+}
+
+TEST(Envelope, WallSeenJustOutsideTheRoofOutlineStandsUnderThatEave) {
+  // 10 x 8 m walls; the roof hangs 0.5 m over the west and north walls (both
+  // seen) and is flush with the south wall, whose eave points are missing:
+  // the outline stops 0.45 m short of it. The south wall is that edge's wall,
+  // flush; taking the building's 0.5 m overhang there instead would put it
+  // 0.95 m inside the points (ground 70.5 m2, not 75.5).
+  EnvelopeInput in = flat_roof_input("short-eave", Polygon2{{{-0.5, 0.45}, {10.5, 0.45}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
+  see_wall(in, {0, 0}, {10, 0}, 31);  // south, 0.45 m outside the outline
+  see_wall(in, {0, 8}, {0, 0}, 32);   // west
+  see_wall(in, {10, 8}, {0, 8}, 33);  // north
+  Building b = build_building(in);
+  EXPECT_NEAR(totals(b).ground, 10.0 * (8.0 - 0.45), 0.3);
+  int measured = 0;
+  for (const auto& e : b.elements) measured += e.evidence == WallEvidence::Measured;
+  EXPECT_EQ(measured, 3);
+}
+
+TEST(Envelope, TallerWallBehindTheEdgeIsNotThisEdgesWall) {
+  // 10 x 8 m walls under a flat roof at 3 m with 0.5 m overhang, south and west
+  // seen. Behind the east edge, 0.8 m inside it, stands the wall of a taller
+  // neighbour, seen only above this roof (3.6 to 7 m). It is not the east wall:
+  // that wall takes the building's overhang (ground 80 m2); believing the
+  // taller wall would cut the footprint to 9.7 x 8 m.
+  EnvelopeInput in = flat_roof_input("taller-behind", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
+  see_south_and_west_walls(in, 34);
+  see_wall(in, {9.7, 0}, {9.7, 8}, 35, 3.6, 7.0);
+  Building b = build_building(in);
+  EXPECT_NEAR(totals(b).ground, 80.0, 0.5);
+}
+
+TEST(Envelope, ShortBrightPatchDoesNotHideTheWallBehindIt) {
+  // A gate post 0.2 m outside the south edge gives more points than the south
+  // wall 0.5 m inside it, but covers only 0.6 m of the 11 m edge: the wall is
+  // the next peak of the offsets, and it is the one that covers the edge.
+  EnvelopeInput in = flat_roof_input("post", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
+  see_wall(in, {0, 0}, {10, 0}, 36);
+  see_wall(in, {4.0, -0.7}, {4.6, -0.7}, 37);
+  see_wall(in, {4.0, -0.7}, {4.6, -0.7}, 38);
+  const WallFit fit = fit_wall(in.wall_points, {-0.5, -0.5}, {10.5, -0.5}, 0.3, 3.5);
+  ASSERT_TRUE(fit.found);
+  EXPECT_NEAR(fit.offset, -0.5, 0.03);
+}
+
 TEST(Envelope, UnseenWallBesideALowerAnnexContinuesTheStepWall) {
   // A 10 x 8 m house (flat roof at 6 m, 0.5 m overhang, none on its east
   // gable) with a 4 x 4 m annex (roof at 3 m) against the middle of that gable.
