@@ -140,7 +140,9 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Measured;
       e.support = fit.support;
-      e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support));
+      // A wall seen outside the outline stays under the roof at the outline:
+      // its distance to the points it stands for is part of its error.
+      e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
       measured.push_back({e.overhang, (e.b - e.a).norm()});
     }
   }
@@ -732,10 +734,6 @@ void debug_open_edges(const Building& b) {
                    std::get<0>(e.first) * 1e-4, std::get<1>(e.first) * 1e-4, std::get<2>(e.first) * 1e-4,
                    std::get<0>(e.second) * 1e-4, std::get<1>(e.second) * 1e-4, std::get<2>(e.second) * 1e-4);
 }
-
-}  // namespace
-
-namespace {
 
 // The wall at offset `centre` (points within 0.08 m of it), or found=false
 // when too few points show it or they cover too little of the edge.
