@@ -119,6 +119,13 @@ double wall_top(const EdgeInfo& e, const std::vector<RoofRegion>& roof) {
   return std::isfinite(top) ? top + kAboveRoof : INFINITY;
 }
 
+// The wall seen under edge e, between 0.3 m above the terrain and wall_top.
+WallFit fit_edge_wall(const EnvelopeInput& in, const EdgeInfo& e, bool beyond_ends = false) {
+  const Vec2 mid = 0.5 * (e.a + e.b);
+  const double tz = in.terrain(mid.x(), mid.y());
+  return fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof), beyond_ends);
+}
+
 std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<EdgeInfo> edges(ring.size());
@@ -133,9 +140,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       e.sigma = 0.05;
       continue;
     }
-    Vec2 mid = 0.5 * (e.a + e.b);
-    double tz = in.terrain(mid.x(), mid.y());
-    WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof));
+    const WallFit fit = fit_edge_wall(in, e);
     if (fit.found && -fit.offset < kMaxOverhang) {
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Measured;
@@ -146,17 +151,12 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       measured.push_back({e.overhang, (e.b - e.a).norm()});
     }
   }
-  const bool seen = std::any_of(edges.begin(), edges.end(),
-                                [](const EdgeInfo& e) { return e.evidence == WallEvidence::Measured; });
-  if (!seen) {
+  if (measured.empty()) {
     // No wall of this building seen (a row house between its neighbours): the
     // facade line may continue on the neighbours just past the edge's ends.
     for (auto& e : edges) {
       if (e.party) continue;
-      Vec2 mid = 0.5 * (e.a + e.b);
-      double tz = in.terrain(mid.x(), mid.y());
-      WallFit fit = fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof),
-                             true);
+      const WallFit fit = fit_edge_wall(in, e, true);
       if (!fit.found) continue;
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Propagated;

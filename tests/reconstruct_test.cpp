@@ -232,16 +232,24 @@ TEST(RoofPartition, LShapedStepFollowsTheBuildingNotTheGrid) {
 
 namespace {
 
-// 2000 wall points each (2 cm noise, up to 3 m) on the south wall y = 0 and
-// the west wall x = 0 of a 10 x 8 m house with its south-west corner at the origin.
-void see_south_and_west_walls(EnvelopeInput& in, unsigned seed) {
+// `count` wall points (2 cm noise, z0 to z1 high) along the segment a-b.
+void see_wall(EnvelopeInput& in, const Vec2& a, const Vec2& b, unsigned seed, int count = 1500,
+              double z0 = 0.3, double z1 = 3.0) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0, 0.02);
-  std::uniform_real_distribution<double> u(0, 1);
-  for (int i = 0; i < 2000; ++i) {
-    in.wall_points.emplace_back(10 * u(rng), 0 + n(rng), 3 * u(rng));  // south wall y = 0
-    in.wall_points.emplace_back(0 + n(rng), 8 * u(rng), 3 * u(rng));   // west wall x = 0
+  std::uniform_real_distribution<double> u(0, 1), z(z0, z1);
+  const Vec2 normal = Vec2((b - a).y(), -(b - a).x()).normalized();
+  for (int i = 0; i < count; ++i) {
+    const Vec2 p = a + u(rng) * (b - a) + n(rng) * normal;
+    in.wall_points.emplace_back(p.x(), p.y(), z(rng));
   }
+}
+
+// 2000 wall points each on the south wall y = 0 and the west wall x = 0 of a
+// 10 x 8 m house with its south-west corner at the origin.
+void see_south_and_west_walls(EnvelopeInput& in, unsigned seed) {
+  see_wall(in, {0, 0}, {10, 0}, seed, 2000);
+  see_wall(in, {0, 8}, {0, 0}, seed + 1000, 2000);
 }
 
 }  // namespace
@@ -327,19 +335,6 @@ TEST(Envelope, UnseenWallsTakeTheLengthWeightedMeanOfTheSeenEaves) {
   EXPECT_NEAR(totals(b).ground, (10.5 - typical) * (8.5 - typical), 0.2);
 }
 
-// Wall points (2 cm noise, 0.3 to 3 m high unless given) along a segment.
-void see_wall(EnvelopeInput& in, const Vec2& a, const Vec2& b, unsigned seed, double z0 = 0.3,
-              double z1 = 3.0) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> n(0, 0.02);
-  std::uniform_real_distribution<double> u(0, 1), z(z0, z1);
-  const Vec2 normal = Vec2((b - a).y(), -(b - a).x()).normalized();
-  for (int i = 0; i < 1500; ++i) {
-    const Vec2 p = a + u(rng) * (b - a) + n(rng) * normal;
-    in.wall_points.emplace_back(p.x(), p.y(), z(rng));
-  }
-}
-
 TEST(Envelope, WallSeenJustOutsideTheRoofOutlineStandsUnderThatEave) {
   // 10 x 8 m walls; the roof hangs 0.5 m over the west and north walls (both
   // seen) and is flush with the south wall, whose eave points are missing:
@@ -370,7 +365,7 @@ TEST(Envelope, TallerWallBehindTheEdgeIsNotThisEdgesWall) {
   // taller wall would cut the footprint to 9.7 x 8 m.
   EnvelopeInput in = flat_roof_input("taller-behind", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
   see_south_and_west_walls(in, 34);
-  see_wall(in, {9.7, 0}, {9.7, 8}, 35, 3.6, 7.0);
+  see_wall(in, {9.7, 0}, {9.7, 8}, 35, 1500, 3.6, 7.0);
   Building b = build_building(in);
   EXPECT_NEAR(totals(b).ground, 80.0, 0.5);
 }
@@ -381,8 +376,7 @@ TEST(Envelope, ShortBrightPatchDoesNotHideTheWallBehindIt) {
   // the next peak of the offsets, and it is the one that covers the edge.
   EnvelopeInput in = flat_roof_input("post", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
   see_wall(in, {0, 0}, {10, 0}, 36);
-  see_wall(in, {4.0, -0.7}, {4.6, -0.7}, 37);
-  see_wall(in, {4.0, -0.7}, {4.6, -0.7}, 38);
+  see_wall(in, {4.0, -0.7}, {4.6, -0.7}, 37, 3000);
   const WallFit fit = fit_wall(in.wall_points, {-0.5, -0.5}, {10.5, -0.5}, 0.3, 3.5);
   ASSERT_TRUE(fit.found);
   EXPECT_NEAR(fit.offset, -0.5, 0.03);
