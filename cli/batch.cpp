@@ -184,6 +184,7 @@ std::string params_json(const Config& cfg, const BatchOptions& opt) {
               {"min_component_points", r.min_component_points},
               {"min_component_area_m2", r.min_component_area_m2},
               {"plane_inlier_m", r.plane_inlier_m},
+              {"loose_point_reach_m", r.loose_point_reach_m},
               {"default_overhang_m", r.default_overhang_m},
               {"storey_height_m", r.storey_height_m},
               {"shared_roof_depth_m", r.shared_roof_depth_m},

@@ -149,7 +149,7 @@ void read_fields(const Section& s, ParcelFields& f) {
 void read_reconstruction(const Section& s, ReconstructionParams& r) {
   s.allow_only({"outlier_neighbours", "outlier_std", "roof_cluster_m",
                 "component_smoothness_deg", "component_curvature", "min_component_points",
-                "min_component_area_m2", "plane_inlier_m", "partition_cell_m",
+                "min_component_area_m2", "plane_inlier_m", "loose_point_reach_m", "partition_cell_m",
                 "default_overhang_m", "storey_height_m", "shared_roof_depth_m", "optimize",
                 "optimize_device"});
   s.integer("outlier_neighbours", r.outlier_neighbours, false, 1);
@@ -160,6 +160,7 @@ void read_reconstruction(const Section& s, ReconstructionParams& r) {
   s.integer("min_component_points", r.min_component_points, false, 3);
   s.number("min_component_area_m2", r.min_component_area_m2, false);
   s.number("plane_inlier_m", r.plane_inlier_m, false);
+  s.number("loose_point_reach_m", r.loose_point_reach_m, false, 0, 10);
   s.number("partition_cell_m", r.partition_cell_m, false, 0, 1);
   s.number("default_overhang_m", r.default_overhang_m, false);
   s.number("storey_height_m", r.storey_height_m, false, 0.5);

@@ -30,6 +30,8 @@ struct ReconstructionParams {
   int min_component_points = 30;
   double min_component_area_m2 = 2.0;
   double plane_inlier_m = 0.15;            // robust plane fit
+  double loose_point_reach_m = 2.0;        // roof points no plane took still widen the outline this far
+                                           // from the planes' points (textured strips along eaves)
   double partition_cell_m = 0.0;           // labelling grid of the roof partition (0: point spacing, 0.05..0.15)
   double default_overhang_m = 0.5;         // when no wall is seen at all
   double storey_height_m = 3.0;

@@ -105,14 +105,14 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double de
       for (int n = 0; n < outside; ++n) held[size_t(n)] = 0;
     if (roof_own[size_t(c.roof)] >= roof_outside[size_t(c.roof)]) held[size_t(outside)] = 0;
     if (own == 0 || own < *std::max_element(held.begin(), held.end())) {
-      for (int i : c.points) seg.label[i] = -1;  // another's
+      for (int i : c.points) seg.label[i] = seg.roof_of[i] = -1;  // another's
       c.points.clear();
       continue;
     }
     if (shared.empty()) continue;  // whole: ours, overhang included
     std::vector<int> kept;
     for (size_t k = 0; k < c.points.size(); ++k) {
-      if (where[k] >= 0 && where[k] != outside) seg.label[c.points[k]] = -1;
+      if (where[k] >= 0 && where[k] != outside) seg.label[c.points[k]] = seg.roof_of[c.points[k]] = -1;
       else kept.push_back(c.points[k]);
     }
     c.points = kept;
@@ -191,7 +191,7 @@ struct BuildingPlan {
 };
 
 std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentation& seg,
-                                         const std::set<int>& split_with, bool turn_axes) {
+                                         const std::set<int>& split_with, double loose_reach, bool turn_axes) {
   std::map<int, std::vector<int>> comps_of_roof;
   for (size_t c = 0; c < seg.components.size(); ++c)
     if (!seg.components[c].points.empty()) comps_of_roof[seg.components[c].roof].push_back(int(c));
@@ -200,8 +200,11 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
   OutlineOptions opt;
   opt.spacing = seg.spacing;
   opt.refine_orientation = turn_axes;
+  const auto loose = loose_roof_points(s.roof_points, seg, loose_reach);
   for (auto& [roof, comps] : comps_of_roof) {
     std::vector<Vec2> pts;
+    for (int i : loose[size_t(roof)])  // on this parcel only: a neighbour's are theirs
+      if (poly::covers(s.parcel, plan(s.roof_points[i]))) pts.push_back(plan(s.roof_points[i]));
     for (int c : comps)
       for (int i : seg.components[c].points) pts.push_back(plan(s.roof_points[i]));
     Polygon2 o = roof_outline(pts, opt);
@@ -313,7 +316,7 @@ void remodel_defective(const ParcelScene& s, const Segmentation& seg, const std:
   for (size_t k = 0; k < buildings.size(); ++k) {
     Building& b = buildings[k];
     if (b.solid_valid && face_defect(b).empty()) continue;
-    if (fallback.empty()) fallback = plan_buildings(s, seg, split_with, false);
+    if (fallback.empty()) fallback = plan_buildings(s, seg, split_with, p.loose_point_reach_m, false);
     for (const auto& bp : fallback) {
       if (bp.components != plans[k].components) continue;
       Building again = model_building(s, seg, bp, p, b.id, clock);
@@ -356,7 +359,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
         c.fit = fit_plane_robust(s.roof_points, c.points, p.plane_inlier_m);
       }
     clock.lap("ownership");
-    auto plans = plan_buildings(s, seg, split_with, true);
+    auto plans = plan_buildings(s, seg, split_with, p.loose_point_reach_m, true);
     clock.lap("boundary");
     for (size_t k = 0; k < plans.size(); ++k) {
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);

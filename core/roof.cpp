@@ -368,6 +368,10 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
       auto it = moved.find({v.x(), v.y()});
       if (it != moved.end()) v = it->second;
     }
+  // Where four or more planes meet, vertices snapped to different triples of
+  // them land millimetres apart; as separate vertices they would leave
+  // slivers whose triangles tilt. They are one junction.
+  node_rings(rings, 0.01);
 }
 
 // Snapping may make neighbours overlap slightly; an area belongs to one region only.

@@ -139,9 +139,14 @@ void reassign(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& nei
 
 }  // namespace
 
+// A loose point on a surface steeper than 60 degrees (a tank's side, a parapet's
+// face) is not roof surface; corrugated sheet tilts its normals by up to ~45.
+constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
+
 Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
   Segmentation seg;
   seg.label.assign(points.size(), -1);
+  seg.roof_of.assign(points.size(), -1);
   if (points.size() < 10) return seg;
   auto cloud = to_pcl(points);
   const int normal_neighbours = 16;
@@ -188,9 +193,45 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
       seg.components.push_back(std::move(c));
       ++kept_here;
     }
-    if (kept_here > 0) ++seg.roof_count;
+    if (kept_here == 0) continue;
+    for (int i : roof.indices)  // a steep surface (a tank's side, a wall top) is not roof
+      if (seg.label[i] >= 0 || std::abs((*normals)[size_t(i)].normal_z) >= kMinRoofNormalZ)
+        seg.roof_of[i] = seg.roof_count;
+    ++seg.roof_count;
   }
   return seg;
+}
+
+// Higher above the nearest plane than this, a loose point stands on the roof
+// (a tank's lid, an antenna) rather than being part of it: a textured eave
+// strip rises a few decimetres at most.
+constexpr double kMaxLooseRise = 0.5;  // m
+
+std::vector<std::vector<int>> loose_roof_points(const std::vector<Vec3>& points, const Segmentation& seg,
+                                                double reach) {
+  std::vector<std::vector<int>> taken(size_t(seg.roof_count)), loose(size_t(seg.roof_count));
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (seg.roof_of[i] < 0) continue;
+    (seg.label[i] >= 0 ? taken : loose)[size_t(seg.roof_of[i])].push_back(int(i));
+  }
+  std::vector<std::vector<int>> out(loose.size());
+  for (size_t r = 0; r < loose.size(); ++r) {
+    if (taken[r].empty() || loose[r].empty()) continue;
+    Cloud::Ptr plan(new Cloud);
+    for (int i : taken[r]) plan->push_back(pcl::PointXYZ(float(points[i].x()), float(points[i].y()), 0.f));
+    Tree tree;
+    tree.setInputCloud(plan);
+    pcl::Indices nn(1);
+    std::vector<float> d2(1);
+    for (int i : loose[r]) {
+      pcl::PointXYZ q(float(points[i].x()), float(points[i].y()), 0.f);
+      if (tree.nearestKSearch(q, 1, nn, d2) != 1 || d2[0] > reach * reach) continue;
+      const Plane& nearest = seg.components[size_t(seg.label[size_t(taken[r][size_t(nn[0])])])].fit.plane;
+      const double above = nearest.distance(points[i]) * (nearest.n.z() < 0 ? -1 : 1);
+      if (above <= kMaxLooseRise) out[r].push_back(i);
+    }
+  }
+  return out;
 }
 
 }  // namespace c3d

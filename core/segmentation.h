@@ -20,9 +20,17 @@ struct Segmentation {
   std::vector<RoofComponent> components;
   int roof_count = 0;
   std::vector<int> label;   // per point: component index or -1 (outlier / clutter)
+  std::vector<int> roof_of; // per point: individual roof, or -1 (outlier, or a roof with no component)
   double spacing = 0.2;     // median nearest-neighbour distance in plan, m
 };
 
 Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p);
+
+// Per individual roof, its loose points: points of the roof no plane took
+// (textured tiles, corrugation, gutters, small features) that lie within
+// `reach` (in plan) of a point some plane did take. They are roof all the same
+// and belong inside its outline; points further out are clutter beside it.
+std::vector<std::vector<int>> loose_roof_points(const std::vector<Vec3>& points, const Segmentation& seg,
+                                                double reach);
 
 }  // namespace c3d

@@ -687,3 +687,67 @@ TEST(ReconstructBadInput, PorchOverLandOutsideTheLayerStaysWithTheHouse) {
   EXPECT_EQ(totals(r.buildings[0]).roof_planes, 3);
   EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 12.5, 11.0 * 12.5 * 0.03);
 }
+
+// ---- roof points no plane takes -------------------------------------------
+
+namespace {
+
+// The gable house with a strip along its south eave that no plane takes:
+// sheet laid in a zigzag (teeth 0.6 m wide tilted 20 degrees either way, each
+// too small for a roof plane) 0.25 m above the south plane, 1.2 m wide
+// (y 4.3 .. 5.5), like the eave strips of the Cimahi roofs.
+ParcelScene house_with_zigzag_eave_strip(unsigned seed) {
+  std::mt19937_64 rng(seed);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  const Plane south = plane_through({0, 10, 106}, {0, -0.75, 1});
+  std::uniform_real_distribution<double> ux(4.5, 15.5), uy(4.3, 5.5);
+  std::normal_distribution<double> noise(0, 0.02);
+  const double tooth = 0.6, rise = tooth * std::tan(20 * M_PI / 180);
+  for (int i = 0; i < int(11 * 1.2 * 60); ++i) {
+    double x = ux(rng), y = uy(rng);
+    double t = std::fmod(x, 2 * tooth);
+    double zig = rise * (t < tooth ? t / tooth : 2 - t / tooth);
+    s.roof_points.emplace_back(x, y, south.z_at(x, y) + 0.25 + zig + noise(rng));
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(Reconstruct, ZigzagEaveStripNoPlaneTakesIsStillInsideTheRoof) {
+  ParcelScene s = house_with_zigzag_eave_strip(21);
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  EXPECT_TRUE(r.buildings[0].solid_valid) << r.buildings[0].solid_problem;
+  // The roof reaches y = 4.3, not the south plane's own edge at 5.5 (99 m^2).
+  EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 10.2, 11.0 * 10.2 * 0.03);
+  EXPECT_LT(r.buildings[0].roof_deviation.mean, 0.3) << "the strip's points have a roof under them";
+}
+
+TEST(Reconstruct, BoxStandingOverTheEaveDoesNotWidenTheRoof) {
+  // A 3 m water-tank box stands on the south eave and reaches 0.8 m past it.
+  // Its sides are steep and its lid stands 1.2 m above the roof: neither is
+  // roof surface, so the outline keeps to the eave.
+  std::mt19937_64 rng(22);
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = gable_points(rng);
+  const Plane south = plane_through({0, 10, 106}, {0, -0.75, 1});
+  std::uniform_real_distribution<double> u(0, 1);
+  const double base = south.z_at(10, 5.5), top = base + 1.2;
+  auto side = [&](Vec2 a, Vec2 b) {
+    for (int i = 0; i < int((b - a).norm() * 1.2 * 60); ++i) {
+      Vec2 p = a + u(rng) * (b - a);
+      s.roof_points.emplace_back(p.x(), p.y(), base + u(rng) * (top - base));
+    }
+  };
+  side({8.5, 4.7}, {11.5, 4.7});
+  side({8.5, 4.7}, {8.5, 6.2});
+  side({11.5, 4.7}, {11.5, 6.2});
+  for (int i = 0; i < int(3 * 1.5 * 40); ++i) s.roof_points.emplace_back(8.5 + 3 * u(rng), 4.7 + 1.5 * u(rng), top);
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.01);
+}
