@@ -194,7 +194,7 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
       ++kept_here;
     }
     if (kept_here == 0) continue;
-    for (int i : roof.indices)  // a steep surface (a tank's side, a wall top) is not roof
+    for (int i : roof.indices)  // a steep surface no plane took is not roof (kMinRoofNormalZ)
       if (seg.label[i] >= 0 || std::abs((*normals)[size_t(i)].normal_z) >= kMinRoofNormalZ)
         seg.roof_of[i] = seg.roof_count;
     ++seg.roof_count;

@@ -20,7 +20,8 @@ struct Segmentation {
   std::vector<RoofComponent> components;
   int roof_count = 0;
   std::vector<int> label;   // per point: component index or -1 (outlier / clutter)
-  std::vector<int> roof_of; // per point: individual roof, or -1 (outlier, or a roof with no component)
+  std::vector<int> roof_of; // per point: individual roof, or -1 (outlier, a roof with no component,
+                            // a steep surface no plane took, a point ownership gave away)
   double spacing = 0.2;     // median nearest-neighbour distance in plan, m
 };
 
