@@ -235,6 +235,14 @@ std::vector<std::vector<Vec2>> chain_pieces(std::vector<std::vector<Vec2>> piece
   return chains;
 }
 
+// Within `corridor`, region i takes what lies in `side_of_i` and region j the rest.
+void share_corridor(std::vector<MultiPolygon2>& regions, int i, int j, const MultiPolygon2& corridor,
+                    const MultiPolygon2& side_of_i) {
+  const MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
+  regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, side_of_i));
+  regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, side_of_i));
+}
+
 // A boundary no single line fits (an L-shaped step between roof levels): the
 // label grid's staircase along it is replaced by straight legs, each region
 // taking its side of them within a corridor.
@@ -259,11 +267,7 @@ void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regi
         else if (poly::covers(right, in.points[k])) ++on_right;
       }
     if (on_left == on_right) continue;
-    const MultiPolygon2& side = on_left > on_right ? left : right;
-    const MultiPolygon2 corridor = poly::unite(left, right);
-    const MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
-    regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, side));
-    regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, side));
+    share_corridor(regions, i, j, poly::unite(left, right), on_left > on_right ? left : right);
   }
 }
 
@@ -288,12 +292,9 @@ void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions,
   const Vec2 start = cut->point + (t0 - kCutOverrun) * dir, end = cut->point + (t1 + kCutOverrun) * dir;
   corridor = poly::intersect(corridor, poly::intersect(poly::halfplane_box(start, across, end, 1e4),
                                                        poly::halfplane_box(end, across, start, 1e4)));
-  MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
   Vec2 side = local_side_point(in, i, corridor, verts.front());
   if (std::abs(across.dot(side - cut->point)) < 1e-6) return;
-  MultiPolygon2 half = poly::halfplane_box(cut->point, cut->dir, side, 1e4);
-  regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, half));
-  regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, half));
+  share_corridor(regions, i, j, corridor, poly::halfplane_box(cut->point, cut->dir, side, 1e4));
 }
 
 
