@@ -751,3 +751,26 @@ TEST(Reconstruct, BoxStandingOverTheEaveDoesNotWidenTheRoof) {
   ASSERT_EQ(r.buildings.size(), 1u);
   EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.01);
 }
+
+TEST(ReconstructBadInput, RoofCutInTwoByANeighboursParcelIsTwoBuildings) {
+  // Row houses under one flat roof (x 1..18, y 10..14): the middle house
+  // (x 7..13) stands on a neighbour's parcel that cuts into this one. The roof
+  // is split at the neighbour's boundary and both houses on this parcel are
+  // modelled, not only the larger.
+  std::mt19937_64 rng(23);
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 20}, {13, 20}, {13, 8}, {7, 8}, {7, 20}, {0, 20}}, {}}};
+  s.neighbours = {{Polygon2{{{7, 8}, {13, 8}, {13, 20}, {7, 20}}, {}}}};
+  s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0.05, 1}), 1, 18, 10, 14, 40, 0.02, rng);
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 2u);
+  std::vector<double> plans;
+  for (const auto& b : r.buildings) {
+    EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    plans.push_back(totals(b).roof_plan);
+  }
+  std::sort(plans.begin(), plans.end());
+  EXPECT_NEAR(plans[0], 5.0 * 4.0, 5.0 * 4.0 * 0.03);  // x 13..18
+  EXPECT_NEAR(plans[1], 6.0 * 4.0, 6.0 * 4.0 * 0.03);  // x 1..7
+}
