@@ -188,29 +188,7 @@ std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s
 struct BuildingPlan {
   Polygon2 outline;
   std::vector<int> components;
-  bool shares_components = false;  // with another plan: a roof cut in two
 };
-
-// Plans sharing a component (a roof ownership cut in two, each part its own
-// building) say so: each then models only the points near its own outline.
-void mark_shared_components(std::vector<BuildingPlan>& plans) {
-  std::map<int, int> uses;
-  for (const auto& bp : plans)
-    for (int c : bp.components) ++uses[c];
-  for (auto& bp : plans)
-    for (int c : bp.components) bp.shares_components = bp.shares_components || uses[c] > 1;
-}
-
-// The roof points a plan models, as (component, point index).
-std::vector<std::pair<int, int>> plan_points(const ParcelScene& s, const Segmentation& seg, const BuildingPlan& bp) {
-  constexpr double kReach = 1.0;  // m: an outline edge sits within this of its points
-  std::vector<std::pair<int, int>> out;
-  for (int c : bp.components)
-    for (int i : seg.components[c].points)
-      if (!bp.shares_components || poly::distance({bp.outline}, plan(s.roof_points[i])) <= kReach)
-        out.emplace_back(c, i);
-  return out;
-}
 
 std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentation& seg,
                                          const std::set<int>& split_with, double loose_reach, bool turn_axes) {
@@ -251,7 +229,6 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
       if (part.outer.size() >= 3 && area(part) >= 4.0) plans.push_back({part, comps});
     }
   }
-  mark_shared_components(plans);
   return plans;
 }
 
@@ -285,11 +262,12 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   RoofPartitionInput rp;
   rp.outline = bp.outline;
   rp.components = bp.components;
-  for (int c : bp.components) rp.planes.push_back(seg.components[c].fit.plane);
-  const auto points = plan_points(s, seg, bp);
-  for (auto [c, i] : points) {
-    rp.points.push_back(plan(s.roof_points[i]));
-    rp.labels.push_back(c);
+  for (int c : bp.components) {  // one a neighbour's cut left in two buildings serves both, with one plane
+    rp.planes.push_back(seg.components[c].fit.plane);
+    for (int i : seg.components[c].points) {
+      rp.points.push_back(plan(s.roof_points[i]));
+      rp.labels.push_back(c);
+    }
   }
   rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.1, std::min(0.25, 1.5 * seg.spacing));
   EnvelopeInput ei;
@@ -309,7 +287,8 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   clock.lap("envelope");
   if (p.optimize) {
     std::vector<Vec3> own;
-    for (auto [c, i] : points) own.push_back(s.roof_points[i]);
+    for (int c : bp.components)
+      for (int i : seg.components[c].points) own.push_back(s.roof_points[i]);
     OptimizerOptions o;
     o.device = parse_compute_device(p.optimize_device);
     Building refined = b;

@@ -773,4 +773,14 @@ TEST(ReconstructBadInput, RoofCutInTwoByANeighboursParcelIsTwoBuildings) {
   std::sort(plans.begin(), plans.end());
   EXPECT_NEAR(plans[0], 5.0 * 4.0, 5.0 * 4.0 * 0.03);  // x 13..18
   EXPECT_NEAR(plans[1], 6.0 * 4.0, 6.0 * 4.0 * 0.03);  // x 1..7
+  // Refined too, both stay valid solids on their points.
+  ReconstructionParams refine = params();
+  refine.optimize = true;
+  refine.optimize_device = "cpu";
+  ParcelResult refined = reconstruct_parcel(s, refine);
+  ASSERT_EQ(refined.buildings.size(), 2u);
+  for (const auto& b : refined.buildings) {
+    EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    EXPECT_LT(b.roof_deviation.rmse, 0.05) << b.id;
+  }
 }
