@@ -47,23 +47,61 @@ class StageClock {
 
 Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
+constexpr size_t kMinPointsAcross = 10;  // fewer points on a neighbour's land say nothing about it
+
+// Neighbours a component reaches deep into: with a tenth of its points there
+// lying further from this parcel than an overhang reaches (the overhang buffer
+// plus a margin), it is a roof shared by attached houses, not an eave.
+std::set<int> deep_neighbours(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land,
+                              double shared_depth) {
+  std::vector<std::vector<double>> depth(s.neighbours.size());
+  for (size_t k = 0; k < c.points.size(); ++k)
+    if (land[k] >= 0 && land[k] < int(s.neighbours.size()))
+      depth[size_t(land[k])].push_back(poly::distance(s.parcel, plan(s.roof_points[c.points[k]])));
+  std::set<int> deep;
+  for (size_t n = 0; n < depth.size(); ++n) {
+    auto& d = depth[n];
+    if (d.size() < kMinPointsAcross) continue;
+    std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
+    if (d[d.size() * 9 / 10] > shared_depth) deep.insert(int(n));
+  }
+  return deep;
+}
+
+// Whether the part of a component on this parcel would make a component of its
+// own: enough points for a plane, covering enough plan area to be a roof face.
+bool big_enough_here(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land, double spacing,
+                     const ReconstructionParams& p) {
+  std::vector<Vec2> here;
+  for (size_t k = 0; k < c.points.size(); ++k)
+    if (land[k] < 0) here.push_back(plan(s.roof_points[c.points[k]]));
+  if (int(here.size()) < p.min_component_points) return false;
+  return area(poly::concave_hull(here, std::max(1.0, 5.0 * spacing))) >= p.min_component_area_m2;
+}
+
 // Ownership: a component goes whole to the land holding most of its points (an
 // overhang reaches at most the overhang buffer across a boundary) and is
 // modelled here only when that is this parcel. A component reaching deeper
-// into a neighbour is a roof shared by attached houses: it is split at the
-// parcel boundary first, and what remains is voted on. Land outside every
-// parcel of the layer (streets, parcels the layer leaves out) votes against a
-// component only when it also holds most of the component's roof: the corner
-// of a building on a parcel the layer leaves out is nobody's here, while a
-// porch of this parcel's house reaching over an alley stays with the house.
-// Land outside the layer is never split against: roofs here overhang streets
-// and alleys by metres. Returns the neighbours split against.
-std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double depth_margin) {
+// into a neighbour is a roof shared by attached houses: the buildings meet at
+// that boundary, every outline is cut there, and so every component crossing
+// it is split there too, the parts on the neighbours' parcels being theirs
+// (the neighbour cuts at the same line, so a part given away whole would be
+// modelled by nobody). A part left here too small to be a component of its
+// own (min_component_points, min_component_area_m2) is not split off: the
+// component is voted on whole, as an eave is, since the part is more likely
+// the neighbour's eave than a roof of this parcel. Land outside every parcel of the layer (streets,
+// parcels the layer leaves out) votes against a component only when it also
+// holds most of the component's roof: the corner of a building on a parcel the
+// layer leaves out is nobody's here, while a porch of this parcel's house
+// reaching over an alley stays with the house. Land outside the layer is never
+// split against: roofs here overhang streets and alleys by metres. Returns the
+// neighbours split against.
+std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const ReconstructionParams& p) {
   const int outside = int(s.neighbours.size());  // land outside the layer
-  auto land_of = [&](const Vec2& p) {            // -1: this parcel
-    if (poly::covers(s.parcel, p)) return -1;
+  auto land_of = [&](const Vec2& q) {            // -1: this parcel
+    if (poly::covers(s.parcel, q)) return -1;
     for (size_t n = 0; n < s.neighbours.size(); ++n)
-      if (poly::covers(s.neighbours[n], p)) return int(n);
+      if (poly::covers(s.neighbours[n], q)) return int(n);
     return outside;
   };
   std::vector<std::vector<int>> lands(seg.components.size());
@@ -75,44 +113,35 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, double de
       roof_own[size_t(seg.components[c].roof)] += land < 0;
       roof_outside[size_t(seg.components[c].roof)] += land == outside;
     }
+  const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
   std::set<int> split_with;
-  const double shared_depth = s.overhang_buffer_m + depth_margin;
+  std::vector<bool> deep(seg.components.size());
+  for (size_t c = 0; c < seg.components.size(); ++c) {
+    const auto into = deep_neighbours(s, seg.components[c], lands[c], shared_depth);
+    split_with.insert(into.begin(), into.end());
+    deep[c] = !into.empty();
+  }
   for (size_t ci = 0; ci < seg.components.size(); ++ci) {
     auto& c = seg.components[ci];
     const auto& where = lands[ci];
-    long own = 0;
     std::vector<long> held(s.neighbours.size() + 1, 0);
-    std::vector<std::vector<double>> depth(s.neighbours.size());
-    for (size_t k = 0; k < c.points.size(); ++k) {
-      if (where[k] < 0) {
-        ++own;
-        continue;
-      }
-      ++held[size_t(where[k])];
-      if (where[k] != outside) depth[size_t(where[k])].push_back(poly::distance(s.parcel, plan(s.roof_points[c.points[k]])));
-    }
-    std::set<int> shared;
-    for (size_t n = 0; n < depth.size(); ++n) {
-      if (depth[n].size() < 10) continue;
-      auto& d = depth[n];
-      std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
-      if (d[d.size() * 9 / 10] > shared_depth) shared.insert(int(n));
-    }
-    // A roof reaching deep into a neighbour (ours or the neighbour's own roof)
-    // means the buildings meet there: outlines are cut at that boundary.
-    split_with.insert(shared.begin(), shared.end());
-    if (!shared.empty())  // split: the parts on the neighbours' parcels are theirs
-      for (int n = 0; n < outside; ++n) held[size_t(n)] = 0;
+    long own = 0;
+    for (int land : where) ++(land < 0 ? own : held[size_t(land)]);
+    bool crosses = false;
+    for (int n : split_with) crosses = crosses || held[size_t(n)] >= long(kMinPointsAcross);
+    const bool split = deep[ci] || (crosses && big_enough_here(s, c, where, seg.spacing, p));
+    if (split)  // the parts on the neighbours' parcels it is split against are theirs
+      for (int n : split_with) held[size_t(n)] = 0;
     if (roof_own[size_t(c.roof)] >= roof_outside[size_t(c.roof)]) held[size_t(outside)] = 0;
     if (own == 0 || own < *std::max_element(held.begin(), held.end())) {
       for (int i : c.points) seg.label[i] = seg.roof_of[i] = -1;  // another's
       c.points.clear();
       continue;
     }
-    if (shared.empty()) continue;  // whole: ours, overhang included
+    if (!split) continue;  // whole: ours, overhang included
     std::vector<int> kept;
     for (size_t k = 0; k < c.points.size(); ++k) {
-      if (where[k] >= 0 && where[k] != outside) seg.label[c.points[k]] = seg.roof_of[c.points[k]] = -1;
+      if (split_with.count(where[k])) seg.label[c.points[k]] = seg.roof_of[c.points[k]] = -1;
       else kept.push_back(c.points[k]);
     }
     c.points = kept;
@@ -353,7 +382,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     }
     Segmentation seg = segment_roofs(s.roof_points, p);
     clock.lap("segment");
-    std::set<int> split_with = apply_ownership(s, seg, p.shared_roof_depth_m);
+    std::set<int> split_with = apply_ownership(s, seg, p);
     for (auto& c : seg.components)
       if (int(c.points.size()) < p.min_component_points) {
         for (int i : c.points) seg.label[i] = -1;

@@ -11,6 +11,7 @@
 
 #include "core/config.h"
 #include "core/envelope.h"
+#include "core/evaluate.h"
 #include "core/geometry.h"
 #include "core/outline.h"
 #include "core/planes.h"
@@ -783,4 +784,38 @@ TEST(ReconstructBadInput, RoofCutInTwoByANeighboursParcelIsTwoBuildings) {
     EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
     EXPECT_LT(b.roof_deviation.rmse, 0.05) << b.id;
   }
+}
+
+TEST(ReconstructBadInput, LeanToAcrossAPartyLineIsSplitThereLikeTheSharedRoof) {
+  // Attached houses on parcels A (x 0..10) and B (x 10..20) under one flat roof
+  // (x 2..18, y 4..14): it reaches deep into both, so both cut their outlines
+  // at x = 10. A lean-to behind (y 14..18, 1.5 m lower) crosses that line only
+  // shallowly: x 8.2..10 on A, x 10..12 on B. Voted whole it went to B, which
+  // cut it at x = 10, so A's part was nobody's; now each parcel models its part.
+  std::mt19937_64 rng(31);
+  std::vector<Vec3> roof = sample_plane(plane_through({0, 0, 103}, {0, 0.03, 1}), 2, 18, 4, 14, 40, 0.02, rng);
+  auto lean_to = sample_plane(plane_through({0, 14, 101.5}, {0, 0.2, 1}), 8.2, 12, 14, 18, 40, 0.02, rng);
+  roof.insert(roof.end(), lean_to.begin(), lean_to.end());
+  const Polygon2 a{{{0, 0}, {10, 0}, {10, 20}, {0, 20}}, {}}, b{{{10, 0}, {20, 0}, {20, 20}, {10, 20}}, {}};
+  auto model = [&](const Polygon2& own, const Polygon2& other) {
+    ParcelScene s = square_parcel_scene();
+    s.parcel = {own};
+    s.neighbours = {{other}};
+    s.roof_points = roof;
+    ParcelResult r = reconstruct_parcel(s, params());
+    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+    EXPECT_EQ(r.buildings.size(), 1u);
+    return r;
+  };
+  const ParcelResult ra = model(a, b), rb = model(b, a);
+  ASSERT_EQ(ra.buildings.size(), 1u);
+  ASSERT_EQ(rb.buildings.size(), 1u);
+  EXPECT_NEAR(totals(ra.buildings[0]).roof_plan, 8 * 10 + 1.8 * 4, 0.03 * 87.2);
+  EXPECT_NEAR(totals(rb.buildings[0]).roof_plan, 8 * 10 + 2 * 4, 0.03 * 88);
+  // Every lean-to point lies on one of the two models.
+  std::vector<Face> faces = faces_of(ra.buildings[0], {ElementType::Roof});
+  for (const auto& f : faces_of(rb.buildings[0], {ElementType::Roof})) faces.push_back(f);
+  const Deviation d = deviation_to_faces(lean_to, faces);
+  EXPECT_LT(d.max, 0.15);
+  EXPECT_LT(d.rmse, 0.05);
 }
