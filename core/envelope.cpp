@@ -194,7 +194,8 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
 }
 
 // Each outline edge moved inward by its overhang; corners where the moved lines meet.
-Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in) {
+Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in,
+                              FootprintApart* apart) {
   Ring2 ring;
   size_t n = edges.size();
   for (size_t i = 0; i < n; ++i) {
@@ -210,6 +211,13 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   if (valid.empty()) throw std::runtime_error("roof outline too small for a footprint");
   Polygon2 best = poly::largest(valid);
   best.holes.clear();
+  if (apart) {
+    for (const Polygon2& part : valid)
+      if (area(part) >= kMinFootprintPart) apart->parts.push_back(part);
+    std::sort(apart->parts.begin(), apart->parts.end(),
+              [](const Polygon2& a, const Polygon2& b) { return area(a) > area(b); });
+    for (const EdgeInfo& e : edges) apart->overhang = std::max(apart->overhang, e.overhang);
+  }
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
   MultiPolygon2 under = poly::intersect({regularize_polygon(best, 1.0)}, {in.outline});
@@ -803,11 +811,11 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
   return {};
 }
 
-Building build_building(const EnvelopeInput& in) {
+Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   Building b;
   b.id = in.building_id;
   std::vector<EdgeInfo> edges = measure_edges(in);
-  Polygon2 fp = footprint_from_edges(edges, in);
+  Polygon2 fp = footprint_from_edges(edges, in, apart);
   b.terrain_z = mean_terrain(fp, in.terrain);
 
   std::vector<Piece> pieces = roof_pieces(in.roof, fp);

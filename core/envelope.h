@@ -29,7 +29,17 @@ struct EnvelopeInput {
   double spacing = 0.2;               // roof point spacing, for boundary sigma
 };
 
-Building build_building(const EnvelopeInput& in);
+// A footprint that comes apart under one roof: the roof outline narrows to less
+// than its overhangs (a walkway roof joining two houses), so the walls stand in
+// separate rings and one solid cannot hold them. build_building models the
+// largest part; the caller cuts the outline and models each part on its own.
+struct FootprintApart {
+  std::vector<Polygon2> parts;  // every part of at least kMinFootprintPart, largest first
+  double overhang = 0;          // the widest overhang of the outline's edges, m
+};
+constexpr double kMinFootprintPart = 4.0;  // m^2: smaller parts are slivers, not houses
+
+Building build_building(const EnvelopeInput& in, FootprintApart* apart = nullptr);
 
 // Wall evidence for one outline edge: offset (m, negative = inside the edge) of
 // the wall seen by the scanner between heights min_z and max_z, with its

@@ -286,8 +286,41 @@ std::string refinement_defect(const Building& b) {
   return check.ok ? "" : check.summary();
 }
 
+// Cuts a roof outline where it narrows to less than twice `overhang` (a walkway
+// roof between two houses), so each house gets a roof and walls of its own: the
+// outline opened by the overhang keeps the houses, and every piece the opening
+// takes off (the walkway's roof, a thin eave strip) goes back to the house it
+// meets along most boundary. Fewer than two pieces: the outline does not narrow
+// that way.
+std::vector<Polygon2> cut_at_narrows(const Polygon2& outline, double overhang) {
+  const MultiPolygon2 whole{outline};
+  const MultiPolygon2 opened = poly::intersect(poly::buffer(poly::buffer(whole, -overhang), overhang), whole);
+  std::vector<MultiPolygon2> houses;
+  for (const Polygon2& part : opened)
+    if (area(part) >= kMinFootprintPart) houses.push_back({part});
+  if (houses.size() < 2) return {};
+  for (const Polygon2& piece : poly::subtract(whole, opened)) {
+    const MultiPolygon2 rim = poly::buffer({piece}, 0.05);
+    size_t best = 0;
+    double most = 0;
+    for (size_t h = 0; h < houses.size(); ++h) {
+      const double contact = area(poly::intersect(rim, houses[h]));
+      if (contact > most) most = contact, best = h;
+    }
+    if (most > 0) houses[best] = poly::unite(houses[best], {piece});
+  }
+  std::vector<Polygon2> out;
+  for (const auto& h : houses) {
+    Polygon2 part = poly::largest(poly::simplify(poly::buffer(poly::buffer(h, 0.01), -0.01), 0.02));
+    part.holes.clear();
+    out.push_back(part);
+  }
+  return out;
+}
+
 Building model_building(const ParcelScene& s, const Segmentation& seg, const BuildingPlan& bp,
-                        const ReconstructionParams& p, const std::string& id, StageClock& clock) {
+                        const ReconstructionParams& p, const std::string& id, StageClock& clock,
+                        FootprintApart* apart = nullptr) {
   RoofPartitionInput rp;
   rp.outline = bp.outline;
   rp.components = bp.components;
@@ -312,7 +345,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   ei.default_overhang = p.default_overhang_m;
   ei.storey_height = p.storey_height_m;
   ei.spacing = seg.spacing;
-  Building b = build_building(ei);
+  Building b = build_building(ei, apart);
   clock.lap("envelope");
   if (p.optimize) {
     std::vector<Vec3> own;
@@ -348,8 +381,9 @@ void remodel_defective(const ParcelScene& s, const Segmentation& seg, const std:
     if (b.solid_valid && face_defect(b).empty()) continue;
     if (fallback.empty()) fallback = plan_buildings(s, seg, split_with, p.loose_point_reach_m, false);
     for (const auto& bp : fallback) {
-      if (bp.components != plans[k].components ||  // a roof cut in two: the part here
-          area(poly::intersect({bp.outline}, {plans[k].outline})) < 0.5 * area(plans[k].outline))
+      const double common = area(poly::intersect({bp.outline}, {plans[k].outline}));
+      if (bp.components != plans[k].components ||  // a roof cut in parts: the part here
+          common < 0.5 * area(plans[k].outline) || common < 0.5 * area(bp.outline))
         continue;
       Building again = model_building(s, seg, bp, p, b.id, clock);
       if (again.solid_valid && face_defect(again).empty()) b = std::move(again);
@@ -393,9 +427,20 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     clock.lap("ownership");
     auto plans = plan_buildings(s, seg, split_with, p.loose_point_reach_m, true);
     clock.lap("boundary");
-    for (size_t k = 0; k < plans.size(); ++k) {
+    for (size_t k = 0; k < plans.size();) {
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
-      r.buildings.push_back(model_building(s, seg, plans[k], p, id, clock));
+      FootprintApart apart;
+      Building b = model_building(s, seg, plans[k], p, id, clock, &apart);
+      const auto pieces = apart.parts.size() > 1 ? cut_at_narrows(plans[k].outline, apart.overhang)
+                                                 : std::vector<Polygon2>{};
+      if (pieces.size() > 1) {  // one building per house, modelled next
+        const std::vector<int> comps = plans[k].components;
+        plans.erase(plans.begin() + long(k));
+        for (const Polygon2& piece : pieces) plans.insert(plans.begin() + long(k), {piece, comps});
+        continue;
+      }
+      r.buildings.push_back(std::move(b));
+      ++k;
     }
     remodel_defective(s, seg, split_with, plans, p, r.buildings, clock);
     if (r.buildings.empty()) {

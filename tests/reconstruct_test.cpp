@@ -819,3 +819,27 @@ TEST(ReconstructBadInput, LeanToAcrossAPartyLineIsSplitThereLikeTheSharedRoof) {
   EXPECT_LT(d.max, 0.15);
   EXPECT_LT(d.rmse, 0.05);
 }
+
+TEST(ReconstructBadInput, TwoHousesUnderOneRoofJoinedByAWalkwayKeepBothFloors) {
+  // Two flat roofs 8 x 8 m (x 1..9 and x 11..19, y 6..14) joined by a 1 m wide
+  // covered walkway (x 9..11, y 9.5..10.5), all at one height: one roof. Its
+  // walls stand under both houses; neither house's floor may go missing.
+  std::mt19937_64 rng(41);
+  const Plane flat = plane_through({0, 0, 103}, {0, 0.02, 1});
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = sample_plane(flat, 1, 9, 6, 14, 40, 0.02, rng);
+  for (auto part : {sample_plane(flat, 11, 19, 6, 14, 40, 0.02, rng), sample_plane(flat, 9, 11, 9.5, 10.5, 40, 0.02, rng)})
+    s.roof_points.insert(s.roof_points.end(), part.begin(), part.end());
+  ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  // Modelled as one, the footprint came apart under the walkway and only one
+  // house kept walls and a floor (ground 48.6 of 98 m^2); now one building each.
+  ASSERT_EQ(r.buildings.size(), 2u);
+  double roof_plan = 0;
+  for (const auto& b : r.buildings) {
+    EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    roof_plan += totals(b).roof_plan;
+    EXPECT_NEAR(totals(b).ground, 7.0 * 7.0, 0.03 * 49) << b.id;  // 0.5 m default overhang
+  }
+  EXPECT_NEAR(roof_plan, 2 * 64 + 2, 0.03 * 130);
+}
