@@ -49,23 +49,42 @@ Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
 constexpr size_t kMinPointsAcross = 10;  // fewer points on a neighbour's land say nothing about it
 
-// Neighbours a component reaches deep into: with a tenth of its points there
+// Whether a component runs over a neighbour's parcel from this parcel back onto
+// it: its hull, the neighbour's land taken out, leaves roof on this parcel on
+// two sides. A row roof over a neighbour narrower than twice an overhang, with
+// this parcel on both sides, lies nowhere deep in it, yet is shared.
+bool runs_across(const ParcelScene& s, const RoofComponent& c, const MultiPolygon2& neighbour, double spacing,
+                 double min_side_area) {
+  std::vector<Vec2> pts;
+  for (int i : c.points) pts.push_back(plan(s.roof_points[i]));
+  const MultiPolygon2 hull = poly::concave_hull(pts, std::max(1.0, 5.0 * spacing));
+  int sides = 0;
+  for (const Polygon2& side : poly::subtract(hull, neighbour))
+    sides += area(poly::intersect({side}, s.parcel)) >= min_side_area;
+  return sides >= 2;
+}
+
+// Neighbours a component shares its roof with: with a tenth of its points there
 // lying further from this parcel than an overhang reaches (the overhang buffer
-// plus a margin), it is a roof shared by attached houses, not an eave.
-std::set<int> deep_neighbours(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land,
-                              double shared_depth) {
+// plus a margin), or running across their parcel, it is a roof of attached
+// houses, not an eave.
+std::set<int> sharing_neighbours(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land,
+                                 double spacing, const ReconstructionParams& p) {
+  const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
   std::vector<std::vector<double>> depth(s.neighbours.size());
   for (size_t k = 0; k < c.points.size(); ++k)
     if (land[k] >= 0 && land[k] < int(s.neighbours.size()))
       depth[size_t(land[k])].push_back(poly::distance(s.parcel, plan(s.roof_points[c.points[k]])));
-  std::set<int> deep;
+  std::set<int> sharing;
   for (size_t n = 0; n < depth.size(); ++n) {
     auto& d = depth[n];
     if (d.size() < kMinPointsAcross) continue;
     std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
-    if (d[d.size() * 9 / 10] > shared_depth) deep.insert(int(n));
+    if (d[d.size() * 9 / 10] > shared_depth ||
+        runs_across(s, c, s.neighbours[n], spacing, p.min_component_area_m2))
+      sharing.insert(int(n));
   }
-  return deep;
+  return sharing;
 }
 
 // Whether the part of a component on this parcel would make a component of its
@@ -81,21 +100,21 @@ bool big_enough_here(const ParcelScene& s, const RoofComponent& c, const std::ve
 
 // Ownership: a component goes whole to the land holding most of its points (an
 // overhang reaches at most the overhang buffer across a boundary) and is
-// modelled here only when that is this parcel. A component reaching deeper
-// into a neighbour is a roof shared by attached houses: the buildings meet at
-// that boundary, every outline is cut there, and so every component crossing
-// it is split there too, the parts on the neighbours' parcels being theirs
-// (the neighbour cuts at the same line, so a part given away whole would be
-// modelled by nobody). A part left here too small to be a component of its
-// own (min_component_points, min_component_area_m2) is not split off: the
-// component is voted on whole, as an eave is, since the part is more likely
-// the neighbour's eave than a roof of this parcel. Land outside every parcel of the layer (streets,
-// parcels the layer leaves out) votes against a component only when it also
-// holds most of the component's roof: the corner of a building on a parcel the
-// layer leaves out is nobody's here, while a porch of this parcel's house
-// reaching over an alley stays with the house. Land outside the layer is never
-// split against: roofs here overhang streets and alleys by metres. Returns the
-// neighbours split against.
+// modelled here only when that is this parcel. A component sharing its roof
+// with a neighbour (sharing_neighbours) means the buildings meet at that
+// boundary: every outline is cut there, and so every component crossing it is
+// split there too, the parts on the neighbours' parcels being theirs (the
+// neighbour cuts at the same line, so a part given away whole would be
+// modelled by nobody). A part left here too small to be a component of its own
+// (min_component_points, min_component_area_m2) is not split off: it is more
+// likely the neighbour's eave than a roof of this parcel, and the component is
+// voted on whole. Land outside every parcel of the layer (streets, parcels the
+// layer leaves out) votes against a component only when it also holds most of
+// the component's roof: the corner of a building on a parcel the layer leaves
+// out is nobody's here, while a porch of this parcel's house reaching over an
+// alley stays with the house. Land outside the layer is never split against:
+// roofs here overhang streets and alleys by metres. Returns the neighbours
+// split against.
 std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const ReconstructionParams& p) {
   const int outside = int(s.neighbours.size());  // land outside the layer
   auto land_of = [&](const Vec2& q) {            // -1: this parcel
@@ -113,13 +132,12 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
       roof_own[size_t(seg.components[c].roof)] += land < 0;
       roof_outside[size_t(seg.components[c].roof)] += land == outside;
     }
-  const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
   std::set<int> split_with;
-  std::vector<bool> deep(seg.components.size());
+  std::vector<bool> shared(seg.components.size());
   for (size_t c = 0; c < seg.components.size(); ++c) {
-    const auto into = deep_neighbours(s, seg.components[c], lands[c], shared_depth);
-    split_with.insert(into.begin(), into.end());
-    deep[c] = !into.empty();
+    const auto with = sharing_neighbours(s, seg.components[c], lands[c], seg.spacing, p);
+    split_with.insert(with.begin(), with.end());
+    shared[c] = !with.empty();
   }
   for (size_t ci = 0; ci < seg.components.size(); ++ci) {
     auto& c = seg.components[ci];
@@ -129,7 +147,7 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
     for (int land : where) ++(land < 0 ? own : held[size_t(land)]);
     bool crosses = false;
     for (int n : split_with) crosses = crosses || held[size_t(n)] >= long(kMinPointsAcross);
-    const bool split = deep[ci] || (crosses && big_enough_here(s, c, where, seg.spacing, p));
+    const bool split = shared[ci] || (crosses && big_enough_here(s, c, where, seg.spacing, p));
     if (split)  // the parts on the neighbours' parcels it is split against are theirs
       for (int n : split_with) held[size_t(n)] = 0;
     if (roof_own[size_t(c.roof)] >= roof_outside[size_t(c.roof)]) held[size_t(outside)] = 0;

@@ -843,3 +843,35 @@ TEST(ReconstructBadInput, TwoHousesUnderOneRoofJoinedByAWalkwayKeepBothFloors) {
   }
   EXPECT_NEAR(roof_plan, 2 * 64 + 2, 0.03 * 130);
 }
+
+TEST(ReconstructBadInput, RowRoofOverANarrowNeighbourBetweenTwoArmsOfThisParcel) {
+  // A row roof (x 1..19, y 10..14) runs over a neighbour 3.5 m wide (x 8.25..
+  // 11.75) with this U-shaped parcel on both sides. No point of the neighbour's
+  // part lies deeper than 1.75 m from this parcel, less than an overhang may
+  // reach, yet the roof crosses it from this parcel back onto this parcel: it
+  // is shared, and the neighbour's house is the neighbour's, not modelled twice.
+  std::mt19937_64 rng(43);
+  const auto roof = sample_plane(plane_through({0, 0, 103}, {0, 0.05, 1}), 1, 19, 10, 14, 40, 0.02, rng);
+  const Polygon2 u{{{0, 0}, {20, 0}, {20, 20}, {11.75, 20}, {11.75, 6}, {8.25, 6}, {8.25, 20}, {0, 20}}, {}};
+  const Polygon2 narrow{{{8.25, 6}, {11.75, 6}, {11.75, 20}, {8.25, 20}}, {}};
+  auto model = [&](const Polygon2& own, const Polygon2& other) {
+    ParcelScene s = square_parcel_scene();
+    s.parcel = {own};
+    s.neighbours = {{other}};
+    s.roof_points = roof;
+    ParcelResult r = reconstruct_parcel(s, params());
+    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+    double plan_area = 0;
+    for (const auto& b : r.buildings) {
+      EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+      plan_area += totals(b).roof_plan;
+    }
+    return std::make_pair(r.buildings.size(), plan_area);
+  };
+  const auto [u_buildings, u_plan] = model(u, narrow);
+  const auto [n_buildings, n_plan] = model(narrow, u);
+  EXPECT_EQ(u_buildings, 2u);
+  EXPECT_NEAR(u_plan, (7.25 + 7.25) * 4, 0.03 * 58);
+  EXPECT_EQ(n_buildings, 1u);
+  EXPECT_NEAR(n_plan, 3.5 * 4, 0.05 * 14);
+}
