@@ -585,6 +585,18 @@ ParcelScene house_and_flat_roof(unsigned seed, double x0, double x1, double y0, 
   return house_and_roof(seed, plane_through({0, 0, 102}, {0, 0, 1}), x0, x1, y0, y1);
 }
 
+// One parcel of two sharing a roof: `own` with `other` as its only neighbour.
+ParcelResult reconstruct_beside(const Polygon2& own, const Polygon2& other, const std::vector<Vec3>& roof) {
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {own};
+  s.neighbours = {{other}};
+  s.roof_points = roof;
+  ParcelResult r = reconstruct_parcel(s, params());
+  EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+  return r;
+}
+
 }  // namespace
 
 TEST(ReconstructBadInput, ThreeRoofPointsGiveEmptyWithReason) {
@@ -797,17 +809,7 @@ TEST(ReconstructBadInput, LeanToAcrossAPartyLineIsSplitThereLikeTheSharedRoof) {
   auto lean_to = sample_plane(plane_through({0, 14, 101.5}, {0, 0.2, 1}), 8.2, 12, 14, 18, 40, 0.02, rng);
   roof.insert(roof.end(), lean_to.begin(), lean_to.end());
   const Polygon2 a{{{0, 0}, {10, 0}, {10, 20}, {0, 20}}, {}}, b{{{10, 0}, {20, 0}, {20, 20}, {10, 20}}, {}};
-  auto model = [&](const Polygon2& own, const Polygon2& other) {
-    ParcelScene s = square_parcel_scene();
-    s.parcel = {own};
-    s.neighbours = {{other}};
-    s.roof_points = roof;
-    ParcelResult r = reconstruct_parcel(s, params());
-    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
-    EXPECT_EQ(r.buildings.size(), 1u);
-    return r;
-  };
-  const ParcelResult ra = model(a, b), rb = model(b, a);
+  const ParcelResult ra = reconstruct_beside(a, b, roof), rb = reconstruct_beside(b, a, roof);
   ASSERT_EQ(ra.buildings.size(), 1u);
   ASSERT_EQ(rb.buildings.size(), 1u);
   EXPECT_NEAR(totals(ra.buildings[0]).roof_plan, 8 * 10 + 1.8 * 4, 0.03 * 87.2);
@@ -855,17 +857,9 @@ TEST(ReconstructBadInput, RowRoofOverANarrowNeighbourBetweenTwoArmsOfThisParcel)
   const Polygon2 u{{{0, 0}, {20, 0}, {20, 20}, {11.75, 20}, {11.75, 6}, {8.25, 6}, {8.25, 20}, {0, 20}}, {}};
   const Polygon2 narrow{{{8.25, 6}, {11.75, 6}, {11.75, 20}, {8.25, 20}}, {}};
   auto model = [&](const Polygon2& own, const Polygon2& other) {
-    ParcelScene s = square_parcel_scene();
-    s.parcel = {own};
-    s.neighbours = {{other}};
-    s.roof_points = roof;
-    ParcelResult r = reconstruct_parcel(s, params());
-    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+    const ParcelResult r = reconstruct_beside(own, other, roof);
     double plan_area = 0;
-    for (const auto& b : r.buildings) {
-      EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
-      plan_area += totals(b).roof_plan;
-    }
+    for (const auto& b : r.buildings) plan_area += totals(b).roof_plan;
     return std::make_pair(r.buildings.size(), plan_area);
   };
   const auto [u_buildings, u_plan] = model(u, narrow);
