@@ -457,6 +457,14 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
         for (const Polygon2& piece : pieces) plans.insert(plans.begin() + long(k), {piece, comps});
         continue;
       }
+      if (apart.parts.size() > 1) {  // no cut found: say what the model leaves out
+        double all = 0;
+        for (const auto& part : apart.parts) all += area(part);
+        char note[160];
+        std::snprintf(note, sizeof note, "the footprint comes apart under the roof; only its largest part "
+                      "(%.1f of %.1f m^2) has walls and a floor", area(apart.parts.front()), all);
+        r.reason += (r.reason.empty() ? "" : "; ") + id + ": " + note;
+      }
       r.buildings.push_back(std::move(b));
       ++k;
     }
