@@ -87,17 +87,6 @@ std::set<int> sharing_neighbours(const ParcelScene& s, const RoofComponent& c, c
   return sharing;
 }
 
-// Whether the part of a component on this parcel would make a component of its
-// own: enough points for a plane, covering enough plan area to be a roof face.
-bool big_enough_here(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land, double spacing,
-                     const ReconstructionParams& p) {
-  std::vector<Vec2> here;
-  for (size_t k = 0; k < c.points.size(); ++k)
-    if (land[k] < 0) here.push_back(plan(s.roof_points[c.points[k]]));
-  if (int(here.size()) < p.min_component_points) return false;
-  return area(poly::concave_hull(here, std::max(1.0, 5.0 * spacing))) >= p.min_component_area_m2;
-}
-
 // Ownership: a component goes whole to the land holding most of its points (an
 // overhang reaches at most the overhang buffer across a boundary) and is
 // modelled here only when that is this parcel. A component sharing its roof
@@ -105,16 +94,15 @@ bool big_enough_here(const ParcelScene& s, const RoofComponent& c, const std::ve
 // boundary: every outline is cut there, and so every component crossing it is
 // split there too, the parts on the neighbours' parcels being theirs (the
 // neighbour cuts at the same line, so a part given away whole would be
-// modelled by nobody). A part left here too small to be a component of its own
-// (min_component_points, min_component_area_m2) is not split off: it is more
-// likely the neighbour's eave than a roof of this parcel, and the component is
-// voted on whole. Land outside every parcel of the layer (streets, parcels the
-// layer leaves out) votes against a component only when it also holds most of
-// the component's roof: the corner of a building on a parcel the layer leaves
-// out is nobody's here, while a porch of this parcel's house reaching over an
-// alley stays with the house. Land outside the layer is never split against:
-// roofs here overhang streets and alleys by metres. Returns the neighbours
-// split against.
+// modelled by nobody). A part left here with too few points for a plane
+// (min_component_points) is not split off: the component is voted on whole.
+// Land outside every parcel of the layer (streets, parcels the layer leaves
+// out) votes against a component only when it also holds most of the
+// component's roof: the corner of a building on a parcel the layer leaves out
+// is nobody's here, while a porch of this parcel's house reaching over an alley
+// stays with the house. Land outside the layer is never split against: roofs
+// here overhang streets and alleys by metres. Returns the neighbours split
+// against.
 std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const ReconstructionParams& p) {
   const int outside = int(s.neighbours.size());  // land outside the layer
   auto land_of = [&](const Vec2& q) {            // -1: this parcel
@@ -147,7 +135,7 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
     for (int land : where) ++(land < 0 ? own : held[size_t(land)]);
     bool crosses = false;
     for (int n : split_with) crosses = crosses || held[size_t(n)] >= long(kMinPointsAcross);
-    const bool split = shared[ci] || (crosses && big_enough_here(s, c, where, seg.spacing, p));
+    const bool split = shared[ci] || (crosses && own >= p.min_component_points);
     if (split)  // the parts on the neighbours' parcels it is split against are theirs
       for (int n : split_with) held[size_t(n)] = 0;
     if (roof_own[size_t(c.roof)] >= roof_outside[size_t(c.roof)]) held[size_t(outside)] = 0;
@@ -304,25 +292,26 @@ std::string refinement_defect(const Building& b) {
   return check.ok ? "" : check.summary();
 }
 
-// Cuts a roof outline where it narrows to less than twice `overhang` (a walkway
-// roof between two houses), so each house gets a roof and walls of its own: the
-// outline opened by the overhang keeps the houses, and every piece the opening
-// takes off (the walkway's roof, a thin eave strip) goes back to the house it
-// meets along most boundary. Fewer than two pieces: the outline does not narrow
-// that way.
-std::vector<Polygon2> cut_at_narrows(const Polygon2& outline, double overhang) {
+// Cuts a roof outline whose footprint came apart into one outline per footprint
+// part, so each house under it gets a roof and walls of its own: each part
+// keeps the outline within its overhang (the larger part where two such rims
+// meet), and every piece left over (a walkway's roof between them) goes to
+// the part it meets along most boundary.
+std::vector<Polygon2> cut_at_narrows(const Polygon2& outline, const FootprintApart& apart) {
   const MultiPolygon2 whole{outline};
-  const MultiPolygon2 opened = poly::intersect(poly::buffer(poly::buffer(whole, -overhang), overhang), whole);
   std::vector<MultiPolygon2> houses;
-  for (const Polygon2& part : opened)
-    if (area(part) >= kMinFootprintPart) houses.push_back({part});
-  if (houses.size() < 2) return {};
-  for (const Polygon2& piece : poly::subtract(whole, opened)) {
-    const MultiPolygon2 rim = poly::buffer({piece}, 0.05);
+  MultiPolygon2 taken;
+  for (const Polygon2& part : apart.parts) {  // largest first
+    const MultiPolygon2 rim = poly::intersect(poly::buffer({part}, apart.overhang + 0.1), whole);
+    houses.push_back(poly::subtract(rim, taken));
+    taken = poly::unite(taken, rim);
+  }
+  for (const Polygon2& piece : poly::subtract(whole, taken)) {
+    const MultiPolygon2 edge = poly::buffer({piece}, 0.05);
     size_t best = 0;
     double most = 0;
     for (size_t h = 0; h < houses.size(); ++h) {
-      const double contact = area(poly::intersect(rim, houses[h]));
+      const double contact = area(poly::intersect(edge, houses[h]));
       if (contact > most) most = contact, best = h;
     }
     if (most > 0) houses[best] = poly::unite(houses[best], {piece});
@@ -331,7 +320,7 @@ std::vector<Polygon2> cut_at_narrows(const Polygon2& outline, double overhang) {
   for (const auto& h : houses) {
     Polygon2 part = poly::largest(poly::simplify(poly::buffer(poly::buffer(h, 0.01), -0.01), 0.02));
     part.holes.clear();
-    out.push_back(part);
+    if (area(part) >= kMinFootprintPart) out.push_back(part);
   }
   return out;
 }
@@ -449,7 +438,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
       FootprintApart apart;
       Building b = model_building(s, seg, plans[k], p, id, clock, &apart);
-      const auto pieces = apart.parts.size() > 1 ? cut_at_narrows(plans[k].outline, apart.overhang)
+      const auto pieces = apart.parts.size() > 1 ? cut_at_narrows(plans[k].outline, apart)
                                                  : std::vector<Polygon2>{};
       if (pieces.size() > 1) {  // one building per house, modelled next
         const std::vector<int> comps = plans[k].components;
