@@ -441,9 +441,10 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
       const auto pieces = apart.parts.size() > 1 ? cut_at_narrows(plans[k].outline, apart)
                                                  : std::vector<Polygon2>{};
       if (pieces.size() > 1) {  // one building per house, modelled next
-        const std::vector<int> comps = plans[k].components;
+        std::vector<BuildingPlan> houses;
+        for (const Polygon2& piece : pieces) houses.push_back({piece, plans[k].components});
         plans.erase(plans.begin() + long(k));
-        for (const Polygon2& piece : pieces) plans.insert(plans.begin() + long(k), {piece, comps});
+        plans.insert(plans.begin() + long(k), houses.begin(), houses.end());
         continue;
       }
       if (apart.parts.size() > 1) {  // no cut found: say what the model leaves out
