@@ -95,10 +95,18 @@ MultiPolygon2 subtract(const MultiPolygon2& a, const MultiPolygon2& b) {
   return overlay(a, b, [](const Geometry* x, const Geometry* y) { return x->difference(y); });
 }
 
-MultiPolygon2 buffer(const MultiPolygon2& a, double distance) {
+namespace {
+// Mitred joins keep the square corners of buildings square.
+geos::operation::buffer::BufferParameters mitre_parameters() {
   geos::operation::buffer::BufferParameters params;
   params.setJoinStyle(geos::operation::buffer::BufferParameters::JOIN_MITRE);
   params.setMitreLimit(4.0);
+  return params;
+}
+}  // namespace
+
+MultiPolygon2 buffer(const MultiPolygon2& a, double distance) {
+  auto params = mitre_parameters();  // BufferOp takes it by non-const reference
   auto g = to_geos(a);
   return from_geos(geos::operation::buffer::BufferOp::bufferOp(g.get(), distance, params).get());
 }
@@ -124,11 +132,9 @@ std::vector<Vec2> simplify_line(const std::vector<Vec2>& line, double tolerance)
 }
 
 MultiPolygon2 side_strip(const std::vector<Vec2>& line, double width) {
-  geos::operation::buffer::BufferParameters params;
+  auto params = mitre_parameters();
   params.setSingleSided(true);
   params.setEndCapStyle(geos::operation::buffer::BufferParameters::CAP_FLAT);
-  params.setJoinStyle(geos::operation::buffer::BufferParameters::JOIN_MITRE);
-  params.setMitreLimit(4.0);
   auto ls = line_string(line);
   return from_geos(geos::operation::buffer::BufferOp::bufferOp(ls.get(), width, params).get());
 }

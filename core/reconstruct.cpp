@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <mutex>
 #include <set>
 #include <cstdio>
@@ -49,15 +50,12 @@ Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
 constexpr size_t kMinPointsAcross = 10;  // fewer points on a neighbour's land say nothing about it
 
-// Whether a component runs over a neighbour's parcel from this parcel back onto
-// it: its hull, the neighbour's land taken out, leaves roof on this parcel on
-// two sides. A row roof over a neighbour narrower than twice an overhang, with
-// this parcel on both sides, lies nowhere deep in it, yet is shared.
-bool runs_across(const ParcelScene& s, const RoofComponent& c, const MultiPolygon2& neighbour, double spacing,
+// Whether a component (its `hull`) runs over a neighbour's parcel from this
+// parcel back onto it: the hull, the neighbour's land taken out, leaves roof on
+// this parcel on two sides. A row roof over a neighbour narrower than twice an
+// overhang, with this parcel on both sides, lies nowhere deep in it, yet is shared.
+bool runs_across(const ParcelScene& s, const MultiPolygon2& hull, const MultiPolygon2& neighbour,
                  double min_side_area) {
-  std::vector<Vec2> pts;
-  for (int i : c.points) pts.push_back(plan(s.roof_points[i]));
-  const MultiPolygon2 hull = poly::concave_hull(pts, std::max(1.0, 5.0 * spacing));
   int sides = 0;
   for (const Polygon2& side : poly::subtract(hull, neighbour))
     sides += area(poly::intersect({side}, s.parcel)) >= min_side_area;
@@ -75,13 +73,22 @@ std::set<int> sharing_neighbours(const ParcelScene& s, const RoofComponent& c, c
   for (size_t k = 0; k < c.points.size(); ++k)
     if (land[k] >= 0 && land[k] < int(s.neighbours.size()))
       depth[size_t(land[k])].push_back(poly::distance(s.parcel, plan(s.roof_points[c.points[k]])));
+  std::optional<MultiPolygon2> hull;  // the component's plan hull, once a neighbour needs it
+  auto hull_of_component = [&]() -> const MultiPolygon2& {
+    if (!hull) {
+      std::vector<Vec2> pts;
+      for (int i : c.points) pts.push_back(plan(s.roof_points[i]));
+      hull = poly::concave_hull(pts, std::max(1.0, 5.0 * spacing));
+    }
+    return *hull;
+  };
   std::set<int> sharing;
   for (size_t n = 0; n < depth.size(); ++n) {
     auto& d = depth[n];
     if (d.size() < kMinPointsAcross) continue;
     std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
     if (d[d.size() * 9 / 10] > shared_depth ||
-        runs_across(s, c, s.neighbours[n], spacing, p.min_component_area_m2))
+        runs_across(s, hull_of_component(), s.neighbours[n], p.min_component_area_m2))
       sharing.insert(int(n));
   }
   return sharing;
