@@ -212,7 +212,7 @@ std::string run_key_of(const std::string& params, const BatchOptions& opt) {
 }
 
 // Every roof point inside a parcel against the nearest roof of any model, and
-// every wall point within 2 m of a parcel against the nearest wall.
+// every wall point within kWallPointReachM of a parcel against the nearest wall.
 void any_model_deviation(const BatchModel& model, const Inputs& in, const ParcelClipper& clipper,
                          const ParcelClipper::IndexLists& roof_lists, OutputTimings& t) {
   std::vector<Face> roofs, walls;
@@ -241,7 +241,7 @@ void any_model_deviation(const BatchModel& model, const Inputs& in, const Parcel
         roof_in.push_back(in.roof[i]);
       }
   ClipParams near = in.cfg.clip;
-  near.overhang_buffer_m = 2.0;
+  near.overhang_buffer_m = kWallPointReachM;
   std::vector<Vec3> wall_near;
   std::vector<char> seen(in.wall.size(), 0);
   for (const auto& list : ParcelClipper(in.layer, near).clip(in.wall))
@@ -264,7 +264,10 @@ int run_batch(const BatchOptions& opt) {
   const size_t n = in.layer.parcels.size();
 
   ParcelClipper clipper(in.layer, in.cfg.clip);
-  auto wall_lists = clipper.clip(in.wall);
+  // Wall points reach as far as the deviation counts them, at least.
+  ClipParams wall_reach = in.cfg.clip;
+  wall_reach.overhang_buffer_m = std::max(wall_reach.overhang_buffer_m, kWallPointReachM);
+  auto wall_lists = ParcelClipper(in.layer, wall_reach).clip(in.wall);
   // Roof points come with a wider context than the overhang buffer so that a
   // roof running across a parcel boundary is seen well enough to tell an
   // overhang (whole to the parcel holding most of it) from a shared roof of

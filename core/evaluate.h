@@ -53,14 +53,17 @@ Deviation pool(const std::vector<Deviation>& parts);
 Deviation deviation_to_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,
                              bool vertical = false);
 
+// Wall points this far outside a parcel count for its walls (the ruler's reach).
+constexpr double kWallPointReachM = 2.0;
+
 // Faces of the given element types of one building.
 std::vector<Face> faces_of(const Building& b, const std::vector<ElementType>& types);
 
 // Fills roof_deviation (3D distance of the roof points to the Roof faces) and
 // wall_deviation (wall points to the Wall and PartyWall faces) of each building;
 // each point counts for the building whose surface is nearest. Pass the points
-// of one parcel (roof points with the overhang buffer, every one of them,
-// including those segmentation discarded; wall points within 2 m of the parcel),
+// of one parcel (roof points inside it, every one of them, including those
+// segmentation discarded; wall points within kWallPointReachM of it),
 // in the buildings' coordinates. Buildings with no surface of a kind get n = 0.
 void evaluate_buildings(std::vector<Building>& buildings, const std::vector<Vec3>& roof_points,
                         const std::vector<Vec3>& wall_points);

@@ -474,7 +474,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     std::vector<Vec3> inside_roof;
     for (const auto& q : s.roof_points)
       if (poly::covers(s.parcel, plan(q))) inside_roof.push_back(q);
-    MultiPolygon2 near = poly::buffer(s.parcel, 2.0);
+    MultiPolygon2 near = poly::buffer(s.parcel, kWallPointReachM);
     std::vector<Vec3> near_wall;
     for (const auto& q : s.wall_points)
       if (poly::covers(near, plan(q))) near_wall.push_back(q);

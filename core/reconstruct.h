@@ -15,7 +15,7 @@ struct ParcelScene {
   MultiPolygon2 parcel;                    // this parcel, local coordinates
   std::vector<MultiPolygon2> neighbours;   // parcels near it, local coordinates
   std::vector<Vec3> roof_points;           // clipped with the overhang buffer + ownership context
-  std::vector<Vec3> wall_points;           // clipped with the overhang buffer
+  std::vector<Vec3> wall_points;           // clipped with the overhang buffer, at least kWallPointReachM
   std::function<double(double, double)> terrain;  // local terrain z, NaN outside
   double overhang_buffer_m = 1.6;          // how far an overhang may reach across the boundary
 };

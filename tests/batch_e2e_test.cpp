@@ -25,6 +25,8 @@
 
 #include "cadastre/parcels.h"
 #include "core/config.h"
+#include "core/point_io.h"
+#include "core/polygon_ops.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
@@ -308,6 +310,33 @@ TEST(BatchE2E, SampleTownBatchWritesConsistentOutputs) {
   }
   EXPECT_GT(n_ok, 5) << "most sample parcels hold a building";
   EXPECT_EQ(rc == 3, n_failed > 0) << "exit code 3 exactly when parcels failed";
+
+  // The ruler's reach: every roof point inside a parcel and every wall point
+  // within 2 m of it counts for one of the parcel's buildings (a wall point
+  // 1.6-2 m out, beyond the overhang buffer, too).
+  PointCloud cloud = read_point_cloud(town + "/cloud.las");
+  long beyond_buffer = 0;
+  for (size_t i = 0; i < layer.parcels.size(); ++i) {
+    const json& p = summary["parcels"][i];
+    if (p["status"] != "ok") continue;
+    long roof_n = 0, wall_n = 0, roof_in = 0, wall_near = 0, wall_near_edge = 0;
+    for (const auto& b : p["buildings"]) {
+      roof_n += b["roof_deviation"]["n"].get<long>();
+      wall_n += b["wall_deviation"]["n"].get<long>();
+    }
+    for (size_t k = 0; k < cloud.points.size(); ++k) {
+      const double d = poly::distance(layer.parcels[i].shape, cloud.points[k].head<2>());
+      if (cloud.classes[k] == 6) roof_in += d == 0;
+      if (cloud.classes[k] != 64) continue;
+      wall_near += d <= 2.0;
+      wall_near_edge += d <= 2.0 && d > 1.98;  // where buffer polygons may differ
+      beyond_buffer += d > 1.6 && d <= 1.98;
+    }
+    EXPECT_EQ(roof_n, roof_in) << p["parcel_id"];
+    EXPECT_LE(wall_n, wall_near) << p["parcel_id"];
+    EXPECT_GE(wall_n, wall_near - wall_near_edge) << p["parcel_id"];
+  }
+  EXPECT_GT(beyond_buffer, 0) << "no wall point between the overhang buffer and 2 m: nothing checked";
 
   // The store, read with plain SQLite: element areas summed per building equal summary.json.
   Sqlite db(out + "/cadastre.gpkg");
