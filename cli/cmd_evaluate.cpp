@@ -30,7 +30,7 @@ namespace {
 struct EvalOptions {
   std::vector<std::string> meshes;
   std::string cloud, classes = "roof=6,wall=64", parcels, id_field, json;
-  double buffer = 2.0;
+  double buffer = kWallPointReachM;
 };
 
 enum Kind { kRoof = 0, kWall = 1, kOther = 2 };
@@ -107,6 +107,25 @@ int zone_of(const MeshGroup& g, const Face& f, const ParcelLayer& layer, const P
   return -1;
 }
 
+// The points each zone measures: roof points inside the parcel, wall points
+// within its buffer; every point when there are no parcels.
+ParcelClipper::IndexLists points_of_zones(const std::vector<Vec3>& P, bool inside_only,
+                                          const ParcelClipper* clipper) {
+  ParcelClipper::IndexLists lists;
+  if (!clipper) {
+    lists.assign(1, std::vector<size_t>(P.size()));
+    std::iota(lists[0].begin(), lists[0].end(), size_t(0));
+    return lists;
+  }
+  lists = clipper->clip(P);
+  if (inside_only)
+    for (size_t z = 0; z < lists.size(); ++z)
+      lists[z].erase(std::remove_if(lists[z].begin(), lists[z].end(),
+                                    [&](size_t i) { return !clipper->inside(z, P[i].x(), P[i].y()); }),
+                     lists[z].end());
+  return lists;
+}
+
 std::string fixed(double v, int digits = 3) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
@@ -175,7 +194,9 @@ void run_evaluate(const EvalOptions& o) {
     for (int k : {kRoof, kWall})
       if (!z.faces[k].empty()) z.index[k] = std::make_unique<FaceIndex>(z.faces[k]);
 
-  // Points by class, each to the candidate zone (parcel + buffer) whose surface is nearest.
+  // Points by class. The batch's ruler: every roof point inside a parcel
+  // against that parcel's roofs, every wall point within the buffer of a parcel
+  // against that parcel's walls (so a wall point near two parcels counts for both).
   std::vector<Vec3> pts[2];
   const bool unclassified = cloud.classes.empty();
   for (size_t i = 0; i < cloud.points.size(); ++i) {
@@ -187,46 +208,22 @@ void run_evaluate(const EvalOptions& o) {
   long outside = 0;
   for (int k : {kRoof, kWall}) {
     const auto& P = pts[k];
-    ParcelClipper::IndexLists lists;
-    if (clipper) {
-      lists = clipper->clip(P);
-    } else {
-      lists.assign(1, std::vector<size_t>(P.size()));
-      std::iota(lists[0].begin(), lists[0].end(), size_t(0));
-    }
-    std::vector<double> best(P.size(), INFINITY);
-    std::vector<int> owner(P.size(), -1);
+    const auto lists = points_of_zones(P, k == kRoof, clipper.get());
+    std::vector<char> counted(P.size(), 0);
     for (size_t z = 0; z < zones.size(); ++z) {
       if (lists[z].empty()) continue;
+      for (size_t i : lists[z]) counted[i] = 1;
       if (!zones[z].index[k]) {
-        for (size_t i : lists[z])
-          if (owner[i] < 0) owner[i] = -2 - int(z);  // only unmodelled candidates so far
+        zones[z].unmodelled[k] += long(lists[z].size());
         continue;
       }
       std::vector<Vec3> sub;
       for (size_t i : lists[z]) sub.push_back(P[i]);
-      const auto hits = zones[z].index[k]->nearest(sub);
-      for (size_t j = 0; j < sub.size(); ++j) {
-        const size_t i = lists[z][j];
-        if (hits[j].distance < best[i]) {
-          best[i] = hits[j].distance;
-          owner[i] = int(z);
-        }
-      }
+      for (const auto& h : zones[z].index[k]->nearest(sub)) zones[z].dist[k].push_back(h.distance);
+      if (k == kRoof)
+        for (const auto& h : zones[z].index[k]->vertical(sub)) zones[z].vertical.push_back(h.distance);
     }
-    std::vector<std::vector<Vec3>> roof_of(zones.size());
-    for (size_t i = 0; i < P.size(); ++i) {
-      if (owner[i] == -1) ++outside;
-      else if (owner[i] < -1) ++zones[size_t(-2 - owner[i])].unmodelled[k];
-      else {
-        zones[owner[i]].dist[k].push_back(best[i]);
-        if (k == kRoof) roof_of[owner[i]].push_back(P[i]);
-      }
-    }
-    if (k == kRoof)
-      for (size_t z = 0; z < zones.size(); ++z)
-        if (zones[z].index[k])
-          for (const auto& h : zones[z].index[k]->vertical(roof_of[z])) zones[z].vertical.push_back(h.distance);
+    outside += std::count(counted.begin(), counted.end(), 0);
   }
 
   // Report.
@@ -277,10 +274,11 @@ void register_evaluate(CLI::App& app) {
   cmd->add_option("--cloud", o->cloud, "classified point cloud (LAS/PLY/PCD/XYZ)")->required();
   cmd->add_option("--classes", o->classes, "class codes, e.g. roof=6,wall=64 (unclassified files: all roof)")
       ->capture_default_str();
-  cmd->add_option("--parcels", o->parcels, "parcel layer: per-parcel rows; each point is measured "
-                                           "against the parcel (within --buffer) whose model is nearest");
+  cmd->add_option("--parcels", o->parcels, "parcel layer: per-parcel rows, measured as the batch does: "
+                                           "roof points inside a parcel against its model's roofs, wall "
+                                           "points within --buffer of it against its walls");
   cmd->add_option("--id-field", o->id_field, "parcel id field (default: the feature id)");
-  cmd->add_option("--buffer", o->buffer, "points this far outside a parcel still count for it, m")
+  cmd->add_option("--buffer", o->buffer, "wall points this far outside a parcel still count for it, m")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--json", o->json, "also write the results as JSON");

@@ -337,6 +337,21 @@ TEST(BatchE2E, SampleTownBatchWritesConsistentOutputs) {
     EXPECT_GE(wall_n, wall_near - wall_near_edge) << p["parcel_id"];
   }
   EXPECT_GT(beyond_buffer, 0) << "no wall point between the overhang buffer and 2 m: nothing checked";
+  // `evaluate` on the batch's own meshes applies the same ruler: same pooled
+  // figures (to the OBJ's 0.1 mm coordinates).
+  ASSERT_EQ(test::run_cli("evaluate --mesh " + out + "/obj/*.obj --cloud " + town + "/cloud.las --parcels " +
+                              town + "/parcels.gpkg --json " + dir + "/evaluate.json",
+                          &log),
+            0)
+      << log;
+  json evaluated = json::parse(read_file(dir + "/evaluate.json"));
+  for (const char* kind : {"roof", "wall"}) {
+    const json& a = evaluated["pooled"][kind];
+    const json& b = summary[std::string("pooled_") + kind + "_deviation"];
+    EXPECT_EQ(a["n"], b["n"]) << kind;
+    EXPECT_NEAR(a["std"].get<double>(), b["std"].get<double>(), 1e-4) << kind;
+    EXPECT_NEAR(a["rmse"].get<double>(), b["rmse"].get<double>(), 1e-4) << kind;
+  }
 
   // The store, read with plain SQLite: element areas summed per building equal summary.json.
   Sqlite db(out + "/cadastre.gpkg");
