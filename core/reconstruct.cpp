@@ -104,12 +104,13 @@ std::set<int> sharing_neighbours(const ParcelScene& s, const RoofComponent& c, c
 // modelled by nobody). A part left here with too few points for a plane
 // (min_component_points) is not split off: the component is voted on whole.
 // Land outside every parcel of the layer (streets, parcels the layer leaves
-// out) votes against a component only when it also holds most of the
-// component's roof: the corner of a building on a parcel the layer leaves out
-// is nobody's here, while a porch of this parcel's house reaching over an alley
-// stays with the house. Land outside the layer is never split against: roofs
-// here overhang streets and alleys by metres. Returns the neighbours split
-// against.
+// out) votes against a component only when the roof it belongs to stands
+// mostly there: the corner of a building on a parcel the layer leaves out is
+// nobody's here, while a porch of this parcel's house reaching over an alley
+// stays with the house, and so does a slope of a neighbour's low roof that
+// spans an alley and reaches onto this parcel. Land outside the layer is never
+// split against: roofs here overhang streets and alleys by metres. Returns the
+// neighbours split against.
 std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const ReconstructionParams& p) {
   const int outside = int(s.neighbours.size());  // land outside the layer
   auto land_of = [&](const Vec2& q) {            // -1: this parcel
@@ -119,12 +120,12 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
     return outside;
   };
   std::vector<std::vector<int>> lands(seg.components.size());
-  std::vector<long> roof_own(size_t(seg.roof_count), 0), roof_outside(size_t(seg.roof_count), 0);
+  std::vector<long> roof_on_parcels(size_t(seg.roof_count), 0), roof_outside(size_t(seg.roof_count), 0);
   for (size_t c = 0; c < seg.components.size(); ++c)
     for (int i : seg.components[c].points) {
       const int land = land_of(plan(s.roof_points[i]));
       lands[c].push_back(land);
-      roof_own[size_t(seg.components[c].roof)] += land < 0;
+      roof_on_parcels[size_t(seg.components[c].roof)] += land != outside;
       roof_outside[size_t(seg.components[c].roof)] += land == outside;
     }
   std::set<int> split_with;
@@ -143,9 +144,17 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
     bool crosses = false;
     for (int n : split_with) crosses = crosses || held[size_t(n)] >= long(kMinPointsAcross);
     const bool split = shared[ci] || (crosses && own >= p.min_component_points);
+    // Split with a few stray points here only (fewer than say anything about
+    // this parcel), the part over land outside the layer goes with the
+    // neighbour holding more of it: that neighbour models it.
+    bool outside_ours = true;
     if (split)  // the parts on the neighbours' parcels it is split against are theirs
-      for (int n : split_with) held[size_t(n)] = 0;
-    if (roof_own[size_t(c.roof)] >= roof_outside[size_t(c.roof)]) held[size_t(outside)] = 0;
+      for (int n : split_with) {
+        outside_ours = outside_ours && (own >= long(kMinPointsAcross) || own >= held[size_t(n)]);
+        held[size_t(n)] = 0;
+      }
+    if (!outside_ours || roof_on_parcels[size_t(c.roof)] >= roof_outside[size_t(c.roof)])
+      held[size_t(outside)] = 0;
     if (own == 0 || own < *std::max_element(held.begin(), held.end())) {
       for (int i : c.points) seg.label[i] = seg.roof_of[i] = -1;  // another's
       c.points.clear();
@@ -154,8 +163,10 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
     if (!split) continue;  // whole: ours, overhang included
     std::vector<int> kept;
     for (size_t k = 0; k < c.points.size(); ++k) {
-      if (split_with.count(where[k])) seg.label[c.points[k]] = seg.roof_of[c.points[k]] = -1;
-      else kept.push_back(c.points[k]);
+      if (split_with.count(where[k]) || (!outside_ours && where[k] == outside))
+        seg.label[c.points[k]] = seg.roof_of[c.points[k]] = -1;
+      else
+        kept.push_back(c.points[k]);
     }
     c.points = kept;
   }

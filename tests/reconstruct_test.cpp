@@ -701,6 +701,36 @@ TEST(ReconstructBadInput, PorchOverLandOutsideTheLayerStaysWithTheHouse) {
   EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 12.5, 11.0 * 12.5 * 0.03);
 }
 
+TEST(ReconstructBadInput, LowRoofOverAnAlleyIsModelledWhereItStandsOnTheParcel) {
+  // Parcel A ends 1.5 m beyond its house's east eave; a 5 m alley outside the
+  // layer lies between A and parcel B. A low gable roof spans the alley, its
+  // ridge on B's boundary: the west slope is 1.5 m on A and 5 m over the alley,
+  // the east slope wholly on B. The alley holds most of the west slope, but
+  // the roof stands mostly on parcels: the slope is A's, not nobody's (before,
+  // its 1.5 m over A were modelled by neither parcel, and B, holding a few
+  // stray points of it, modelled its part over the alley).
+  std::mt19937_64 rng(16);
+  const Polygon2 a{{{0, 0}, {17, 0}, {17, 20}, {0, 20}}, {}}, b{{{22, 0}, {40, 0}, {40, 20}, {22, 20}}, {}};
+  std::vector<Vec3> roof = gable_points(rng);
+  for (double side : {-1.0, 1.0}) {
+    const Plane slope = plane_through({22, 0, 103.5}, {side * 0.3, 0, 1});
+    auto pts = sample_plane(slope, side < 0 ? 15.5 : 22, side < 0 ? 22 : 27, 6, 14, 40, 0.02, rng);
+    roof.insert(roof.end(), pts.begin(), pts.end());
+  }
+  const ParcelResult ra = reconstruct_beside(a, b, roof);
+  double worst = 0, plan = 0;
+  for (const auto& bl : ra.buildings) {
+    worst = std::max(worst, bl.roof_deviation.max);
+    plan += totals(bl).roof_plan;
+  }
+  EXPECT_LT(worst, 0.3) << "a roof point on A is off every roof of A's model";
+  EXPECT_NEAR(plan, 11 * 9 + 6.5 * 8, 0.03 * (11 * 9 + 6.5 * 8));  // the house and the whole west slope
+  const ParcelResult rb = reconstruct_beside(b, a, roof);
+  plan = 0;
+  for (const auto& bl : rb.buildings) plan += totals(bl).roof_plan;
+  EXPECT_NEAR(plan, 5.0 * 8, 0.03 * 5 * 8);  // B: its east slope only, nothing modelled twice
+}
+
 // ---- roof points no plane takes -------------------------------------------
 
 namespace {
