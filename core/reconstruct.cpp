@@ -485,10 +485,9 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     std::vector<Vec3> inside_roof;
     for (const auto& q : s.roof_points)
       if (poly::covers(s.parcel, plan(q))) inside_roof.push_back(q);
-    MultiPolygon2 near = poly::buffer(s.parcel, kWallPointReachM);
-    std::vector<Vec3> near_wall;
+    std::vector<Vec3> near_wall;  // by distance: a mitred buffer reaches further at corners
     for (const auto& q : s.wall_points)
-      if (poly::covers(near, plan(q))) near_wall.push_back(q);
+      if (poly::distance(s.parcel, plan(q)) <= kWallPointReachM) near_wall.push_back(q);
     evaluate_buildings(r.buildings, inside_roof, near_wall);
     clock.lap("evaluate");
     r.status = ParcelStatus::Ok;
