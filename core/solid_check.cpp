@@ -333,6 +333,34 @@ void check_edges(const Soup& tris, Problems& pr) {
   if (flipped) pr.add("inconsistent_orientation", std::to_string(flipped) + " edges walked twice in the same direction (a flipped face)");
 }
 
+
+// A vertex lying on the inside of a triangle it is not a corner of: two faces
+// touch there without sharing an edge (a step wall's foot on the wall beside
+// it). CGAL's test misses such contact when it is off by a hair; `validate`,
+// which snaps vertices, reports it as a self-intersection.
+constexpr double kTouchTol = 1e-3;  // validate's vertex snap
+
+bool vertex_inside_a_face(const std::vector<Vec3>& pts, const Soup& tris) {
+  for (const auto& t : tris) {
+    const Vec3 &a = pts[t[0]], &b = pts[t[1]], &c = pts[t[2]];
+    const Vec3 n = (b - a).cross(c - a);
+    const double twice_area = n.norm();
+    if (twice_area < 1e-12) continue;
+    const Vec3 lo = a.cwiseMin(b).cwiseMin(c).array() - kTouchTol, hi = a.cwiseMax(b).cwiseMax(c).array() + kTouchTol;
+    for (size_t v = 0; v < pts.size(); ++v) {
+      if (v == t[0] || v == t[1] || v == t[2]) continue;
+      const Vec3& q = pts[v];
+      if ((q.array() < lo.array()).any() || (q.array() > hi.array()).any()) continue;
+      if (std::abs(n.dot(q - a)) / twice_area >= kTouchTol) continue;
+      // Twice the areas of the sub-triangles: over each edge's length, q's distance inside it.
+      const double da = n.dot((c - b).cross(q - b)) / twice_area, db = n.dot((a - c).cross(q - c)) / twice_area,
+                   dc = n.dot((b - a).cross(q - a)) / twice_area;
+      if (da / (c - b).norm() > kTouchTol && db / (a - c).norm() > kTouchTol && dc / (b - a).norm() > kTouchTol)
+        return true;
+    }
+  }
+  return false;
+}
 }  // namespace
 
 bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg, double min_thickness) {
@@ -382,6 +410,7 @@ SolidCheck check_solid(const std::vector<Face>& shell, double planarity_tol) {
       PMP::polygon_soup_to_polygon_mesh(p2, t2, mesh);
     }
     if (PMP::does_self_intersect(mesh)) pr.add("self_intersection", "faces cross each other");
+    else if (vertex_inside_a_face(pool.points, tris)) pr.add("self_intersection", "a corner touches the inside of another face");
     if (as_given && CGAL::is_closed(mesh)) {
       if (!PMP::is_outward_oriented(mesh)) pr.add("inward_orientation", "the shell is inside out");
       r.volume = PMP::volume(mesh);

@@ -285,3 +285,26 @@ TEST(SolidCheck, BoxesTouchingAtAVertexOrAnEdgeAreNonManifold) {
   EXPECT_FALSE(d.ok);
   EXPECT_TRUE(d.has("non_manifold")) << d.summary();
 }
+
+TEST(SolidCheck, CornerAHairFromAnotherFaceTouchesIt) {
+  // A box standing 0.5 mm above another: no face crosses another, but
+  // `validate` snaps vertices to 1 mm, and there the boxes' faces meet inside
+  // (as a step wall's foot met the wall beside it on a Cimahi house).
+  auto cube = [](Vec3 o) {
+    const double x0 = o.x(), y0 = o.y(), z0 = o.z(), x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
+    return std::vector<Face>{quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),
+                             quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}),
+                             quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),
+                             quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
+                             quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
+                             quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
+  };
+  auto near = cube({0, 0, 0}), b = cube({0.25, 0.25, 1.0005});
+  near.insert(near.end(), b.begin(), b.end());
+  SolidCheck c = check_solid(near);
+  EXPECT_FALSE(c.ok);
+  EXPECT_TRUE(c.has("self_intersection")) << c.summary();
+  auto apart = cube({0, 0, 0}), f = cube({0.25, 0.25, 1.01});  // 1 cm: two solids, no contact
+  apart.insert(apart.end(), f.begin(), f.end());
+  EXPECT_FALSE(check_solid(apart).has("self_intersection")) << check_solid(apart).summary();
+}
