@@ -14,6 +14,10 @@
 
 namespace c3d {
 namespace {
+// A loose point on a surface steeper than 60 degrees (a tank's side, a parapet's
+// face) is not roof surface; corrugated sheet tilts its normals by up to ~45.
+constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
+constexpr int kNormalNeighbours = 16;
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Tree = pcl::search::KdTree<pcl::PointXYZ>;
@@ -114,11 +118,11 @@ void merge_coplanar(const std::vector<Vec3>& pts, std::vector<RoofComponent>& co
 // Gives every roof point to the component whose plane fits it best among the
 // components of its 12 nearest roof points; points no plane explains stay unlabelled.
 void reassign(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& neighbours,
-              const pcl::Indices& roof, std::vector<RoofComponent>& comps, std::vector<int>& label,
-              double tol) {
+              const pcl::Indices& roof, const pcl::Indices& which, std::vector<RoofComponent>& comps,
+              std::vector<int>& label, double tol) {
   std::vector<int> old = label;
   static const pcl::Indices none;  // region growing gave up before searching
-  for (int i : roof) {
+  for (int i : which) {
     const auto& nn = size_t(i) < neighbours.size() ? neighbours[size_t(i)] : none;
     int best = -1;
     double best_d = 1e9;
@@ -137,11 +141,77 @@ void reassign(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& nei
     if (label[i] >= 0) comps[label[i]].points.push_back(i);
 }
 
-}  // namespace
+// Labels of one roof's points from its components' point lists.
+void relabel(const pcl::Indices& roof, const std::vector<RoofComponent>& comps, std::vector<int>& label) {
+  for (int i : roof) label[i] = -1;
+  for (size_t c = 0; c < comps.size(); ++c)
+    for (int i : comps[c].points) label[i] = int(c);
+}
 
-// A loose point on a surface steeper than 60 degrees (a tank's side, a parapet's
-// face) is not roof surface; corrugated sheet tilts its normals by up to ~45.
-constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
+// Merges coplanar regions, then gives the points of `which` (the rest keep
+// their labels) to their best-fitting planes, twice, refitting in between.
+void settle_labels(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& neighbours,
+                   const pcl::Indices& roof, const pcl::Indices& which, double tol,
+                   std::vector<RoofComponent>& comps, std::vector<int>& label) {
+  merge_coplanar(pts, comps, tol);
+  relabel(roof, comps, label);
+  for (int round = 0; round < 2; ++round) {
+    reassign(pts, neighbours, roof, which, comps, label, tol);
+    for (auto& c : comps)
+      if (c.points.size() >= 3) c.fit = fit_plane_robust(pts, c.points, tol);
+  }
+}
+
+// Regions as components of one roof, those of `min_points` or more; with
+// `min_normal_z`, steeper planes (a tank's side, a parapet's face) are left out.
+void add_regions(const std::vector<Vec3>& pts, const std::vector<pcl::PointIndices>& regions,
+                 const ReconstructionParams& p, int roof, std::vector<RoofComponent>& comps,
+                 size_t min_points = 0, double min_normal_z = 0.0) {
+  for (const auto& region : regions) {
+    if (region.indices.size() < min_points) continue;
+    RoofComponent c;
+    c.points.assign(region.indices.begin(), region.indices.end());
+    c.fit = fit_plane_robust(pts, c.points, p.plane_inlier_m);
+    if (std::abs(c.fit.plane.n.z()) < min_normal_z) continue;
+    c.roof = roof;
+    comps.push_back(std::move(c));
+  }
+}
+
+// Kept as a roof plane: enough points, standing for enough plan area.
+bool big_enough(const RoofComponent& c, double spacing, const ReconstructionParams& p) {
+  return int(c.points.size()) >= p.min_component_points &&
+         double(c.points.size()) * spacing * spacing >= p.min_component_area_m2;
+}
+
+// Each point of `which`: the mean of the (upward) normals of its nearest
+// neighbours on the same roof, itself included. Curvature 0: any point may seed.
+pcl::PointCloud<pcl::Normal>::Ptr smoothed_normals(const NeighbourTable& table,
+                                                  const pcl::PointCloud<pcl::Normal>& normals,
+                                                  const pcl::Indices& roof, const pcl::Indices& which) {
+  pcl::PointCloud<pcl::Normal>::Ptr out(new pcl::PointCloud<pcl::Normal>(normals));
+  std::vector<char> on_roof(normals.size(), 0);
+  for (int i : roof) on_roof[size_t(i)] = 1;
+  pcl::Indices nn;
+  std::vector<float> d2;
+  for (int i : which) {
+    table.nearestKSearch(i, kNormalNeighbours, nn, d2);
+    Vec3 sum = Vec3::Zero();
+    for (int j : nn) {
+      const auto& q = normals[size_t(j)];
+      if (!on_roof[size_t(j)] || !std::isfinite(q.normal_z)) continue;
+      Vec3 v(q.normal_x, q.normal_y, q.normal_z);
+      sum += v.z() < 0 ? -v : v;
+    }
+    if (sum.norm() == 0) continue;
+    sum.normalize();
+    auto& o = (*out)[size_t(i)];
+    o.normal_x = float(sum.x()), o.normal_y = float(sum.y()), o.normal_z = float(sum.z()), o.curvature = 0.f;
+  }
+  return out;
+}
+
+}  // namespace
 
 Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
   Segmentation seg;
@@ -149,8 +219,7 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   seg.roof_of.assign(points.size(), -1);
   if (points.size() < 10) return seg;
   auto cloud = to_pcl(points);
-  const int normal_neighbours = 16;
-  auto table = std::make_shared<NeighbourTable>(cloud, std::max(normal_neighbours, p.outlier_neighbours + 1));
+  auto table = std::make_shared<NeighbourTable>(cloud, std::max(kNormalNeighbours, p.outlier_neighbours + 1));
   seg.spacing = median_spacing(cloud, *table);
 
   pcl::Indices kept = remove_statistical_outliers(*table, p.outlier_neighbours, p.outlier_std);
@@ -158,7 +227,7 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
   ne.setInputCloud(cloud);
   ne.setSearchMethod(table);
-  ne.setKSearch(normal_neighbours);
+  ne.setKSearch(kNormalNeighbours);
   ne.compute(*normals);
 
   double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
@@ -166,28 +235,32 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   for (const auto& roof : roofs) {
     std::vector<RoofComponent> comps;
     std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
-    for (const auto& region : grow_components(cloud, normals, roof.indices, p, roof_neighbours)) {
-      RoofComponent c;
-      c.points.assign(region.indices.begin(), region.indices.end());
-      c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
-      c.roof = seg.roof_count;
-      comps.push_back(std::move(c));
-    }
-    merge_coplanar(points, comps, p.plane_inlier_m);
+    add_regions(points, grow_components(cloud, normals, roof.indices, p, roof_neighbours), p, seg.roof_count, comps);
     std::vector<int> local_label(points.size(), -1);
-    for (size_t c = 0; c < comps.size(); ++c)
-      for (int i : comps[c].points) local_label[i] = int(c);
-    for (int round = 0; round < 2; ++round) {
-      reassign(points, roof_neighbours, roof.indices, comps, local_label, p.plane_inlier_m);
-      for (auto& c : comps)
-        if (c.points.size() >= 3) c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
+    settle_labels(points, roof_neighbours, roof.indices, roof.indices, p.plane_inlier_m, comps, local_label);
+    // Second pass over what the first left: textured sheet (corrugation, tiles)
+    // tilts the 16-point normals by 20-45 degrees, so region growing breaks such
+    // roofs into patches too small to keep. Averaged over the neighbours, the
+    // normals follow the sheet, and the patches grow into planes.
+    comps.erase(std::remove_if(comps.begin(), comps.end(),
+                               [&](const RoofComponent& c) { return !big_enough(c, seg.spacing, p); }),
+                comps.end());
+    relabel(roof.indices, comps, local_label);
+    pcl::Indices leftover;
+    for (int i : roof.indices)
+      if (local_label[i] < 0) leftover.push_back(i);
+    if (int(leftover.size()) >= p.min_component_points) {
+      auto smooth = smoothed_normals(*table, *normals, roof.indices, leftover);
+      std::vector<pcl::Indices> unused;
+      size_t before = comps.size();
+      add_regions(points, grow_components(cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
+                  size_t(p.min_component_points), kMinRoofNormalZ);
+      if (comps.size() > before)
+        settle_labels(points, roof_neighbours, roof.indices, leftover, p.plane_inlier_m, comps, local_label);
     }
     int kept_here = 0;
     for (auto& c : comps) {
-      bool big = int(c.points.size()) >= p.min_component_points &&
-                 double(c.points.size()) * seg.spacing * seg.spacing >=  // plan area the points stand for
-                     p.min_component_area_m2;
-      if (!big) continue;
+      if (!big_enough(c, seg.spacing, p)) continue;
       int id = int(seg.components.size());
       for (int i : c.points) seg.label[i] = id;
       seg.components.push_back(std::move(c));
