@@ -59,6 +59,15 @@ std::vector<int> check_ring(const Ring3& r, const Vec3& normal, VertexSnap& snap
 
 }  // namespace
 
+Face on_export_grid(Face f) {
+  auto round = [](Ring3& ring) {
+    for (Vec3& v : ring) v = (v / kExportGridM).array().round() * kExportGridM;
+  };
+  round(f.ring);
+  for (Ring3& h : f.holes) round(h);
+  return f;
+}
+
 bool check_polygon(const Face& f, const PolygonRules& rules, VertexSnap& snap,
                    std::vector<std::vector<int>>& rings, std::vector<PolygonIssue>& issues) {
   const Vec3 n = unit_normal(f);

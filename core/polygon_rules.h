@@ -26,6 +26,13 @@ enum Val3dityCode : int {
   kPolygonWrongOrientation = 307,
 };
 
+// CityJSON writes vertices as integers on this grid (local frame); rounding to
+// whole mm would tilt the thinnest faces. A face must pass the rules there too.
+constexpr double kExportGridM = 0.0001;
+
+// The face with its vertices rounded to kExportGridM, as CityJSON carries it.
+Face on_export_grid(Face f);
+
 struct PolygonRules {
   double snap_tol = 0.001;       // vertices closer than this are one vertex (m)
   double planarity_tol = 0.01;   // max distance to the fitted plane (m)

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/geometry.h"
+#include "core/polygon_rules.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
 
@@ -21,7 +22,7 @@ namespace c3d {
 namespace {
 
 using nlohmann::json;
-constexpr double kScale = 0.0001;  // m per integer unit of the vertices
+constexpr double kScale = kExportGridM;  // m per integer unit of the vertices
 
 class Vertices {
  public:

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/polygon_rules.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
 #include "tests/export_fixtures.h"
@@ -155,4 +156,35 @@ TEST(Validate, CollinearWallTopPiecesAreNotACrossing) {
   wall.ring[5] = at(2.2, 9.2);
   b.elements[2].faces[0] = wall;
   EXPECT_TRUE(has_code(validate_building(b), kRingSelfIntersection)) << dump(validate_building(b));
+}
+
+TEST(PolygonRules, ThinFaceCanTiltOnTheExportGrid) {
+  // A roof face of a Cimahi house (parcels laid out on an 18 m grid): three
+  // near-collinear vertices along its north edge form a triangle under 1 mm
+  // thick, which the rules pass over; rounded to CityJSON's 0.1 mm grid it is
+  // thicker than 1 mm and tilted, and `validate` rejects the face there.
+  const Face face{{{32.938274782570005, 80.261119695303648, 789.91594052795597},
+                   {33.538592362529215, 76.034388426364799, 791.66262839905494},
+                   {33.576039830877257, 76.007004576426354, 791.66254261953998},
+                   {33.603638795453179, 75.988943745539018, 791.66215807441995},
+                   {36.107280833167096, 76.381875053795142, 790.62949533116353},
+                   {36.142307986220032, 76.387372351278685, 790.61505708444224},
+                   {36.180362702009951, 76.144898961699155, 790.71402992046569},
+                   {36.49151387441659, 75.924101438789052, 790.71020893982086},
+                   {36.49151387441659, 77.666687359903804, 789.9059964783919}},
+                  {}};
+  auto issues_of = [](const Face& f) {
+    VertexSnap snap(PolygonRules{}.snap_tol);
+    std::vector<std::vector<int>> rings;
+    std::vector<PolygonIssue> issues;
+    check_polygon(f, PolygonRules{}, snap, rings, issues);
+    return issues;
+  };
+  EXPECT_TRUE(issues_of(face).empty());
+  const Face exported = on_export_grid(face);
+  const auto there = issues_of(exported);
+  ASSERT_EQ(there.size(), 1u);
+  EXPECT_EQ(there.front().code, kNonPlanarNormalsDeviation);
+  for (size_t i = 0; i < face.ring.size(); ++i)
+    EXPECT_LE((exported.ring[i] - face.ring[i]).cwiseAbs().maxCoeff(), kExportGridM / 2 + 1e-12);
 }
