@@ -21,17 +21,6 @@ namespace {
 
 Face quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) { return {{a, b, c, d}, {}}; }
 
-// Axis-aligned box [lo, hi], faces outward.
-std::vector<Face> box(const Vec3& lo, const Vec3& hi) {
-  const double x0 = lo.x(), y0 = lo.y(), z0 = lo.z(), x1 = hi.x(), y1 = hi.y(), z1 = hi.z();
-  return {quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),
-          quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}),
-          quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),
-          quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
-          quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
-          quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
-}
-
 // Offsets of the test points from the plane, and their exact statistics.
 const std::vector<double> kOffsets{0.1, -0.2, 0.3, 0.4, -0.5};
 constexpr double kMean = 0.3, kMeanSq = 0.11;
@@ -63,7 +52,7 @@ TEST(Deviation, PointsAtKnownDistancesFromAPlane) {
 }
 
 TEST(Deviation, DistancesToABox) {
-  const auto faces = box({0, 0, 0}, {2, 2, 2});
+  const auto faces = test::box_shell({0, 0, 0}, {2, 2, 2});
   FaceIndex index(faces);
   EXPECT_NEAR(index.nearest(Vec3(3, 1, 1)).distance, 1, 1e-12);
   EXPECT_NEAR(index.nearest(Vec3(3, 3, 1)).distance, std::sqrt(2.0), 1e-12);
@@ -102,7 +91,7 @@ TEST(Deviation, PoolingEqualsTheUnion) {
 TEST(Deviation, EvaluateBuildingsAssignsPointsToTheNearestBuilding) {
   std::vector<Building> bs(2);
   for (int k = 0; k < 2; ++k) {
-    auto faces = box({20.0 * k, 0, 0}, {20.0 * k + 10, 10, 5});
+    auto faces = test::box_shell({20.0 * k, 0, 0}, {20.0 * k + 10, 10, 5});
     bs[k].elements.push_back({ElementType::Roof, {faces[1]}});
     bs[k].elements.push_back({ElementType::Wall, {faces[2], faces[3], faces[4], faces[5]}});
   }
@@ -122,7 +111,7 @@ TEST(Deviation, QuerySpeed) {
   std::vector<Face> faces;
   for (int i = 0; i < 40; ++i)
     for (int j = 0; j < 40; ++j) {
-      auto b = box({15.0 * i, 15.0 * j, 0}, {15.0 * i + 10, 15.0 * j + 10, 3 + 0.1 * j});
+      auto b = test::box_shell({15.0 * i, 15.0 * j, 0}, {15.0 * i + 10, 15.0 * j + 10, 3 + 0.1 * j});
       faces.insert(faces.end(), b.begin(), b.end());
     }
   // Points as LiDAR gives them: on the roofs, 0.3 m noise.
@@ -152,7 +141,7 @@ TEST(Deviation, QuerySpeed) {
 TEST(MeshIo, ObjRoundTripKeepsGroupsAndCoordinates) {
   const std::string dir = test::temp_dir("mesh_io");
   const Vec3 o(512345.25, 9241234.5, 700);
-  auto b = box(o, o + Vec3(10, 8, 3));
+  auto b = test::box_shell(o, o + Vec3(10, 8, 3));
   Face holed{{o, o + Vec3(4, 0, 0), o + Vec3(4, 4, 0), o + Vec3(0, 4, 0)},
              {{o + Vec3(1, 1, 0), o + Vec3(1, 2, 0), o + Vec3(2, 2, 0), o + Vec3(2, 1, 0)}}};
   std::vector<MeshGroup> groups{{"p1_b1_roof", "roof", {b[1]}},
@@ -210,7 +199,7 @@ TEST(MeshIo, PlyAsciiAndBinary) {
 TEST(EvaluateCli, PooledAndPerParcelDeviation) {
   const std::string dir = test::temp_dir("evaluate_cli");
   const Vec3 o(512300.0, 9241200.0, 700.0);
-  auto b = box(o, o + Vec3(10, 8, 3));
+  auto b = test::box_shell(o, o + Vec3(10, 8, 3));
   write_obj(dir + "/model.obj", {{"P1_b1_roof", "", {b[1]}}, {"P1_b1_wall", "", {b[2], b[3], b[4], b[5]}},
                                  {"P1_b1_ground", "", {b[0]}}});
   PointCloud cloud;

@@ -8,6 +8,7 @@
 #include "core/measure.h"
 #include "core/occ_check.h"
 #include "core/solid_check.h"
+#include "tests/test_support.h"
 
 using namespace c3d;
 
@@ -56,6 +57,9 @@ const double kSlopeLen = std::hypot(kW / 2, kRidge - kEave);  // sqrt(20)
 const double kVolume = kL * kW * kEave + kL * kW * (kRidge - kEave) / 2;  // 240 + 80
 const double kSolidArea = kL * kW + 2 * kL * kEave + 2 * (kW * kEave + kW * (kRidge - kEave) / 2) +
                           2 * kL * kSlopeLen;
+
+// The closed shell of a 1 m cube with its lowest corner at o.
+std::vector<Face> unit_cube(const Vec3& o) { return test::box_shell(o, o + Vec3(1, 1, 1)); }
 
 Face flipped(Face f) {
   std::reverse(f.ring.begin(), f.ring.end());
@@ -265,21 +269,12 @@ TEST(Sigma, TiltedRectangleClosedForm) {
 }
 
 TEST(SolidCheck, BoxesTouchingAtAVertexOrAnEdgeAreNonManifold) {
-  auto cube = [](Vec3 o) {
-    const double x0 = o.x(), y0 = o.y(), z0 = o.z(), x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    return std::vector<Face>{quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),
-                             quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}),
-                             quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),
-                             quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
-                             quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
-                             quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
-  };
-  auto vertex = cube({0, 0, 0}), b = cube({1, 1, 1});
+  auto vertex = unit_cube({0, 0, 0}), b = unit_cube({1, 1, 1});
   vertex.insert(vertex.end(), b.begin(), b.end());
   SolidCheck c = check_solid(vertex);
   EXPECT_FALSE(c.ok);
   EXPECT_TRUE(c.has("non_manifold")) << c.summary();
-  auto edge = cube({0, 0, 0}), e = cube({1, 1, 0});
+  auto edge = unit_cube({0, 0, 0}), e = unit_cube({1, 1, 0});
   edge.insert(edge.end(), e.begin(), e.end());
   SolidCheck d = check_solid(edge);
   EXPECT_FALSE(d.ok);
@@ -290,21 +285,12 @@ TEST(SolidCheck, CornerAHairFromAnotherFaceTouchesIt) {
   // A box standing 0.5 mm above another: no face crosses another, but
   // `validate` snaps vertices to 1 mm, and there the boxes' faces meet inside
   // (as a step wall's foot met the wall beside it on a Cimahi house).
-  auto cube = [](Vec3 o) {
-    const double x0 = o.x(), y0 = o.y(), z0 = o.z(), x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    return std::vector<Face>{quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),
-                             quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}),
-                             quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),
-                             quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
-                             quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
-                             quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
-  };
-  auto near = cube({0, 0, 0}), b = cube({0.25, 0.25, 1.0005});
+  auto near = unit_cube({0, 0, 0}), b = unit_cube({0.25, 0.25, 1.0005});
   near.insert(near.end(), b.begin(), b.end());
   SolidCheck c = check_solid(near);
   EXPECT_FALSE(c.ok);
   EXPECT_TRUE(c.has("self_intersection")) << c.summary();
-  auto apart = cube({0, 0, 0}), f = cube({0.25, 0.25, 1.01});  // 1 cm: two solids, no contact
+  auto apart = unit_cube({0, 0, 0}), f = unit_cube({0.25, 0.25, 1.01});  // 1 cm: two solids, no contact
   apart.insert(apart.end(), f.begin(), f.end());
   EXPECT_FALSE(check_solid(apart).has("self_intersection")) << check_solid(apart).summary();
 }

@@ -1,7 +1,10 @@
 #pragma once
-// Helpers shared by the tests: where the shared data is, temp dirs, running the CLI.
+// Helpers shared by the tests: where the shared data is, temp dirs, running the
+// CLI, a box-shaped shell.
 #include <string>
 #include <vector>
+
+#include "core/types.h"
 
 namespace c3d::test {
 
@@ -14,6 +17,9 @@ std::string temp_dir(const std::string& name);
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.
 int run_cli(const std::string& args, std::string* output = nullptr);
+
+// Closed shell of the axis-aligned box [lo, hi], faces outward.
+std::vector<Face> box_shell(const Vec3& lo, const Vec3& hi);
 
 // Rows of a CSV text (quoted fields may hold commas; blank lines skipped).
 std::vector<std::vector<std::string>> parse_csv(const std::string& text);
