@@ -14,10 +14,12 @@
 
 namespace c3d {
 namespace {
-// A loose point on a surface steeper than 60 degrees (a tank's side, a parapet's
-// face) is not roof surface; corrugated sheet tilts its normals by up to ~45.
+
+// A surface steeper than 60 degrees (a tank's side, a parapet's face) is not
+// roof: neither a loose point on it nor a plane the second pass grows there.
+// Corrugated sheet tilts its normals by up to ~45.
 constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
-constexpr int kNormalNeighbours = 16;
+constexpr int kNormalNeighbours = 16;    // normals, and the smoothing of the second pass
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Tree = pcl::search::KdTree<pcl::PointXYZ>;

@@ -1,7 +1,8 @@
 #pragma once
 // Stage "segment": individual roofs (connected roof point clusters) and, within
-// each roof, planar roof components (PCL region growing), cleaned so clutter
-// (antennas, tanks, vegetation) does not become roof planes.
+// each roof, planar roof components (PCL region growing; a second pass over the
+// points the first left, on smoothed normals, for textured sheet), cleaned so
+// clutter (antennas, tanks, vegetation) does not become roof planes.
 #include <vector>
 
 #include "core/config.h"

@@ -333,7 +333,6 @@ void check_edges(const Soup& tris, Problems& pr) {
   if (flipped) pr.add("inconsistent_orientation", std::to_string(flipped) + " edges walked twice in the same direction (a flipped face)");
 }
 
-
 // A vertex lying on the inside of a triangle it is not a corner of: two faces
 // touch there without sharing an edge (a step wall's foot on the wall beside
 // it). CGAL's test misses such contact when it is off by a hair; `validate`,
@@ -361,6 +360,7 @@ bool vertex_inside_a_face(const std::vector<Vec3>& pts, const Soup& tris) {
   }
   return false;
 }
+
 }  // namespace
 
 bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg, double min_thickness) {
