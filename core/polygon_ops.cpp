@@ -17,9 +17,11 @@
 #include <geos/operation/valid/MakeValid.h>
 #include <geos/simplify/DouglasPeuckerSimplifier.h>
 #include <geos/simplify/TopologyPreservingSimplifier.h>
+#include <geos/triangulate/VoronoiDiagramBuilder.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/geometry.h"
 #include "core/geos_util.h"
@@ -272,6 +274,99 @@ Vec2 interior_point(const Polygon2& p) {
   auto pt = g->getInteriorPoint();
   if (!pt || pt->isEmpty()) return p.outer.empty() ? Vec2::Zero() : p.outer[0];
   return {pt->getX(), pt->getY()};
+}
+
+namespace {
+
+// Even-odd rule over all rings (holes included).
+bool covers_point(const MultiPolygon2& mp, const Vec2& x) {
+  bool in = false;
+  auto ring = [&](const Ring2& r) {
+    for (size_t i = 0, j = r.size() - 1; i < r.size(); j = i++)
+      if ((r[i].y() > x.y()) != (r[j].y() > x.y()) &&
+          x.x() < (r[j].x() - r[i].x()) * (x.y() - r[i].y()) / (r[j].y() - r[i].y()) + r[i].x())
+        in = !in;
+  };
+  for (const auto& poly : mp) {
+    ring(poly.outer);
+    for (const auto& h : poly.holes) ring(h);
+  }
+  return in;
+}
+
+double boundary_distance(const MultiPolygon2& mp, const Vec2& x) {
+  double best = std::numeric_limits<double>::infinity();
+  auto ring = [&](const Ring2& r) {
+    for (size_t i = 0; i < r.size(); ++i) {
+      const Vec2 &p = r[i], d = r[(i + 1) % r.size()] - p;
+      const double t = d.squaredNorm() > 0 ? std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+      best = std::min(best, (p + t * d - x).norm());
+    }
+  };
+  for (const auto& poly : mp) {
+    ring(poly.outer);
+    for (const auto& h : poly.holes) ring(h);
+  }
+  return best;
+}
+
+// Points every `step` along the rings of mp within `reach` of `other`, leaving
+// out those on other's boundary (a shared corner is nobody's site).
+void boundary_sites(const MultiPolygon2& mp, const MultiPolygon2& other, double reach, double step,
+                    std::vector<Vec2>& out) {
+  auto walk = [&](const Ring2& r) {
+    for (size_t i = 0; i < r.size(); ++i) {
+      const Vec2 &p = r[i], &q = r[(i + 1) % r.size()];
+      const int n = std::max(1, int(std::ceil((q - p).norm() / step)));
+      for (int k = 0; k < n; ++k) {
+        const Vec2 x = p + (q - p) * (double(k) / n);
+        const double d = boundary_distance(other, x);
+        if (d > 1e-6 && (d <= reach || covers_point(other, x))) out.push_back(x);
+      }
+    }
+  };
+  for (const auto& poly : mp) {
+    walk(poly.outer);
+    for (const auto& h : poly.holes) walk(h);
+  }
+}
+
+}  // namespace
+
+MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const std::vector<MultiPolygon2>& others,
+                        double reach, double step) {
+  // Land within reach of both is nearest to sites within 2 x reach of the other.
+  std::vector<Vec2> sites;
+  boundary_sites(b, a, 2 * reach + step, step, sites);
+  const size_t from_b = sites.size();
+  boundary_sites(a, b, 2 * reach + step, step, sites);
+  if (from_b == 0 || from_b == sites.size()) return {};
+  CoordinateArraySequence coords;
+  for (const auto& x : sites) coords.add(Coordinate(x.x(), x.y()));
+  const MultiPolygon2 near_both = intersect(buffer(b, reach), buffer(a, reach));
+  if (near_both.empty()) return {};
+  GeomPtr zone = to_geos(near_both);
+  geos::geom::Envelope env(*zone->getEnvelopeInternal());
+  geos::triangulate::VoronoiDiagramBuilder voronoi;
+  voronoi.setSites(coords);
+  voronoi.setClipEnvelope(&env);
+  auto cells = voronoi.getDiagram(factory());
+  std::vector<std::unique_ptr<Geometry>> mine;
+  for (size_t c = 0; c < cells->getNumGeometries(); ++c) {
+    const Geometry* cell = cells->getGeometryN(c);
+    const auto inside = cell->getInteriorPoint();
+    if (!inside || inside->isEmpty()) continue;
+    const Vec2 q(inside->getX(), inside->getY());
+    size_t best = 0;  // any point of a Voronoi cell is nearest to the cell's own site
+    for (size_t i = 1; i < sites.size(); ++i)
+      if ((sites[i] - q).squaredNorm() < (sites[best] - q).squaredNorm()) best = i;
+    if (best < from_b) mine.push_back(cell->clone());
+  }
+  if (mine.empty()) return {};
+  auto nearer = factory().createGeometryCollection(std::move(mine))->Union();
+  MultiPolygon2 land = subtract(intersect(from_geos(nearer.get()), near_both), unite(a, b));
+  for (const auto& o : others) land = subtract(land, o);
+  return land;
 }
 
 MultiPolygon2 halfplane_box(const Vec2& p, const Vec2& dir, const Vec2& side_point,

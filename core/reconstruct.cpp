@@ -243,8 +243,19 @@ struct BuildingPlan {
   std::vector<int> components;
 };
 
+// A roof split with a neighbour ends at their boundary, and beyond their
+// shared corner (over a street no parcel holds) where the land is nearer to
+// the neighbour: each keeps its side, so no eave there is modelled twice.
+MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with) {
+  MultiPolygon2 cut;
+  for (int n : split_with)
+    cut = poly::unite_all({cut, s.neighbours[n],
+                           poly::nearer_to(s.neighbours[n], s.parcel, s.neighbours, s.overhang_buffer_m, 0.25)});
+  return cut;
+}
+
 std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentation& seg,
-                                         const std::set<int>& split_with, double loose_reach, bool turn_axes) {
+                                         const MultiPolygon2& cut, double loose_reach, bool turn_axes) {
   std::map<int, std::vector<int>> comps_of_roof;
   for (size_t c = 0; c < seg.components.size(); ++c)
     if (!seg.components[c].points.empty()) comps_of_roof[seg.components[c].roof].push_back(int(c));
@@ -265,8 +276,6 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
     outlines.push_back(o);
     roof_comps.push_back(comps);
   }
-  MultiPolygon2 cut;
-  for (int n : split_with) cut = poly::unite(cut, s.neighbours[n]);
   std::vector<BuildingPlan> plans;
   for (const auto& group : group_touching(outlines)) {
     std::vector<int> comps;
@@ -399,14 +408,14 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
 // hull's own axes: turning the axes moves edges by millimetres, and where four
 // planes meet that can make the difference between one clean vertex and a
 // sliver. The second model is kept only if it passes.
-void remodel_defective(const ParcelScene& s, const Segmentation& seg, const std::set<int>& split_with,
+void remodel_defective(const ParcelScene& s, const Segmentation& seg, const MultiPolygon2& cut,
                        const std::vector<BuildingPlan>& plans, const ReconstructionParams& p,
                        std::vector<Building>& buildings, StageClock& clock) {
   std::vector<BuildingPlan> fallback;
   for (size_t k = 0; k < buildings.size(); ++k) {
     Building& b = buildings[k];
     if (b.solid_valid && face_defect(b).empty()) continue;
-    if (fallback.empty()) fallback = plan_buildings(s, seg, split_with, p.loose_point_reach_m, false);
+    if (fallback.empty()) fallback = plan_buildings(s, seg, cut, p.loose_point_reach_m, false);
     for (const auto& bp : fallback) {
       const double common = area(poly::intersect({bp.outline}, {plans[k].outline}));
       if (bp.components != plans[k].components ||  // a roof cut in parts: the part here
@@ -443,7 +452,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     }
     Segmentation seg = segment_roofs(s.roof_points, p);
     clock.lap("segment");
-    std::set<int> split_with = apply_ownership(s, seg, p);
+    const std::set<int> split_with = apply_ownership(s, seg, p);
     for (auto& c : seg.components)
       if (int(c.points.size()) < p.min_component_points) {
         for (int i : c.points) seg.label[i] = -1;
@@ -452,7 +461,8 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
         c.fit = fit_plane_robust(s.roof_points, c.points, p.plane_inlier_m);
       }
     clock.lap("ownership");
-    auto plans = plan_buildings(s, seg, split_with, p.loose_point_reach_m, true);
+    const MultiPolygon2 cut = split_cut(s, split_with);
+    auto plans = plan_buildings(s, seg, cut, p.loose_point_reach_m, true);
     clock.lap("boundary");
     for (size_t k = 0; k < plans.size();) {
       std::string id = s.parcel_id + "_b" + std::to_string(k + 1);
@@ -478,7 +488,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
       r.buildings.push_back(std::move(b));
       ++k;
     }
-    remodel_defective(s, seg, split_with, plans, p, r.buildings, clock);
+    remodel_defective(s, seg, cut, plans, p, r.buildings, clock);
     if (r.buildings.empty()) {
       r.status = ParcelStatus::Empty;
       r.reason = "roof points form no roof plane large enough for a building";

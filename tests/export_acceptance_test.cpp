@@ -12,6 +12,7 @@
 
 #include "cadastre/store.h"
 #include "core/geometry.h"
+#include "core/polygon_ops.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
 #include "tests/export_checks.h"
@@ -103,6 +104,34 @@ TEST_P(Exports, EveryBuildingIsAValidSolid) {
     EXPECT_GT(kinds[ElementType::PartyWall], 0);
     EXPECT_GT(kinds[ElementType::Roof], int(b.store.results.size()));
   }
+}
+
+TEST_P(Exports, NoRoofIsModelledByTwoParcels) {
+  // Each parcel models the roof on its side: where two parcels' roofs meet
+  // (row houses split at their boundary, eaves over the street beyond their
+  // shared corner), their roofs' plans must not overlap.
+  C3D_BATCH(b);
+  std::vector<MultiPolygon2> plans;
+  for (const auto& p : b.store.results) {
+    std::vector<MultiPolygon2> faces;
+    for (const auto& bld : p.buildings)
+      for (const auto& e : bld.elements)
+        if (e.type == ElementType::Roof)
+          for (const auto& f : e.faces) {
+            Ring2 r;
+            for (const auto& v : f.ring) r.push_back(v.head<2>());
+            if (std::abs(signed_area(r)) > 1e-6) faces.push_back({Polygon2{r, {}}});
+          }
+    plans.push_back(poly::unite_all(faces));
+  }
+  double overlap = 0;
+  for (size_t i = 0; i < plans.size(); ++i)
+    for (size_t j = i + 1; j < plans.size(); ++j) {
+      const double a = area(poly::intersect(plans[i], plans[j]));
+      EXPECT_LT(a, 0.1) << b.store.results[i].parcel_id << " and " << b.store.results[j].parcel_id;
+      overlap += a;
+    }
+  EXPECT_LT(overlap, 0.5);
 }
 
 TEST_P(Exports, CityGmlSchemaXlinksAndAreas) {

@@ -179,6 +179,21 @@ TEST(Segmentation, CorrugatedSlopeBecomesOnePlane) {
   }
 }
 
+TEST(PolygonOps, LandBeyondASharedCornerGoesToTheNearerParcel) {
+  // Two unit parcels side by side; within 0.5 m of both, outside both, the
+  // land nearer to b is the 0.5 x 0.5 m squares beyond their shared edge's
+  // ends on b's side (mitred buffers), less what a third parcel holds.
+  const MultiPolygon2 a = poly::box({0, 0}, {1, 1}), b = poly::box({1, 0}, {2, 1});
+  MultiPolygon2 land = poly::nearer_to(b, a, {}, 0.5, 0.1);
+  EXPECT_NEAR(area(land), 0.5, 1e-6);
+  EXPECT_TRUE(poly::covers(land, {1.25, -0.25}));
+  EXPECT_TRUE(poly::covers(land, {1.25, 1.25}));
+  EXPECT_FALSE(poly::covers(land, {0.75, -0.25}));
+  land = poly::nearer_to(b, a, {poly::box({0, 1}, {2, 2})}, 0.5, 0.1);
+  EXPECT_NEAR(area(land), 0.25, 1e-6);
+  EXPECT_TRUE(poly::nearer_to(b, poly::box({5, 0}, {6, 1}), {}, 0.5, 0.1).empty());  // not within reach of both
+}
+
 TEST(RoofPartition, DetachedFragmentGoesToTheRegionItsPointsBelongTo) {
   // Region 0: 10 x 4 m, a 2 x 2 m second part (a real piece: kept) and two
   // 0.5 x 0.5 m bits (label noise from a cut carried too far). Region 1 lies
