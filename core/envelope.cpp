@@ -423,6 +423,13 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
       const Vec3& oq = o[it->second.second];
       const Vec3& op = o[(it->second.second + 1) % o.size()];
       double dp = p.z() - op.z(), dq = q.z() - oq.z();
+      if ((dp > 1e-6 && dq < -1e-6) || (dp < -1e-6 && dq > 1e-6)) {
+        // The two roofs cross along the edge: each walls the part where it is
+        // the higher, a triangle up to the crossing point (on both roofs).
+        const Vec3 c = p + dp / (dp - dq) * (q - p);
+        out[region_of[piece_of[k]]].push_back(dp > 0 ? Face{{op, c, p}, {}} : Face{{c, oq, q}, {}});
+        continue;
+      }
       if (dp < -1e-6 || dq < -1e-6 || (dp < 1e-6 && dq < 1e-6)) continue;  // we are not the higher side
       Face w;
       w.ring.push_back(op);

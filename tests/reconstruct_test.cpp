@@ -446,6 +446,35 @@ TEST(Envelope, UnseenWallBesideALowerAnnexContinuesTheStepWall) {
   EXPECT_TRUE(check.ok) << check.summary();
 }
 
+TEST(Envelope, IslandRoofCrossingTheRoofAroundItStaysClosed) {
+  // A 2 x 2 m roof piece inside a larger one (a hole in it), their planes
+  // tilted by 1 % in opposite directions along y, so they cross at y = 4 on
+  // the island's west and east edges: there each roof walls the part where it
+  // is the higher (two triangles per edge, 1 m long, 2 cm high at their ends);
+  // along y = 3 the island is 2 cm higher, along y = 5 the roof around it.
+  EnvelopeInput in = flat_roof_input("island", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
+  Plane around = plane_through({0, 4, 3}, {0, -0.01, 1}), island = plane_through({0, 4, 3}, {0, 0.01, 1});
+  const MultiPolygon2 hole = poly::box({4, 3}, {6, 5});
+  in.roof = {RoofRegion{0, around, poly::subtract(poly::box({-0.5, -0.5}, {10.5, 8.5}), hole)},
+             RoofRegion{1, island, hole}};
+  in.fits = {in.fits[0], in.fits[0]};
+  in.fits[0].plane = around;
+  in.fits[1].plane = island;
+  Building b = build_building(in);
+  const SolidCheck check = check_solid(b.solid);
+  EXPECT_TRUE(check.ok) << check.summary();
+  double step = 0;
+  for (const auto& e : b.elements)
+    if (e.type == ElementType::Wall)
+      for (const auto& f : e.faces) {
+        bool on_island = true;
+        for (const auto& v : f.ring)  // within the weld tolerance of the island
+          on_island = on_island && v.x() > 4 - 1e-3 && v.x() < 6 + 1e-3 && v.y() > 3 - 1e-3 && v.y() < 5 + 1e-3;
+        if (on_island) step += area(f);
+      }
+  EXPECT_NEAR(step, 4 * 0.5 * 1 * 0.02 + 2 * 2 * 0.02, 1e-6);
+}
+
 TEST(Envelope, PartitionArtefactsNeverOpenOrPinchTheSolid) {
   // Two roof levels of a 10 x 8 m building (z 3 west, z 4 east) as a partition
   // may leave them: a 5 mm gap between the levels, a 2 cm thin spike of the
