@@ -11,6 +11,7 @@
 #include <geos/geom/Polygon.h>
 #include <geos/operation/buffer/BufferOp.h>
 #include <geos/operation/buffer/BufferParameters.h>
+#include <geos/operation/distance/IndexedFacetDistance.h>
 #include <geos/operation/linemerge/LineMerger.h>
 #include <geos/operation/polygonize/Polygonizer.h>
 #include <geos/operation/union/UnaryUnionOp.h>
@@ -21,7 +22,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "core/geometry.h"
 #include "core/geos_util.h"
@@ -278,50 +278,21 @@ Vec2 interior_point(const Polygon2& p) {
 
 namespace {
 
-// Even-odd rule over all rings (holes included).
-bool covers_point(const MultiPolygon2& mp, const Vec2& x) {
-  bool in = false;
-  auto ring = [&](const Ring2& r) {
-    for (size_t i = 0, j = r.size() - 1; i < r.size(); j = i++)
-      if ((r[i].y() > x.y()) != (r[j].y() > x.y()) &&
-          x.x() < (r[j].x() - r[i].x()) * (x.y() - r[i].y()) / (r[j].y() - r[i].y()) + r[i].x())
-        in = !in;
-  };
-  for (const auto& poly : mp) {
-    ring(poly.outer);
-    for (const auto& h : poly.holes) ring(h);
-  }
-  return in;
-}
-
-double boundary_distance(const MultiPolygon2& mp, const Vec2& x) {
-  double best = std::numeric_limits<double>::infinity();
-  auto ring = [&](const Ring2& r) {
-    for (size_t i = 0; i < r.size(); ++i) {
-      const Vec2 &p = r[i], d = r[(i + 1) % r.size()] - p;
-      const double t = d.squaredNorm() > 0 ? std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-      best = std::min(best, (p + t * d - x).norm());
-    }
-  };
-  for (const auto& poly : mp) {
-    ring(poly.outer);
-    for (const auto& h : poly.holes) ring(h);
-  }
-  return best;
-}
-
-// Points every `step` along the rings of mp within `reach` of `other`, leaving
-// out those on other's boundary (a shared corner is nobody's site).
+// Points every `step` along the rings of mp within `reach` of other's
+// boundary, leaving out those on it (a shared corner is nobody's site).
 void boundary_sites(const MultiPolygon2& mp, const MultiPolygon2& other, double reach, double step,
                     std::vector<Vec2>& out) {
+  const GeomPtr rim = to_geos(other)->getBoundary();
+  const geos::operation::distance::IndexedFacetDistance to_rim(rim.get());
   auto walk = [&](const Ring2& r) {
     for (size_t i = 0; i < r.size(); ++i) {
       const Vec2 &p = r[i], &q = r[(i + 1) % r.size()];
       const int n = std::max(1, int(std::ceil((q - p).norm() / step)));
       for (int k = 0; k < n; ++k) {
         const Vec2 x = p + (q - p) * (double(k) / n);
-        const double d = boundary_distance(other, x);
-        if (d > 1e-6 && (d <= reach || covers_point(other, x))) out.push_back(x);
+        const std::unique_ptr<geos::geom::Point> pt(factory().createPoint(Coordinate(x.x(), x.y())));
+        const double d = to_rim.distance(pt.get());
+        if (d > 1e-6 && d <= reach) out.push_back(x);
       }
     }
   };
