@@ -424,8 +424,9 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
       const Vec3& op = o[(it->second.second + 1) % o.size()];
       double dp = p.z() - op.z(), dq = q.z() - oq.z();
       if ((dp > 1e-6 && dq < -1e-6) || (dp < -1e-6 && dq > 1e-6)) {
-        // The two roofs cross along the edge: each walls the part where it is
-        // the higher, a triangle up to the crossing point (on both roofs).
+        // The two roofs cross along the edge (an outer ring or a hole's): each
+        // walls the part where it is the higher, a triangle up to the crossing
+        // point, which lies on both roofs; noding the shell puts it into their edges.
         const Vec3 c = p + dp / (dp - dq) * (q - p);
         out[region_of[piece_of[k]]].push_back(dp > 0 ? Face{{op, c, p}, {}} : Face{{c, oq, q}, {}});
         continue;
@@ -485,47 +486,6 @@ const EdgeInfo& source_edge(const std::vector<EdgeInfo>& edges, const Vec2& a, c
     if (score < best_score) best_score = score, best = &e;
   }
   return *best;
-}
-
-// Where two inside roof pieces share an edge along which their planes cross
-// (one is higher at one end, the other at the other end), the crossing point is
-// inserted into both rings, so the step wall between them is two triangles.
-void split_crossing_edges(std::vector<Piece>& pieces, const std::vector<RoofRegion>& roof) {
-  std::map<EdgeKey, size_t> owner;
-  for (size_t k = 0; k < pieces.size(); ++k) {
-    if (!pieces[k].inside) continue;
-    const Ring2& r = pieces[k].plan.outer;
-    for (size_t i = 0; i < r.size(); ++i) owner[directed(r[i], r[(i + 1) % r.size()])] = k;
-  }
-  std::map<EdgeKey, Vec2> cuts;  // directed edge -> crossing point
-  for (size_t k = 0; k < pieces.size(); ++k) {
-    if (!pieces[k].inside) continue;
-    const Ring2& r = pieces[k].plan.outer;
-    for (size_t i = 0; i < r.size(); ++i) {
-      Vec2 a = r[i], b = r[(i + 1) % r.size()];
-      auto it = owner.find(directed(b, a));
-      if (it == owner.end() || it->second == k) continue;
-      const Plane& pa = roof[pieces[k].region].plane;
-      const Plane& pb = roof[pieces[it->second].region].plane;
-      double da = pa.z_at(a.x(), a.y()) - pb.z_at(a.x(), a.y());
-      double db = pa.z_at(b.x(), b.y()) - pb.z_at(b.x(), b.y());
-      if (std::abs(da) < 1e-4 || std::abs(db) < 1e-4 || (da > 0) == (db > 0)) continue;
-      Vec2 x = a + (b - a) * (da / (da - db));
-      cuts[directed(a, b)] = x;
-      cuts[directed(b, a)] = x;
-    }
-  }
-  if (cuts.empty()) return;
-  for (auto& p : pieces) {
-    Ring2 out;
-    const Ring2& r = p.plan.outer;
-    for (size_t i = 0; i < r.size(); ++i) {
-      out.push_back(r[i]);
-      auto it = cuts.find(directed(r[i], r[(i + 1) % r.size()]));
-      if (it != cuts.end()) out.push_back(it->second);
-    }
-    p.plan.outer = out;
-  }
 }
 
 // Vertices closer than tol become one (the first seen), and rings lose the
@@ -837,7 +797,6 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   for (const auto& p : pieces)
     for (auto& part : split_pinched(p.plan)) simple.push_back({p.region, p.inside, part});
   pieces = std::move(simple);
-  split_crossing_edges(pieces, in.roof);
 
   Heights heights;
   for (const auto& p : pieces) {
