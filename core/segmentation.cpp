@@ -186,14 +186,12 @@ bool big_enough(const RoofComponent& c, double spacing, const ReconstructionPara
          double(c.points.size()) * spacing * spacing >= p.min_component_area_m2;
 }
 
-// Each point of `which`: the mean of the (upward) normals of its nearest
-// neighbours on the same roof, itself included. Curvature 0: any point may seed.
-pcl::PointCloud<pcl::Normal>::Ptr smoothed_normals(const NeighbourTable& table,
-                                                  const pcl::PointCloud<pcl::Normal>& normals,
-                                                  const pcl::Indices& roof, const pcl::Indices& which) {
-  pcl::PointCloud<pcl::Normal>::Ptr out(new pcl::PointCloud<pcl::Normal>(normals));
-  std::vector<char> on_roof(normals.size(), 0);
-  for (int i : roof) on_roof[size_t(i)] = 1;
+// Each point of `which` (on roof `roof`) gets into `out` the mean of the
+// (upward) normals of its nearest neighbours on that roof, itself included.
+// Curvature 0: any point may seed.
+void smooth_normals(const NeighbourTable& table, const pcl::PointCloud<pcl::Normal>& normals,
+                    const std::vector<int>& roof_of_point, int roof, const pcl::Indices& which,
+                    pcl::PointCloud<pcl::Normal>& out) {
   pcl::Indices nn;
   std::vector<float> d2;
   for (int i : which) {
@@ -201,16 +199,15 @@ pcl::PointCloud<pcl::Normal>::Ptr smoothed_normals(const NeighbourTable& table,
     Vec3 sum = Vec3::Zero();
     for (int j : nn) {
       const auto& q = normals[size_t(j)];
-      if (!on_roof[size_t(j)] || !std::isfinite(q.normal_z)) continue;
+      if (roof_of_point[size_t(j)] != roof || !std::isfinite(q.normal_z)) continue;
       Vec3 v(q.normal_x, q.normal_y, q.normal_z);
       sum += v.z() < 0 ? -v : v;
     }
     if (sum.norm() == 0) continue;
     sum.normalize();
-    auto& o = (*out)[size_t(i)];
+    auto& o = out[size_t(i)];
     o.normal_x = float(sum.x()), o.normal_y = float(sum.y()), o.normal_z = float(sum.z()), o.curvature = 0.f;
   }
-  return out;
 }
 
 }  // namespace
@@ -234,7 +231,14 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
 
   double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
   auto roofs = cluster_roofs(cloud, kept, tolerance, p.min_component_points);
-  for (const auto& roof : roofs) {
+  std::vector<int> cluster_of(points.size(), -1);
+  for (size_t r = 0; r < roofs.size(); ++r)
+    for (int i : roofs[r].indices) cluster_of[size_t(i)] = int(r);
+  // The second pass's normals: one copy for the scene, each roof smoothing
+  // only its own left-over points (region growing reads no others).
+  pcl::PointCloud<pcl::Normal>::Ptr smooth;
+  for (size_t r = 0; r < roofs.size(); ++r) {
+    const auto& roof = roofs[r];
     std::vector<RoofComponent> comps;
     std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
     add_regions(points, grow_components(cloud, normals, roof.indices, p, roof_neighbours), p, seg.roof_count, comps);
@@ -252,7 +256,8 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
     for (int i : roof.indices)
       if (local_label[i] < 0) leftover.push_back(i);
     if (int(leftover.size()) >= p.min_component_points) {
-      auto smooth = smoothed_normals(*table, *normals, roof.indices, leftover);
+      if (!smooth) smooth.reset(new pcl::PointCloud<pcl::Normal>(*normals));
+      smooth_normals(*table, *normals, cluster_of, int(r), leftover, *smooth);
       std::vector<pcl::Indices> unused;
       size_t before = comps.size();
       add_regions(points, grow_components(cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
