@@ -58,8 +58,13 @@ const double kVolume = kL * kW * kEave + kL * kW * (kRidge - kEave) / 2;  // 240
 const double kSolidArea = kL * kW + 2 * kL * kEave + 2 * (kW * kEave + kW * (kRidge - kEave) / 2) +
                           2 * kL * kSlopeLen;
 
-// The closed shell of a 1 m cube with its lowest corner at o.
-std::vector<Face> unit_cube(const Vec3& o) { return test::box_shell(o, o + Vec3(1, 1, 1)); }
+// The shells of two 1 m cubes, with their lowest corners at a and b, as one face list.
+std::vector<Face> two_cubes(const Vec3& a, const Vec3& b) {
+  auto faces = test::box_shell(a, a + Vec3(1, 1, 1));
+  const auto more = test::box_shell(b, b + Vec3(1, 1, 1));
+  faces.insert(faces.end(), more.begin(), more.end());
+  return faces;
+}
 
 Face flipped(Face f) {
   std::reverse(f.ring.begin(), f.ring.end());
@@ -269,13 +274,11 @@ TEST(Sigma, TiltedRectangleClosedForm) {
 }
 
 TEST(SolidCheck, BoxesTouchingAtAVertexOrAnEdgeAreNonManifold) {
-  auto vertex = unit_cube({0, 0, 0}), b = unit_cube({1, 1, 1});
-  vertex.insert(vertex.end(), b.begin(), b.end());
+  const auto vertex = two_cubes({0, 0, 0}, {1, 1, 1});
   SolidCheck c = check_solid(vertex);
   EXPECT_FALSE(c.ok);
   EXPECT_TRUE(c.has("non_manifold")) << c.summary();
-  auto edge = unit_cube({0, 0, 0}), e = unit_cube({1, 1, 0});
-  edge.insert(edge.end(), e.begin(), e.end());
+  const auto edge = two_cubes({0, 0, 0}, {1, 1, 0});
   SolidCheck d = check_solid(edge);
   EXPECT_FALSE(d.ok);
   EXPECT_TRUE(d.has("non_manifold")) << d.summary();
@@ -285,12 +288,11 @@ TEST(SolidCheck, CornerAHairFromAnotherFaceTouchesIt) {
   // A box standing 0.5 mm above another: no face crosses another, but
   // `validate` snaps vertices to 1 mm, and there the boxes' faces meet inside
   // (as a step wall's foot met the wall beside it on a Cimahi house).
-  auto near = unit_cube({0, 0, 0}), b = unit_cube({0.25, 0.25, 1.0005});
-  near.insert(near.end(), b.begin(), b.end());
+  const auto near = two_cubes({0, 0, 0}, {0.25, 0.25, 1.0005});
   SolidCheck c = check_solid(near);
   EXPECT_FALSE(c.ok);
   EXPECT_TRUE(c.has("self_intersection")) << c.summary();
-  auto apart = unit_cube({0, 0, 0}), f = unit_cube({0.25, 0.25, 1.01});  // 1 cm: two solids, no contact
-  apart.insert(apart.end(), f.begin(), f.end());
-  EXPECT_FALSE(check_solid(apart).has("self_intersection")) << check_solid(apart).summary();
+  const auto apart = two_cubes({0, 0, 0}, {0.25, 0.25, 1.01});  // 1 cm: two solids, no contact
+  const SolidCheck d = check_solid(apart);
+  EXPECT_FALSE(d.has("self_intersection")) << d.summary();
 }
