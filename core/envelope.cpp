@@ -20,8 +20,9 @@ Vec2 outward(const Vec2& d) { return Vec2(d.y(), -d.x()); }  // for counter-cloc
 // Wall points further inside a roof edge than this belong to another wall
 // (an inner facade, a neighbour): hanging roofs reach about 1.5 m.
 constexpr double kMaxOverhang = 1.8;
-// A measured overhang this much larger than the building's median is taken as
-// a misread (another wall behind the edge) and replaced by the median. A wall
+// A measured overhang this much larger than the building's typical one, and
+// than its facade's (facade_overhang), is taken as a misread (another wall
+// behind the edge) and replaced by the facade's. A wall
 // found closer to the edge is believed: gable ends and walls under a lower
 // roof often have little or no overhang.
 constexpr double kOverhangOutlier = 0.6;
@@ -79,6 +80,30 @@ double typical_overhang(const std::vector<Weighted>& measured) {
   return sum / weight;  // the median itself is always within the window
 }
 
+// Facades parallel to each other overhang alike: on a pitched roof the eaves
+// along the ridge share an overhang, and so do the verges across it, but the
+// two often differ (a gable wall flush with the verge, a deep eave over the
+// street). Where the seen walls parallel to a wall, a facade's length of them
+// (a porch's flush sides are no facade), show an overhang clearly apart from
+// the building's (more than a measurement's scatter), an unseen wall takes
+// that facade's overhang, and a seen one is no misread for matching it.
+constexpr double kParallelCos = 0.94;  // within 20 degrees
+constexpr double kMinFacade = 3.0;     // m of seen wall
+constexpr double kFacadeDiffers = 0.3; // m
+struct SeenWall {
+  Vec2 dir;
+  Weighted overhang;  // weighted by length
+};
+double facade_overhang(const std::vector<SeenWall>& seen, const Vec2& dir, double building) {
+  std::vector<Weighted> parallel;
+  double length = 0;
+  for (const auto& w : seen)
+    if (std::abs(w.dir.dot(dir)) >= kParallelCos) parallel.push_back(w.overhang), length += w.overhang.weight;
+  if (length < kMinFacade) return building;
+  const double facade = typical_overhang(parallel);
+  return std::abs(facade - building) > kFacadeDiffers ? facade : building;
+}
+
 // Roof height at p from the region over it (NaN where no region is).
 double roof_z(const std::vector<RoofRegion>& roof, const Vec2& p) {
   for (const auto& r : roof)
@@ -126,10 +151,12 @@ WallFit fit_edge_wall(const EnvelopeInput& in, const EdgeInfo& e, bool beyond_en
   return fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof), beyond_ends);
 }
 
+Vec2 direction(const EdgeInfo& e) { return (e.b - e.a).normalized(); }
+
 std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<EdgeInfo> edges(ring.size());
-  std::vector<Weighted> measured;
+  std::vector<SeenWall> seen;
   for (size_t i = 0; i < ring.size(); ++i) {
     EdgeInfo& e = edges[i];
     e.a = ring[i];
@@ -148,10 +175,10 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       // A wall seen outside the outline stays under the roof at the outline:
       // its distance to the points it stands for is part of its error.
       e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
-      measured.push_back({e.overhang, (e.b - e.a).norm()});
+      seen.push_back({direction(e), {e.overhang, (e.b - e.a).norm()}});
     }
   }
-  if (measured.empty()) {
+  if (seen.empty()) {
     // No wall of this building seen (a row house between its neighbours): the
     // facade line may continue on the neighbours just past the edge's ends.
     for (auto& e : edges) {
@@ -167,25 +194,34 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   double spread = 0.3;
   double typical = in.default_overhang;
   WallEvidence fill = WallEvidence::Default;
-  if (!measured.empty()) {
+  std::vector<double> facade(edges.size(), typical);
+  if (!seen.empty()) {
+    std::vector<Weighted> measured;
+    for (const auto& w : seen) measured.push_back(w.overhang);
     typical = typical_overhang(measured);
-    for (auto& e : edges)
-      if (e.evidence == WallEvidence::Measured && e.overhang - typical > kOverhangOutlier) {
+    for (size_t i = 0; i < edges.size(); ++i) facade[i] = facade_overhang(seen, direction(edges[i]), typical);
+    for (size_t i = 0; i < edges.size(); ++i) {
+      EdgeInfo& e = edges[i];
+      if (e.evidence == WallEvidence::Measured && e.overhang - std::max(typical, facade[i]) > kOverhangOutlier) {
         e.evidence = WallEvidence::Default;  // re-filled below as propagated
         e.support = 0;
       }
+    }
     std::vector<Weighted> dev;
-    for (const auto& m : measured) dev.push_back({std::abs(m.value - typical), m.weight});
+    for (const auto& w : seen)
+      dev.push_back({std::abs(w.overhang.value - facade_overhang(seen, w.dir, typical)), w.overhang.weight});
     spread = std::max(0.05, 1.4826 * weighted_median(dev));
     fill = WallEvidence::Propagated;
   }
-  for (auto& e : edges)
+  for (size_t i = 0; i < edges.size(); ++i) {
+    EdgeInfo& e = edges[i];
     if (!e.party && e.evidence != WallEvidence::Measured && e.support == 0) {
       const bool step = continues_step(e, in.roof);
-      e.overhang = step ? 0.0 : typical;
+      e.overhang = step ? 0.0 : facade[i];
       e.evidence = step ? WallEvidence::Propagated : fill;
       e.sigma = step ? 0.05 : spread;
     }
+  }
   if (std::getenv("C3D_DEBUG"))
     for (auto& e : edges)
       std::fprintf(stderr, "%s edge len %.2f ev %s overhang %.3f support %d\n", in.building_id.c_str(),

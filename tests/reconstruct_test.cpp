@@ -339,6 +339,29 @@ TEST(Envelope, FlushGableWallIsBelievedNotTakenForAMisread) {
   EXPECT_EQ(measured, 4);
 }
 
+TEST(Envelope, UnseenWallTakesTheOverhangOfTheFacadeParallelToIt) {
+  // A row house 8 m along the street, 10 m deep: eaves of 0.8 m over the
+  // street (south) and the yard (north), gable walls flush with the verges.
+  // Seen: the street wall and the west gable, the longer one. The unseen yard
+  // wall is an eave like the street's, the unseen east gable flush like the
+  // west; pooled, the flush gable's length would outvote the eave and the
+  // street wall's 0.8 m would be thrown out as a misread: 92.8 m^2 of floor.
+  EnvelopeInput in = flat_roof_input("row", Polygon2{{{0, -0.8}, {8, -0.8}, {8, 10.8}, {0, 10.8}}, {}});
+  see_wall(in, {0, 0}, {8, 0}, 21, 1500);
+  see_wall(in, {0, 10.8}, {0, -0.8}, 22, 1500);
+  Building b = build_building(in);
+  BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.ground, 80.0, 0.5);
+  EXPECT_NEAR(t.outer_ceiling, 8 * 11.6 - 80.0, 0.5);
+  int measured = 0, propagated = 0;
+  for (const auto& e : b.elements) {
+    measured += e.evidence == WallEvidence::Measured;
+    propagated += e.evidence == WallEvidence::Propagated;
+  }
+  EXPECT_EQ(measured, 2);
+  EXPECT_EQ(propagated, 2);
+}
+
 TEST(Envelope, UnseenWallsTakeTheOverhangOfMostEaveLength) {
   // 10 x 8 m walls under a roof with 0.5 m overhang and a 2 m wide porch bump
   // on the north whose sides are flush with their walls. Seen: the 11 m south
