@@ -167,6 +167,7 @@ ParcelScene make_scene(const Inputs& in, const LocalFrame& frame, size_t i,
   for (size_t k : roof_idx) s.roof_points.push_back(frame.to_local(in.roof[k]));
   for (size_t k : wall_idx) s.wall_points.push_back(frame.to_local(in.wall[k]));
   s.overhang_buffer_m = in.cfg.clip.overhang_buffer_m;
+  s.context_m = in.cfg.clip.overhang_buffer_m + kOwnershipContextM;
   const Dtm* dtm = &in.dtm;
   Vec3 o = frame.origin;
   s.terrain = [dtm, o](double x, double y) { return dtm->height_at(x + o.x(), y + o.y()) - o.z(); };

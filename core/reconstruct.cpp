@@ -50,59 +50,86 @@ Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
 constexpr size_t kMinPointsAcross = 10;  // fewer points on a neighbour's land say nothing about it
 
-// Whether a component (its `hull`) runs over a neighbour's parcel from this
-// parcel back onto it: the hull, the neighbour's land taken out, leaves roof on
-// this parcel on two sides. A row roof over a neighbour narrower than twice an
-// overhang, with this parcel on both sides, lies nowhere deep in it, yet is shared.
-bool runs_across(const ParcelScene& s, const MultiPolygon2& hull, const MultiPolygon2& neighbour,
+// Whether a component (its `hull`) runs over parcel `over` from parcel `from`
+// back onto it: the hull, `over` taken out, leaves roof on `from` on two
+// sides. A row roof over a parcel narrower than twice an overhang, with the
+// other on both sides, lies nowhere deep in it, yet is shared.
+bool runs_across(const MultiPolygon2& hull, const MultiPolygon2& over, const MultiPolygon2& from,
                  double min_side_area) {
   int sides = 0;
-  for (const Polygon2& side : poly::subtract(hull, neighbour))
-    sides += area(poly::intersect({side}, s.parcel)) >= min_side_area;
+  for (const Polygon2& side : poly::subtract(hull, over))
+    sides += area(poly::intersect({side}, from)) >= min_side_area;
   return sides >= 2;
 }
 
-// Neighbours a component shares its roof with: with a tenth of its points there
-// lying further from this parcel than an overhang reaches (the overhang buffer
-// plus a margin), or running across their parcel, it is a roof of attached
-// houses, not an eave.
-std::set<int> sharing_neighbours(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land,
-                                 double spacing, const ReconstructionParams& p) {
-  const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
-  std::vector<std::vector<double>> depth(s.neighbours.size());
-  for (size_t k = 0; k < c.points.size(); ++k)
-    if (land[k] >= 0 && land[k] < int(s.neighbours.size()))
-      depth[size_t(land[k])].push_back(poly::distance(s.parcel, plan(s.roof_points[c.points[k]])));
+// Neighbours a component shares its roof with: running across their parcel
+// from this one back onto it, or across this one from theirs, it is a roof of
+// attached houses (both parcels see it so).
+std::set<int> runs_across_neighbours(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land,
+                                     double spacing, const ReconstructionParams& p) {
+  std::vector<long> held(s.neighbours.size(), 0);
+  for (int l : land)
+    if (l >= 0 && l < int(s.neighbours.size())) ++held[size_t(l)];
   std::optional<MultiPolygon2> hull;  // the component's plan hull, once a neighbour needs it
-  auto hull_of_component = [&]() -> const MultiPolygon2& {
+  std::set<int> sharing;
+  for (size_t n = 0; n < held.size(); ++n) {
+    if (held[n] < long(kMinPointsAcross)) continue;
     if (!hull) {
       std::vector<Vec2> pts;
       for (int i : c.points) pts.push_back(plan(s.roof_points[i]));
       hull = poly::concave_hull(pts, std::max(1.0, 5.0 * spacing));
     }
-    return *hull;
-  };
-  std::set<int> sharing;
-  for (size_t n = 0; n < depth.size(); ++n) {
-    auto& d = depth[n];
-    if (d.size() < kMinPointsAcross) continue;
-    std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
-    if (d[d.size() * 9 / 10] > shared_depth ||
-        runs_across(s, hull_of_component(), s.neighbours[n], p.min_component_area_m2))
+    if (runs_across(*hull, s.neighbours[n], s.parcel, p.min_component_area_m2) ||
+        runs_across(*hull, s.parcel, s.neighbours[n], p.min_component_area_m2))
       sharing.insert(int(n));
   }
   return sharing;
 }
 
+// Neighbours whose buildings meet this parcel's at their boundary: roof
+// deeper into their parcel than an overhang reaches (the overhang buffer plus
+// a margin), and as deep into this one from theirs. Roof points are counted
+// only in the band both parcels' scenes hold (up to the context width), so
+// the neighbour, looking from its side, comes to the same answer: a roof
+// standing deep in one parcel and hanging over the other is an eave for both.
+constexpr double kMinDeepArea = 1.0;  // m^2 of roof: a metre of it along the boundary, a metre deep
+std::set<int> meeting_neighbours(const ParcelScene& s, const Segmentation& seg,
+                                 const std::vector<std::vector<int>>& lands, const ReconstructionParams& p) {
+  const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
+  const auto deep = [&](const MultiPolygon2& from, const Vec2& q) {
+    const double d = poly::distance(from, q);
+    return d > shared_depth && d <= s.context_m;
+  };
+  const long enough = std::max<long>(long(kMinPointsAcross), std::lround(kMinDeepArea / (seg.spacing * seg.spacing)));
+  std::vector<long> there(s.neighbours.size(), 0);
+  for (size_t c = 0; c < seg.components.size(); ++c)
+    for (size_t k = 0; k < lands[c].size(); ++k) {
+      const int n = lands[c][k];
+      if (n >= 0 && n < int(s.neighbours.size()))
+        there[size_t(n)] += deep(s.parcel, plan(s.roof_points[seg.components[c].points[k]]));
+    }
+  std::set<int> meeting;
+  for (size_t n = 0; n < there.size(); ++n) {
+    if (there[n] < enough) continue;
+    long here = 0;
+    for (size_t c = 0; c < seg.components.size() && here < enough; ++c)
+      for (size_t k = 0; k < lands[c].size() && here < enough; ++k)
+        if (lands[c][k] < 0) here += deep(s.neighbours[n], plan(s.roof_points[seg.components[c].points[k]]));
+    if (here >= enough) meeting.insert(int(n));
+  }
+  return meeting;
+}
+
 // Ownership: a component goes whole to the land holding most of its points (an
 // overhang reaches at most the overhang buffer across a boundary) and is
-// modelled here only when that is this parcel. A component sharing its roof
-// with a neighbour (sharing_neighbours) means the buildings meet at that
-// boundary: every outline is cut there, and so every component crossing it is
-// split there too, the parts on the neighbours' parcels being theirs (the
-// neighbour cuts at the same line, so a part given away whole would be
-// modelled by nobody). A part left here with too few points for a plane
-// (min_component_points) is not split off: the component is voted on whole.
+// modelled here only when that is this parcel. Where the buildings meet at a
+// neighbour's boundary (meeting_neighbours) or a component runs across the
+// neighbour's parcel (runs_across_neighbours), every outline is cut there,
+// and so every component crossing it is split there too, the parts on the
+// neighbours' parcels being theirs: the neighbour decides the same from its
+// side and cuts at the same line, so a part given away whole would be
+// modelled by nobody, and a part kept whole would be modelled twice. A part
+// left here with too few points for a plane joins the roof's loose points.
 // Land outside every parcel of the layer (streets, parcels the layer leaves
 // out) votes against a component only when the roof it belongs to stands
 // mostly there: the corner of a building on a parcel the layer leaves out is
@@ -128,10 +155,10 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
       roof_on_parcels[size_t(seg.components[c].roof)] += land != outside;
       roof_outside[size_t(seg.components[c].roof)] += land == outside;
     }
-  std::set<int> split_with;
+  std::set<int> split_with = meeting_neighbours(s, seg, lands, p);
   std::vector<bool> shared(seg.components.size());
   for (size_t c = 0; c < seg.components.size(); ++c) {
-    const auto with = sharing_neighbours(s, seg.components[c], lands[c], seg.spacing, p);
+    const auto with = runs_across_neighbours(s, seg.components[c], lands[c], seg.spacing, p);
     split_with.insert(with.begin(), with.end());
     shared[c] = !with.empty();
   }
@@ -143,7 +170,7 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
     for (int land : where) ++(land < 0 ? own : held[size_t(land)]);
     bool crosses = false;
     for (int n : split_with) crosses = crosses || held[size_t(n)] >= long(kMinPointsAcross);
-    const bool split = shared[ci] || (crosses && own >= p.min_component_points);
+    const bool split = shared[ci] || crosses;
     // Split with a few stray points here only (fewer than say anything about
     // this parcel), the part over land outside the layer goes with the
     // neighbour holding more of it: that neighbour models it.
@@ -244,13 +271,13 @@ struct BuildingPlan {
 };
 
 // A roof split with a neighbour ends at their boundary, and beyond their
-// shared corner (over a street no parcel holds) where the land is nearer to
-// the neighbour: each keeps its side, so no eave there is modelled twice.
+// shared corner (over a street, or over a third parcel whose land their eaves
+// reach) where the land is nearer to the neighbour: each keeps its side, so
+// no eave there is modelled twice.
 MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with) {
   MultiPolygon2 cut;
   for (int n : split_with)
-    cut = poly::unite_all({cut, s.neighbours[n],
-                           poly::nearer_to(s.neighbours[n], s.parcel, s.neighbours, s.overhang_buffer_m, 0.25)});
+    cut = poly::unite_all({cut, s.neighbours[n], poly::nearer_to(s.neighbours[n], s.parcel, {}, s.overhang_buffer_m, 0.25)});
   return cut;
 }
 

@@ -18,6 +18,7 @@ struct ParcelScene {
   std::vector<Vec3> wall_points;           // clipped with the overhang buffer, at least kWallPointReachM
   std::function<double(double, double)> terrain;  // local terrain z, NaN outside
   double overhang_buffer_m = 1.6;          // how far an overhang may reach across the boundary
+  double context_m = 3.1;                  // how far beyond the parcel roof_points reach
 };
 
 // Never throws: a parcel that cannot be modelled comes back `failed` with a reason.

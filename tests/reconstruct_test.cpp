@@ -920,6 +920,30 @@ TEST(ReconstructBadInput, RoofCutInTwoByANeighboursParcelIsTwoBuildings) {
   }
 }
 
+TEST(ReconstructBadInput, EaveOverAParcelWithoutAHouseIsModelledOnceByTheHouse) {
+  // A house on parcel A (x 0..20) under a flat roof (x 4..21.5, y 5..15)
+  // whose eave hangs 1.5 m over parcel B (x 20..40), where no house stands.
+  // Each parcel sees the roof points within its scene's context (3.1 m)
+  // only, as the batch clips them. From B the roof reaches deep into A; from
+  // A it barely reaches into B: an eave, whole to A. B used to take the deep
+  // roof for a shared one, split it at the line and model the eave as well.
+  std::mt19937_64 rng(47);
+  const auto roof = sample_plane(plane_through({0, 0, 104}, {0.02, 0, 1}), 4, 21.5, 5, 15, 40, 0.02, rng);
+  const Polygon2 a{{{0, 0}, {20, 0}, {20, 20}, {0, 20}}, {}}, b{{{20, 0}, {40, 0}, {40, 20}, {20, 20}}, {}};
+  auto model = [&](const Polygon2& own, const Polygon2& other) {
+    ParcelScene s = square_parcel_scene();
+    s.parcel = {own};
+    s.neighbours = {{other}};
+    for (const auto& q : roof)
+      if (poly::distance(s.parcel, q.head<2>()) <= s.context_m) s.roof_points.push_back(q);
+    return reconstruct_parcel(s, params());
+  };
+  const ParcelResult ra = model(a, b), rb = model(b, a);
+  ASSERT_EQ(ra.buildings.size(), 1u) << ra.reason;
+  EXPECT_NEAR(totals(ra.buildings[0]).roof_plan, 17.5 * 10, 0.03 * 175);
+  EXPECT_EQ(rb.status, ParcelStatus::Empty) << rb.buildings.size() << " buildings on B";
+}
+
 TEST(ReconstructBadInput, LeanToAcrossAPartyLineIsSplitThereLikeTheSharedRoof) {
   // Attached houses on parcels A (x 0..10) and B (x 10..20) under one flat roof
   // (x 2..18, y 4..14): it reaches deep into both, so both cut their outlines
