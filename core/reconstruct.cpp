@@ -62,18 +62,17 @@ bool runs_across(const MultiPolygon2& hull, const MultiPolygon2& over, const Mul
   return sides >= 2;
 }
 
-// Neighbours a component shares its roof with: running across their parcel
-// from this one back onto it, or across this one from theirs, it is a roof of
-// attached houses (both parcels see it so).
-std::set<int> runs_across_neighbours(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land,
-                                     double spacing, const ReconstructionParams& p) {
+// Adds to `split_with` the neighbours a component shares its roof with:
+// running across their parcel from this one back onto it, or across this one
+// from theirs, it is a roof of attached houses (both parcels see it so).
+void add_runs_across(const ParcelScene& s, const RoofComponent& c, const std::vector<int>& land, double spacing,
+                     const ReconstructionParams& p, std::set<int>& split_with) {
   std::vector<long> held(s.neighbours.size(), 0);
   for (int l : land)
     if (l >= 0 && l < int(s.neighbours.size())) ++held[size_t(l)];
   std::optional<MultiPolygon2> hull;  // the component's plan hull, once a neighbour needs it
-  std::set<int> sharing;
   for (size_t n = 0; n < held.size(); ++n) {
-    if (held[n] < long(kMinPointsAcross)) continue;
+    if (held[n] < long(kMinPointsAcross) || split_with.count(int(n))) continue;
     if (!hull) {
       std::vector<Vec2> pts;
       for (int i : c.points) pts.push_back(plan(s.roof_points[i]));
@@ -81,9 +80,8 @@ std::set<int> runs_across_neighbours(const ParcelScene& s, const RoofComponent& 
     }
     if (runs_across(*hull, s.neighbours[n], s.parcel, p.min_component_area_m2) ||
         runs_across(*hull, s.parcel, s.neighbours[n], p.min_component_area_m2))
-      sharing.insert(int(n));
+      split_with.insert(int(n));
   }
-  return sharing;
 }
 
 // Neighbours whose buildings meet this parcel's at their boundary: roof
@@ -124,7 +122,7 @@ std::set<int> meeting_neighbours(const ParcelScene& s, const Segmentation& seg,
 // overhang reaches at most the overhang buffer across a boundary) and is
 // modelled here only when that is this parcel. Where the buildings meet at a
 // neighbour's boundary (meeting_neighbours) or a component runs across the
-// neighbour's parcel (runs_across_neighbours), every outline is cut there,
+// neighbour's parcel (add_runs_across), every outline is cut there,
 // and so every component crossing it is split there too, the parts on the
 // neighbours' parcels being theirs: the neighbour decides the same from its
 // side and cuts at the same line, so a part given away whole would be
@@ -156,21 +154,15 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
       roof_outside[size_t(seg.components[c].roof)] += land == outside;
     }
   std::set<int> split_with = meeting_neighbours(s, seg, lands, p);
-  std::vector<bool> shared(seg.components.size());
-  for (size_t c = 0; c < seg.components.size(); ++c) {
-    const auto with = runs_across_neighbours(s, seg.components[c], lands[c], seg.spacing, p);
-    split_with.insert(with.begin(), with.end());
-    shared[c] = !with.empty();
-  }
+  for (size_t c = 0; c < seg.components.size(); ++c) add_runs_across(s, seg.components[c], lands[c], seg.spacing, p, split_with);
   for (size_t ci = 0; ci < seg.components.size(); ++ci) {
     auto& c = seg.components[ci];
     const auto& where = lands[ci];
     std::vector<long> held(s.neighbours.size() + 1, 0);
     long own = 0;
     for (int land : where) ++(land < 0 ? own : held[size_t(land)]);
-    bool crosses = false;
-    for (int n : split_with) crosses = crosses || held[size_t(n)] >= long(kMinPointsAcross);
-    const bool split = shared[ci] || crosses;
+    bool split = false;  // crossing a boundary split against
+    for (int n : split_with) split = split || held[size_t(n)] >= long(kMinPointsAcross);
     // Split with a few stray points here only (fewer than say anything about
     // this parcel), the part over land outside the layer goes with the
     // neighbour holding more of it: that neighbour models it.
