@@ -306,7 +306,9 @@ void boundary_sites(const MultiPolygon2& mp, const MultiPolygon2& other, double 
 
 MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const std::vector<MultiPolygon2>& others,
                         double reach, double step) {
-  // Land within reach of both is nearest to sites within 2 x reach of the other.
+  // Land nearer to b than to a, and within reach of a or b, lies within reach
+  // of b; sites further than 2 x reach from the other parcel are further from
+  // it than the other's are.
   std::vector<Vec2> sites;
   boundary_sites(b, a, 2 * reach + step, step, sites);
   const size_t from_b = sites.size();
@@ -314,9 +316,8 @@ MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const st
   if (from_b == 0 || from_b == sites.size()) return {};
   CoordinateArraySequence coords;
   for (const auto& x : sites) coords.add(Coordinate(x.x(), x.y()));
-  const MultiPolygon2 near_both = intersect(buffer(b, reach), buffer(a, reach));
-  if (near_both.empty()) return {};
-  GeomPtr zone = to_geos(near_both);
+  const MultiPolygon2 near_b = buffer(b, reach);
+  GeomPtr zone = to_geos(near_b);
   geos::geom::Envelope env(*zone->getEnvelopeInternal());
   geos::triangulate::VoronoiDiagramBuilder voronoi;
   voronoi.setSites(coords);
@@ -335,7 +336,7 @@ MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const st
   }
   if (mine.empty()) return {};
   auto nearer = factory().createGeometryCollection(std::move(mine))->Union();
-  MultiPolygon2 land = subtract(intersect(from_geos(nearer.get()), near_both), unite(a, b));
+  MultiPolygon2 land = subtract(intersect(from_geos(nearer.get()), near_b), unite(a, b));
   for (const auto& o : others) land = subtract(land, o);
   return land;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <map>
 #include <mutex>
 #include <set>
 #include <cstdio>
@@ -84,36 +85,56 @@ void add_runs_across(const ParcelScene& s, const RoofComponent& c, const std::ve
   }
 }
 
+// Roof found in a band of land: the cells of a fixed grid (the local frame's,
+// the same in every scene) holding a few roof points or more. Cells, not
+// points, so that the answer does not hang on the scan's density.
+class RoofCells {
+ public:
+  void add(const Vec2& q) {
+    if (++count_[{std::lround(std::floor(q.x() / kCell)), std::lround(std::floor(q.y() / kCell))}] == kPointsPerCell)
+      ++covered_;
+  }
+  bool enough() const { return covered_ >= kMinCells; }
+
+ private:
+  static constexpr double kCell = 0.5;       // m
+  static constexpr int kPointsPerCell = 3;
+  static constexpr size_t kMinCells = 4;     // 1 m^2: a metre of roof along the boundary, a metre deep
+  std::map<std::pair<long, long>, int> count_;
+  size_t covered_ = 0;
+};
+
 // Neighbours whose buildings meet this parcel's at their boundary: roof
 // deeper into their parcel than an overhang reaches (the overhang buffer plus
-// a margin), and as deep into this one from theirs. Roof points are counted
-// only in the band both parcels' scenes hold (up to the context width), so
-// the neighbour, looking from its side, comes to the same answer: a roof
-// standing deep in one parcel and hanging over the other is an eave for both.
-constexpr double kMinDeepArea = 1.0;  // m^2 of roof: a metre of it along the boundary, a metre deep
-std::set<int> meeting_neighbours(const ParcelScene& s, const Segmentation& seg,
-                                 const std::vector<std::vector<int>>& lands, const ReconstructionParams& p) {
+// a margin), and as deep into this one from theirs. The scene's raw roof
+// points are counted, and only in the band both parcels' scenes hold (up to
+// the context width, less the clip buffer's rounding at corners), so the
+// neighbour, looking from its side, comes to the same answer: a roof standing
+// deep in one parcel and hanging over the other is an eave for both.
+std::set<int> meeting_neighbours(const ParcelScene& s, const ReconstructionParams& p) {
   const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
-  const auto deep = [&](const MultiPolygon2& from, const Vec2& q) {
-    const double d = poly::distance(from, q);
-    return d > shared_depth && d <= s.context_m;
-  };
-  const long enough = std::max<long>(long(kMinPointsAcross), std::lround(kMinDeepArea / (seg.spacing * seg.spacing)));
-  std::vector<long> there(s.neighbours.size(), 0);
-  for (size_t c = 0; c < seg.components.size(); ++c)
-    for (size_t k = 0; k < lands[c].size(); ++k) {
-      const int n = lands[c][k];
-      if (n >= 0 && n < int(s.neighbours.size()))
-        there[size_t(n)] += deep(s.parcel, plan(s.roof_points[seg.components[c].points[k]]));
+  const auto in_band = [&](double d) { return d > shared_depth && d <= s.context_m - 0.05; };
+  std::vector<RoofCells> there(s.neighbours.size());
+  std::vector<Vec2> own;
+  for (const auto& point : s.roof_points) {
+    const Vec2 q = plan(point);
+    if (poly::covers(s.parcel, q)) {
+      own.push_back(q);
+    } else if (in_band(poly::distance(s.parcel, q))) {
+      for (size_t n = 0; n < s.neighbours.size(); ++n)
+        if (poly::covers(s.neighbours[n], q)) {
+          there[n].add(q);
+          break;
+        }
     }
+  }
   std::set<int> meeting;
   for (size_t n = 0; n < there.size(); ++n) {
-    if (there[n] < enough) continue;
-    long here = 0;
-    for (size_t c = 0; c < seg.components.size() && here < enough; ++c)
-      for (size_t k = 0; k < lands[c].size() && here < enough; ++k)
-        if (lands[c][k] < 0) here += deep(s.neighbours[n], plan(s.roof_points[seg.components[c].points[k]]));
-    if (here >= enough) meeting.insert(int(n));
+    if (!there[n].enough()) continue;
+    RoofCells here;
+    for (size_t k = 0; k < own.size() && !here.enough(); ++k)
+      if (in_band(poly::distance(s.neighbours[n], own[k]))) here.add(own[k]);
+    if (here.enough()) meeting.insert(int(n));
   }
   return meeting;
 }
@@ -153,7 +174,7 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
       roof_on_parcels[size_t(seg.components[c].roof)] += land != outside;
       roof_outside[size_t(seg.components[c].roof)] += land == outside;
     }
-  std::set<int> split_with = meeting_neighbours(s, seg, lands, p);
+  std::set<int> split_with = meeting_neighbours(s, p);
   for (size_t c = 0; c < seg.components.size(); ++c) add_runs_across(s, seg.components[c], lands[c], seg.spacing, p, split_with);
   for (size_t ci = 0; ci < seg.components.size(); ++ci) {
     auto& c = seg.components[ci];
@@ -269,7 +290,7 @@ struct BuildingPlan {
 MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with) {
   MultiPolygon2 cut;
   for (int n : split_with)
-    cut = poly::unite_all({cut, s.neighbours[n], poly::nearer_to(s.neighbours[n], s.parcel, {}, s.overhang_buffer_m, 0.25)});
+    cut = poly::unite_all({cut, s.neighbours[n], poly::nearer_to(s.neighbours[n], s.parcel, {}, s.context_m, 0.25)});
   return cut;
 }
 

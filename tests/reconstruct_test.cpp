@@ -180,18 +180,19 @@ TEST(Segmentation, CorrugatedSlopeBecomesOnePlane) {
 }
 
 TEST(PolygonOps, LandBeyondASharedCornerGoesToTheNearerParcel) {
-  // Two unit parcels side by side; within 0.5 m of both, outside both, the
-  // land nearer to b is the 0.5 x 0.5 m squares beyond their shared edge's
-  // ends on b's side (mitred buffers), less what a third parcel holds.
+  // Two unit parcels side by side; within 0.5 m of b (a mitred buffer), outside
+  // both, the land nearer to b is all of it beyond the line of their shared
+  // edge: 2 m^2, less what a third parcel holds.
   const MultiPolygon2 a = poly::box({0, 0}, {1, 1}), b = poly::box({1, 0}, {2, 1});
   MultiPolygon2 land = poly::nearer_to(b, a, {}, 0.5, 0.1);
-  EXPECT_NEAR(area(land), 0.5, 1e-6);
+  EXPECT_NEAR(area(land), 2.0, 1e-6);
   EXPECT_TRUE(poly::covers(land, {1.25, -0.25}));
   EXPECT_TRUE(poly::covers(land, {1.25, 1.25}));
+  EXPECT_TRUE(poly::covers(land, {2.25, 0.5}));
   EXPECT_FALSE(poly::covers(land, {0.75, -0.25}));
   land = poly::nearer_to(b, a, {poly::box({0, 1}, {2, 2})}, 0.5, 0.1);
-  EXPECT_NEAR(area(land), 0.25, 1e-6);
-  EXPECT_TRUE(poly::nearer_to(b, poly::box({5, 0}, {6, 1}), {}, 0.5, 0.1).empty());  // not within reach of both
+  EXPECT_NEAR(area(land), 1.5, 1e-6);
+  EXPECT_TRUE(poly::nearer_to(b, poly::box({5, 0}, {6, 1}), {}, 0.5, 0.1).empty());  // too far apart to split land
 }
 
 TEST(RoofPartition, DetachedFragmentGoesToTheRegionItsPointsBelongTo) {
@@ -942,6 +943,24 @@ TEST(ReconstructBadInput, EaveOverAParcelWithoutAHouseIsModelledOnceByTheHouse) 
   ASSERT_EQ(ra.buildings.size(), 1u) << ra.reason;
   EXPECT_NEAR(totals(ra.buildings[0]).roof_plan, 17.5 * 10, 0.03 * 175);
   EXPECT_EQ(rb.status, ParcelStatus::Empty) << rb.buildings.size() << " buildings on B";
+}
+
+TEST(ReconstructBadInput, RowRoofOverAStreetIsSplitAlongThePartyLineOnToItsEave) {
+  // Attached houses on A (x 0..10) and B (x 10..20) under one flat roof
+  // (x 1..19) that reaches 2.5 m over the street south of both (y -2.5..15),
+  // further than the overhang buffer (the parcels drawn short of the eave).
+  // The party line splits the roof, and beyond the parcels' shared corner
+  // the line carries on over the street as far as the roof does: each models
+  // its half, and no strip of the other's eave as well.
+  std::mt19937_64 rng(53);
+  const auto roof = sample_plane(plane_through({0, 0, 104}, {0, 0.02, 1}), 1, 19, -2.5, 15, 40, 0.02, rng);
+  const Polygon2 a{{{0, 0}, {10, 0}, {10, 20}, {0, 20}}, {}}, b{{{10, 0}, {20, 0}, {20, 20}, {10, 20}}, {}};
+  const ParcelResult ra = reconstruct_beside(a, b, roof), rb = reconstruct_beside(b, a, roof);
+  for (const ParcelResult* r : {&ra, &rb}) {
+    double plan = 0;
+    for (const auto& bl : r->buildings) plan += totals(bl).roof_plan;
+    EXPECT_NEAR(plan, 9 * 17.5, 0.03 * 157.5) << r->parcel_id;
+  }
 }
 
 TEST(ReconstructBadInput, LeanToAcrossAPartyLineIsSplitThereLikeTheSharedRoof) {
