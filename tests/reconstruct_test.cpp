@@ -287,6 +287,11 @@ void see_wall(EnvelopeInput& in, const Vec2& a, const Vec2& b, unsigned seed, in
   }
 }
 
+// How many of the building's elements rest on evidence `ev`.
+int elements_with(const Building& b, WallEvidence ev) {
+  return int(std::count_if(b.elements.begin(), b.elements.end(), [&](const auto& e) { return e.evidence == ev; }));
+}
+
 // 2000 wall points each on the south wall y = 0 and the west wall x = 0 of a
 // 10 x 8 m house with its south-west corner at the origin.
 void see_south_and_west_walls(EnvelopeInput& in, unsigned seed) {
@@ -306,13 +311,8 @@ TEST(Envelope, WallPointsSetTheFootprintAndTheSolidCloses) {
   EXPECT_NEAR(t.roof, 99.0, 1e-6);
   EXPECT_NEAR(t.outer_ceiling, 19.0, 0.8);
   EXPECT_NEAR(t.wall, 2 * (10 + 8) * 3.0, 1.0);
-  int measured = 0, propagated = 0;
-  for (const auto& e : b.elements) {
-    measured += e.evidence == WallEvidence::Measured;
-    propagated += e.evidence == WallEvidence::Propagated;
-  }
-  EXPECT_EQ(measured, 2);
-  EXPECT_EQ(propagated, 2);
+  EXPECT_EQ(elements_with(b, WallEvidence::Measured), 2);
+  EXPECT_EQ(elements_with(b, WallEvidence::Propagated), 2);
   EXPECT_GT(b.solid.size(), 5u);
 }
 
@@ -335,9 +335,7 @@ TEST(Envelope, FlushGableWallIsBelievedNotTakenForAMisread) {
   BuildingTotals t = totals(b);
   EXPECT_NEAR(t.ground, 80.0, 0.3);
   EXPECT_NEAR(t.outer_ceiling, 10.8 * 9.6 - 80.0, 0.3);
-  int measured = 0;
-  for (const auto& e : b.elements) measured += e.evidence == WallEvidence::Measured;
-  EXPECT_EQ(measured, 4);
+  EXPECT_EQ(elements_with(b, WallEvidence::Measured), 4);
 }
 
 TEST(Envelope, UnseenWallTakesTheOverhangOfTheFacadeParallelToIt) {
@@ -354,13 +352,8 @@ TEST(Envelope, UnseenWallTakesTheOverhangOfTheFacadeParallelToIt) {
   BuildingTotals t = totals(b);
   EXPECT_NEAR(t.ground, 80.0, 0.5);
   EXPECT_NEAR(t.outer_ceiling, 8 * 11.6 - 80.0, 0.5);
-  int measured = 0, propagated = 0;
-  for (const auto& e : b.elements) {
-    measured += e.evidence == WallEvidence::Measured;
-    propagated += e.evidence == WallEvidence::Propagated;
-  }
-  EXPECT_EQ(measured, 2);
-  EXPECT_EQ(propagated, 2);
+  EXPECT_EQ(elements_with(b, WallEvidence::Measured), 2);
+  EXPECT_EQ(elements_with(b, WallEvidence::Propagated), 2);
 }
 
 TEST(Envelope, UnseenWallsTakeTheOverhangOfMostEaveLength) {
