@@ -304,11 +304,9 @@ void boundary_sites(const MultiPolygon2& mp, const MultiPolygon2& other, double 
 
 }  // namespace
 
-MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const std::vector<MultiPolygon2>& others,
-                        double reach, double step) {
-  // Land nearer to b than to a, and within reach of a or b, lies within reach
-  // of b; sites further than 2 x reach from the other parcel are further from
-  // it than the other's are.
+MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, double reach, double step) {
+  // Land within reach of b is nearest to b's sites within 2 x reach of a, or to
+  // a's within 2 x reach of b, where it is nearer to a at all.
   std::vector<Vec2> sites;
   boundary_sites(b, a, 2 * reach + step, step, sites);
   const size_t from_b = sites.size();
@@ -336,9 +334,7 @@ MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const st
   }
   if (mine.empty()) return {};
   auto nearer = factory().createGeometryCollection(std::move(mine))->Union();
-  MultiPolygon2 land = subtract(intersect(from_geos(nearer.get()), near_b), unite(a, b));
-  for (const auto& o : others) land = subtract(land, o);
-  return land;
+  return subtract(intersect(from_geos(nearer.get()), near_b), unite(a, b));
 }
 
 MultiPolygon2 halfplane_box(const Vec2& p, const Vec2& dir, const Vec2& side_point,

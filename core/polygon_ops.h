@@ -44,12 +44,11 @@ std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const Mul
 MultiPolygon2 planar_faces(const MultiPolygon2& shapes);
 // A point strictly inside the polygon (GEOS interior point).
 Vec2 interior_point(const Polygon2& p);
-// Land outside `a`, `b` and `others`, within `reach` of b, that lies nearer
-// to b than to a: how two neighbours split the land beyond their shared
-// corner (GEOS Voronoi cells of points every `step` along both boundaries).
+// Land outside `a` and `b`, within `reach` of b, that lies nearer to b than
+// to a: how two neighbours split the land beyond their shared corner, whoever
+// holds it (GEOS Voronoi cells of points every `step` along both boundaries).
 // Empty where the two lie further than twice `reach` apart.
-MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, const std::vector<MultiPolygon2>& others,
-                        double reach, double step);
+MultiPolygon2 nearer_to(const MultiPolygon2& b, const MultiPolygon2& a, double reach, double step);
 MultiPolygon2 halfplane_box(const Vec2& point_on_line, const Vec2& dir, const Vec2& side_point,
                             double extent);
 

@@ -290,7 +290,7 @@ struct BuildingPlan {
 MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with) {
   MultiPolygon2 cut;
   for (int n : split_with)
-    cut = poly::unite_all({cut, s.neighbours[n], poly::nearer_to(s.neighbours[n], s.parcel, {}, s.context_m, 0.25)});
+    cut = poly::unite_all({cut, s.neighbours[n], poly::nearer_to(s.neighbours[n], s.parcel, s.context_m, 0.25)});
   return cut;
 }
 
