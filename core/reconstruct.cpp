@@ -400,13 +400,19 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   RoofPartitionInput rp;
   rp.outline = bp.outline;
   rp.components = bp.components;
+  std::set<int> roofs;
   for (int c : bp.components) {  // one a neighbour's cut left in two buildings serves both, with one plane
     rp.planes.push_back(seg.components[c].fit.plane);
+    roofs.insert(seg.components[c].roof);
     for (int i : seg.components[c].points) {
       rp.points.push_back(plan(s.roof_points[i]));
       rp.labels.push_back(c);
     }
   }
+  std::vector<Vec3> untaken;  // this building's roof points no plane took
+  for (size_t i = 0; i < s.roof_points.size(); ++i)
+    if (seg.label[i] < 0 && roofs.count(seg.roof_of[i])) untaken.push_back(s.roof_points[i]);
+  add_points_by_height(rp, untaken);
   rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.1, std::min(0.25, 1.5 * seg.spacing));
   EnvelopeInput ei;
   ei.building_id = id;

@@ -386,6 +386,25 @@ void remove_overlaps(std::vector<MultiPolygon2>& regions) {
 
 }  // namespace
 
+size_t add_points_by_height(RoofPartitionInput& in, const std::vector<Vec3>& points, double near, double gap) {
+  size_t added = 0;
+  for (const Vec3& q : points) {
+    if (!poly::covers({in.outline}, q.head<2>())) continue;
+    size_t best = in.planes.size();
+    double best_d = INFINITY, second_d = INFINITY;
+    for (size_t k = 0; k < in.planes.size(); ++k) {
+      const double d = std::abs(q.z() - in.planes[k].z_at(q.x(), q.y()));
+      if (d < best_d) second_d = best_d, best_d = d, best = k;
+      else second_d = std::min(second_d, d);
+    }
+    if (best_d >= near || second_d - best_d <= gap) continue;
+    in.points.push_back(q.head<2>());
+    in.labels.push_back(in.components[best]);
+    ++added;
+  }
+  return added;
+}
+
 std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
   size_t k = in.components.size();
   std::vector<MultiPolygon2> regions;

@@ -28,6 +28,15 @@ struct RoofPartitionInput {
 
 std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in);
 
+// Adds the roof points no plane took (texture, clutter; 3D, inside the
+// outline) to the partition where they say which plane is over them: the one
+// nearest their height, within `near`, with every other plane at least `gap`
+// further (a lower annex where a higher roof's labels lie nearer in plan;
+// between planes of about one height, at hips and ridges, texture would only
+// scatter the labels). Returns how many were added.
+size_t add_points_by_height(RoofPartitionInput& in, const std::vector<Vec3>& points, double near = 0.5,
+                            double gap = 1.0);
+
 // Makes rings that share boundaries share vertices: inserts any vertex lying on
 // another ring's edge into that edge and welds vertices closer than tol.
 void node_rings(std::vector<Ring2*>& rings, double tol);

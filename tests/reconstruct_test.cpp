@@ -242,6 +242,37 @@ TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
     }
 }
 
+TEST(RoofPartition, UntakenPointsCarryALowerRoofWhereTheHigherOnesLabelsLieNearer) {
+  // A flat roof at 106 m over x 0..10 and a lower one at 102 m over x 10..16
+  // (y 0..8). No plane took the lower roof's textured points over x 10..13,
+  // so its labelled points start at x = 13: by labels alone, cells over
+  // x 10..11.5 lie nearer the higher roof's points and take its plane, 4 m
+  // above the points there. By their height they are the lower roof's.
+  std::mt19937_64 rng(61);
+  const Plane high = plane_through({0, 0, 106}, {0, 0, 1}), low = plane_through({0, 0, 102}, {0, 0, 1});
+  RoofPartitionInput in;
+  in.outline = Polygon2{{{0, 0}, {16, 0}, {16, 8}, {0, 8}}, {}};
+  in.components = {0, 1};
+  in.planes = {high, low};
+  in.cell = 0.2;
+  for (const auto& p : sample_plane(high, 0, 10, 0, 8, 40, 0.02, rng)) in.points.push_back(p.head<2>()), in.labels.push_back(0);
+  for (const auto& p : sample_plane(low, 13, 16, 0, 8, 40, 0.02, rng)) in.points.push_back(p.head<2>()), in.labels.push_back(1);
+  const auto untaken = sample_plane(low, 10, 13, 0, 8, 40, 0.15, rng);
+  const RoofPartitionInput by_labels = in;
+  EXPECT_GT(add_points_by_height(in, untaken), 0.95 * untaken.size());  // a few lie on the outline
+  auto lower_area = [](const std::vector<RoofRegion>& regions) {
+    double a = 0;
+    for (const auto& r : regions) a += r.component == 1 ? area(r.plan) : 0.0;
+    return a;
+  };
+  EXPECT_NEAR(lower_area(partition_roof(in)), 6 * 8, 0.5);
+  EXPECT_LT(lower_area(partition_roof(by_labels)), 6 * 8 - 8);  // a metre of it and more went to the higher roof
+  // Between planes of about one height a textured point says nothing.
+  RoofPartitionInput ridge = by_labels;
+  ridge.planes = {high, plane_through({0, 0, 105.5}, {0, 0, 1})};
+  EXPECT_EQ(add_points_by_height(ridge, sample_plane(ridge.planes[1], 10, 13, 0, 8, 40, 0.15, rng)), 0u);
+}
+
 TEST(RoofPartition, LShapedStepFollowsTheBuildingNotTheGrid) {
   // A 12 x 10 m building turned 30 degrees from the label grid: a flat roof
   // level 3 m higher over its corner block [6,12] x [5,10], the lower level
