@@ -387,9 +387,10 @@ void remove_overlaps(std::vector<MultiPolygon2>& regions) {
 }  // namespace
 
 size_t add_points_by_height(RoofPartitionInput& in, const std::vector<Vec3>& points, double near, double gap) {
+  const MultiPolygon2 outline{in.outline};
   size_t added = 0;
   for (const Vec3& q : points) {
-    if (!poly::covers({in.outline}, q.head<2>())) continue;
+    if (!poly::covers(outline, q.head<2>())) continue;
     size_t best = in.planes.size();
     double best_d = INFINITY, second_d = INFINITY;
     for (size_t k = 0; k < in.planes.size(); ++k) {
