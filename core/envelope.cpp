@@ -91,6 +91,7 @@ constexpr double kParallelCos = 0.94;  // within 20 degrees
 constexpr double kMinFacade = 3.0;     // m of seen wall
 constexpr double kFacadeDiffers = 0.3; // m
 struct SeenWall {
+  size_t edge;        // index into the outline's edges
   Vec2 dir;
   Weighted overhang;  // weighted by length
 };
@@ -175,7 +176,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       // A wall seen outside the outline stays under the roof at the outline:
       // its distance to the points it stands for is part of its error.
       e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
-      seen.push_back({direction(e), {e.overhang, (e.b - e.a).norm()}});
+      seen.push_back({i, direction(e), {e.overhang, (e.b - e.a).norm()}});
     }
   }
   if (seen.empty()) {
@@ -208,8 +209,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       }
     }
     std::vector<Weighted> dev;
-    for (const auto& w : seen)
-      dev.push_back({std::abs(w.overhang.value - facade_overhang(seen, w.dir, typical)), w.overhang.weight});
+    for (const auto& w : seen) dev.push_back({std::abs(w.overhang.value - facade[w.edge]), w.overhang.weight});
     spread = std::max(0.05, 1.4826 * weighted_median(dev));
     fill = WallEvidence::Propagated;
   }

@@ -118,9 +118,10 @@ std::set<int> meeting_neighbours(const ParcelScene& s, const ReconstructionParam
   std::vector<Vec2> own;
   for (const auto& point : s.roof_points) {
     const Vec2 q = plan(point);
-    if (poly::covers(s.parcel, q)) {
+    const double d = poly::distance(s.parcel, q);  // 0 on the parcel
+    if (d == 0) {
       own.push_back(q);
-    } else if (in_band(poly::distance(s.parcel, q))) {
+    } else if (in_band(d)) {
       for (size_t n = 0; n < s.neighbours.size(); ++n)
         if (poly::covers(s.neighbours[n], q)) {
           there[n].add(q);
