@@ -57,7 +57,9 @@ std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl:
   ec.setClusterTolerance(tolerance);
   ec.setMinClusterSize(min_points);
   ec.setMaxClusterSize(std::numeric_limits<int>::max());
-  ec.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
+  // Its own tree (extract() re-indexes it), unsorted: the clusters come back
+  // sorted whatever order the radius search lists a point's neighbours in.
+  ec.setSearchMethod(Tree::Ptr(new Tree(false)));
   ec.setInputCloud(cloud);
   ec.setIndices(pcl::make_shared<pcl::Indices>(kept));
   std::vector<pcl::PointIndices> clusters;
