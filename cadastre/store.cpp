@@ -184,7 +184,7 @@ ElementType element_type_from(const std::string& s) {
 
 WallEvidence evidence_from(const std::string& s) {
   for (WallEvidence e : {WallEvidence::None, WallEvidence::Measured, WallEvidence::Propagated,
-                         WallEvidence::Default})
+                         WallEvidence::Default, WallEvidence::ParcelBoundary, WallEvidence::RoofStep})
     if (s == to_string(e)) return e;
   return WallEvidence::None;
 }

@@ -164,7 +164,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
     e.b = ring[(i + 1) % ring.size()];
     e.party = i < in.party_edge.size() && in.party_edge[i];
     if (e.party) {  // on the parcel boundary, shared with the neighbour
-      e.evidence = WallEvidence::None;
+      e.evidence = WallEvidence::ParcelBoundary;
       e.sigma = 0.05;
       continue;
     }
@@ -495,6 +495,42 @@ Element make_element(ElementType type, std::vector<Face> faces) {
   }
   if (type == ElementType::OuterCeiling) e.area = e.plan_area;
   return e;
+}
+
+// Nearest distance between two elements' vertices.
+double vertex_gap(const Element& a, const Element& b) {
+  double best = 1e18;
+  for (const auto& fa : a.faces)
+    for (const auto& p : fa.ring)
+      for (const auto& fb : b.faces)
+        for (const auto& q : fb.ring) best = std::min(best, (p - q).norm());
+  return best;
+}
+
+// A step wall of a few square centimetres (two roof planes meeting millimetres
+// apart near a junction) is no wall anyone could point at or cost: its faces
+// stay in the shell but join the nearest wall element. The other step walls
+// are appended to `elements` after the facades.
+constexpr double kMinStepWallArea = 0.01;  // m^2
+void fold_sliver_steps(std::vector<Element>& steps, std::vector<Element>& elements) {
+  for (auto& e : steps)
+    if (e.area >= kMinStepWallArea) elements.push_back(std::move(e));
+  for (auto& e : steps) {
+    if (e.faces.empty() || e.area >= kMinStepWallArea) continue;  // moved, or kept
+    Element* host = nullptr;
+    double gap = 1e18;
+    for (auto& w : elements)
+      if ((w.type == ElementType::Wall || w.type == ElementType::PartyWall) && vertex_gap(e, w) < gap)
+        gap = vertex_gap(e, w), host = &w;
+    if (!host) {  // no other wall: keep it as it is
+      elements.push_back(std::move(e));
+      continue;
+    }
+    host->faces.insert(host->faces.end(), e.faces.begin(), e.faces.end());
+    host->area += e.area;
+    host->plan_area += e.plan_area;
+    host->sigma_area = std::hypot(host->sigma_area, e.sigma_area);
+  }
 }
 
 // Compass direction (degrees from north, clockwise) a face's normal points to.
@@ -914,14 +950,17 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
     e.sigma_area = std::sqrt(std::pow(len * s_top, 2) + std::pow(height * s_len, 2));
     b.elements.push_back(std::move(e));
   }
+  std::vector<Element> steps;
   for (auto& [above, faces] : step_walls(inside, inside_region)) {
     solid.insert(solid.end(), faces.begin(), faces.end());
     Element e = make_element(ElementType::Wall, std::move(faces));
+    e.evidence = WallEvidence::RoofStep;
     e.slope_deg = 90.0;
     e.sigma_area = 0.05 * std::sqrt(e.area);
     e.azimuth_deg = azimuth_of(widest_face(e));
-    b.elements.push_back(std::move(e));
+    steps.push_back(std::move(e));
   }
+  fold_sliver_steps(steps, b.elements);
 
   Face ground{flat(fp.outer, b.terrain_z, true), {}};
   Element g = make_element(ElementType::Ground, {ground});

@@ -21,6 +21,8 @@ const char* to_string(WallEvidence e) {
     case WallEvidence::Measured: return "measured";
     case WallEvidence::Propagated: return "propagated";
     case WallEvidence::Default: return "default";
+    case WallEvidence::ParcelBoundary: return "parcel_boundary";
+    case WallEvidence::RoofStep: return "roof_step";
   }
   return "?";
 }

@@ -84,7 +84,10 @@ struct Dtm {
 // ---- Building model ------------------------------------------------------
 
 enum class ElementType { Roof, Wall, PartyWall, Ground, OuterCeiling };
-enum class WallEvidence { None, Measured, Propagated, Default };
+// How a wall was placed: measured (its own wall points), propagated (another
+// facade's overhang), default (configured overhang); a party wall stands on the
+// parcel boundary, a roof step where two roof planes meet at different heights.
+enum class WallEvidence { None, Measured, Propagated, Default, ParcelBoundary, RoofStep };
 
 const char* to_string(ElementType t);
 const char* to_string(WallEvidence e);

@@ -89,6 +89,14 @@ TEST_P(Exports, EveryBuildingIsAValidSolid) {
     EXPECT_EQ(test::run_cli("validate " + b.out + "/" + file, &out), 0) << file << "\n" << out;
     EXPECT_NE(out.find(" 0 issue(s)"), std::string::npos) << file << "\n" << out;
   }
+  // Every wall says what placed it: a party wall the parcel boundary, any
+  // other its wall points, another facade, the default overhang or a roof step.
+  for (const auto& p : b.store.results)
+    for (const auto& bld : p.buildings)
+      for (const auto& e : bld.elements) {
+        if (e.type == ElementType::PartyWall) EXPECT_EQ(e.evidence, WallEvidence::ParcelBoundary) << bld.id;
+        if (e.type == ElementType::Wall) EXPECT_NE(e.evidence, WallEvidence::None) << bld.id;
+      }
   if (GetParam() == "cimahi") {
     // Every parcel yields a building but record 23, whose few roof points hold
     // no roof plane (the known answer for this data set).
