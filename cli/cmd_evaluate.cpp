@@ -136,6 +136,25 @@ nlohmann::json to_json(const Deviation& d) {
   return {{"n", d.n}, {"mean", d.mean}, {"std", d.std}, {"rmse", d.rmse}, {"max", d.max}};
 }
 
+nlohmann::json to_json(const RoofCover& c) {
+  return {{"on_model", to_json(c.on_model)}, {"off_model", to_json(c.off_model)}, {"uncovered", to_json(c.uncovered)}};
+}
+
+// Where the pooled roof deviation comes from: each class's points and share of
+// the squared distance.
+void print_cover(const RoofCover& c) {
+  const Deviation* parts[] = {&c.on_model, &c.off_model, &c.uncovered};
+  double total = 0;
+  for (const Deviation* d : parts) total += double(d->n) * d->rmse * d->rmse;
+  auto share = [&](const Deviation& d) { return total > 0 ? 100.0 * double(d.n) * d.rmse * d.rmse / total : 0.0; };
+  std::printf("roof points by what the model has above or below them (share of the squared distance):\n"
+              "  a roof within 0.3 m  %8ld  rmse %6.3f  %5.1f %%\n"
+              "  a roof further off   %8ld  rmse %6.3f  %5.1f %%\n"
+              "  no roof              %8ld  rmse %6.3f  %5.1f %%\n",
+              c.on_model.n, c.on_model.rmse, share(c.on_model), c.off_model.n, c.off_model.rmse, share(c.off_model),
+              c.uncovered.n, c.uncovered.rmse, share(c.uncovered));
+}
+
 void print_row(const std::string& id, const Deviation& r, const Deviation& v, const Deviation& w) {
   auto cols = [](const Deviation& d) {
     char buf[128];
@@ -229,30 +248,38 @@ void run_evaluate(const EvalOptions& o) {
   // Report.
   std::printf("%-22s %8s %7s %7s %7s %7s %8s  %8s %7s %7s %7s %7s\n", "parcel", "roof n", "mean", "std",
               "rmse", "max", "vert rms", "wall n", "mean", "std", "rmse", "max");
-  std::vector<Deviation> all[2], all_v;
+  std::vector<Deviation> all[2], all_v, on_model, off_model, uncovered;
   nlohmann::json jz = nlohmann::json::array();
   long unmodelled[2] = {0, 0};
   for (const auto& z : zones) {
     const Deviation r = deviation(z.dist[kRoof]), w = deviation(z.dist[kWall]), v = deviation(z.vertical);
+    const RoofCover cover = split_by_cover(z.dist[kRoof], z.vertical);
+    on_model.push_back(cover.on_model);
+    off_model.push_back(cover.off_model);
+    uncovered.push_back(cover.uncovered);
     all[kRoof].push_back(r);
     all[kWall].push_back(w);
     all_v.push_back(v);
     unmodelled[kRoof] += z.unmodelled[kRoof];
     unmodelled[kWall] += z.unmodelled[kWall];
     if (clipper) print_row(z.id, r, v, w);
-    jz.push_back({{"id", z.id}, {"roof", to_json(r)}, {"roof_vertical", to_json(v)}, {"wall", to_json(w)},
+    jz.push_back({{"id", z.id}, {"roof", to_json(r)}, {"roof_vertical", to_json(v)}, {"roof_cover", to_json(cover)},
+                  {"wall", to_json(w)},
                   {"roof_faces", z.faces[kRoof].size()}, {"wall_faces", z.faces[kWall].size()},
                   {"unmodelled_roof_points", z.unmodelled[kRoof]}, {"unmodelled_wall_points", z.unmodelled[kWall]}});
   }
   const Deviation pr = pool(all[kRoof]), pw = pool(all[kWall]), pv = pool(all_v);
+  const RoofCover pc{pool(on_model), pool(off_model), pool(uncovered)};
   print_row("pooled", pr, pv, pw);
+  print_cover(pc);
   std::printf("roof points %zu, wall points %zu; in parcels without a model: %ld roof, %ld wall; "
               "outside every parcel: %ld; model faces outside every parcel: %ld\n",
               pts[kRoof].size(), pts[kWall].size(), unmodelled[0], unmodelled[1], outside, faces_outside);
   std::printf("distances in m: mean/std/rmse/max of |d|; vert rms = vertical distance RMSE\n");
   if (!o.json.empty()) {
     nlohmann::json j = {{"mesh", o.meshes}, {"cloud", o.cloud}, {"classes", o.classes}, {"buffer_m", o.buffer},
-                        {"pooled", {{"roof", to_json(pr)}, {"roof_vertical", to_json(pv)}, {"wall", to_json(pw)}}},
+                        {"pooled", {{"roof", to_json(pr)}, {"roof_vertical", to_json(pv)}, {"roof_cover", to_json(pc)},
+                                    {"wall", to_json(pw)}}},
                         {"points_outside_parcels", outside}, {"faces_outside_parcels", faces_outside}};
     if (clipper) j["parcels"] = jz;
     std::ofstream out(o.json);

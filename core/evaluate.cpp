@@ -175,6 +175,15 @@ Deviation pool(const std::vector<Deviation>& parts) {
   return d;
 }
 
+RoofCover split_by_cover(const std::vector<double>& distance, const std::vector<double>& vertical, double near) {
+  std::vector<double> on, off, none;
+  for (size_t i = 0; i < distance.size(); ++i) {
+    const double v = i < vertical.size() ? vertical[i] : kNaN;
+    (!std::isfinite(v) ? none : v <= near ? on : off).push_back(distance[i]);
+  }
+  return {deviation(on), deviation(off), deviation(none)};
+}
+
 Deviation deviation_to_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,
                              bool vertical) {
   FaceIndex index(faces);

@@ -48,6 +48,18 @@ Deviation deviation(const std::vector<double>& distances);
 // Exact statistics of the union of the parts from their n, max, mean, std.
 Deviation pool(const std::vector<Deviation>& parts);
 
+// The roof deviation split by what the model holds on the vertical through
+// each point: a roof within `near` above or below it (on the model), a roof
+// further off (another roof level, clutter standing on a roof, a misfit), or
+// none (a point the model leaves out: vegetation, a neighbour's eave, a roof
+// not modelled). `distance` (3D) and `vertical` run over the same points;
+// vertical is NaN where no roof lies above or below.
+struct RoofCover {
+  Deviation on_model, off_model, uncovered;
+};
+RoofCover split_by_cover(const std::vector<double>& distance, const std::vector<double>& vertical,
+                         double near = 0.3);
+
 // Deviation of the points from the faces: 3D nearest distance, or the vertical
 // distance (points with no face above or below them are left out of n).
 Deviation deviation_to_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,

@@ -51,6 +51,24 @@ TEST(Deviation, PointsAtKnownDistancesFromAPlane) {
   EXPECT_NEAR(d3.max, 5, 1e-9);
 }
 
+TEST(Deviation, SplitByWhatTheModelHasOverEachPoint) {
+  // 3D distances and vertical distances of six points: two on the model, two
+  // under or over a roof 1-2 m off, two with no roof above or below.
+  const std::vector<double> distance{0.1, 0.2, 0.9, 1.5, 3.0, 4.0};
+  const std::vector<double> vertical{0.1, 0.25, 1.0, 2.0, kNaN, kNaN};
+  const RoofCover c = split_by_cover(distance, vertical);
+  EXPECT_EQ(c.on_model.n, 2);
+  EXPECT_NEAR(c.on_model.rmse, std::sqrt((0.01 + 0.04) / 2), 1e-12);
+  EXPECT_EQ(c.off_model.n, 2);
+  EXPECT_NEAR(c.off_model.max, 1.5, 1e-12);
+  EXPECT_EQ(c.uncovered.n, 2);
+  EXPECT_NEAR(c.uncovered.mean, 3.5, 1e-12);
+  // The three parts pool back to the whole.
+  const Deviation all = pool({c.on_model, c.off_model, c.uncovered}), direct = deviation(distance);
+  EXPECT_EQ(all.n, direct.n);
+  EXPECT_NEAR(all.std, direct.std, 1e-12);
+}
+
 TEST(Deviation, DistancesToABox) {
   const auto faces = test::box_shell({0, 0, 0}, {2, 2, 2});
   FaceIndex index(faces);
@@ -237,6 +255,11 @@ TEST(EvaluateCli, PooledAndPerParcelDeviation) {
       << out;
   nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/all.json"));
   EXPECT_EQ(j["pooled"]["roof"]["n"], 6);  // without parcels the P2 point counts too
+  // ... with no roof over it, 20 m off the model; the others lie on the roof's plan.
+  const auto& cover = j["pooled"]["roof_cover"];
+  EXPECT_EQ(cover["uncovered"]["n"], 1);
+  EXPECT_NEAR(cover["uncovered"]["rmse"].get<double>(), 15.0, 1e-6);  // to the roof's east edge
+  EXPECT_EQ(cover["on_model"]["n"].get<long>() + cover["off_model"]["n"].get<long>(), 5);
   EXPECT_NEAR(j["pooled"]["wall"]["rmse"].get<double>(), 0.2, 1e-6);
 
   ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --parcels " + dir +
