@@ -173,9 +173,51 @@ void reproject(PointCloud& cloud, const std::string& to_wkt) {
   cloud.crs_wkt = to_wkt;
 }
 
-CrsReconciliation reconcile_crs(const ParcelLayer& parcels, std::vector<PointCloud>& clouds,
-                                Dtm* dtm) {
+bool is_metric(const std::string& wkt) {
+  OGRSpatialReference srs;
+  return parse_horizontal(wkt, srs) && srs.IsProjected() && std::abs(srs.GetLinearUnits() - 1.0) < 1e-9;
+}
+
+namespace {
+
+// "EPSG:327zz": the UTM zone over the layer's centre, for the error message.
+std::string utm_hint(const ParcelLayer& parcels) {
+  double lon = 0, lat = 0;
+  size_t n = 0;
+  for (const auto& p : parcels.parcels)
+    for (const auto& poly : p.shape)
+      for (const auto& v : poly.outer) lon += v.x(), lat += v.y(), ++n;
+  if (n == 0) return "<a projected CRS in metres>";
+  lon /= double(n), lat /= double(n);
+  if (std::abs(lon) > 180 || std::abs(lat) > 84) return "<a projected CRS in metres>";
+  const int zone = std::clamp(int(std::floor((lon + 180) / 6)) + 1, 1, 60);
+  return "EPSG:" + std::to_string((lat < 0 ? 32700 : 32600) + zone);
+}
+
+// Measuring needs metres: a layer in degrees (GeoJSON is WGS 84 by its
+// standard) or in feet goes into the first clouds' CRS that is in metres.
+void put_parcels_in_metres(ParcelLayer& parcels, const std::vector<PointCloud>& clouds,
+                           std::vector<std::string>& warnings) {
+  if (parcels.crs_wkt.empty() || is_metric(parcels.crs_wkt)) return;
+  for (const PointCloud& c : clouds) {
+    if (!is_metric(c.crs_wkt)) continue;
+    for (auto& p : parcels.parcels) p.shape = reproject(p.shape, parcels.crs_wkt, c.crs_wkt, parcels.source);
+    warnings.push_back(parcels.source + ": reprojected from " + describe(parcels.crs_wkt) + " to " +
+                       describe(c.crs_wkt) + " like " + c.source + " (areas are measured in metres)");
+    parcels.crs_wkt = c.crs_wkt;
+    return;
+  }
+  throw InputError(parcels.source, "CRS " + describe(parcels.crs_wkt) +
+                                       " is not in metres and no point cloud carries a CRS that is; "
+                                       "reproject the layer first, e.g. ogr2ogr -t_srs " + utm_hint(parcels) +
+                                       " parcels_utm.gpkg " + parcels.source);
+}
+
+}  // namespace
+
+CrsReconciliation reconcile_crs(ParcelLayer& parcels, std::vector<PointCloud>& clouds, Dtm* dtm) {
   CrsReconciliation r;
+  put_parcels_in_metres(parcels, clouds, r.warnings);
   r.crs_wkt = parcels.crs_wkt;
   if (r.crs_wkt.empty()) {
     // No reference: adopt the clouds' CRS, but only when they agree.

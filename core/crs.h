@@ -33,12 +33,16 @@ struct CrsReconciliation {
   std::vector<std::string> warnings;  // assumptions made, reprojections done
 };
 
+// True for a projected CRS whose unit is the metre.
+bool is_metric(const std::string& wkt);
+
 // Brings every input into the CRS of the parcel layer (the reference): a cloud
 // without a CRS is assumed to be in it (a warning says so), a cloud in another
 // CRS is reprojected; a DTM (optional) must already match, as rasters are not
-// warped here. A layer without CRS adopts the clouds' common CRS (warning).
+// warped here. A layer without CRS adopts the clouds' common CRS (warning). A
+// layer whose CRS is not in metres (degrees, feet) is first reprojected into
+// the first cloud CRS that is (warning); with none, that is an InputError.
 // Throws InputError naming the file and both CRS when inputs cannot be reconciled.
-CrsReconciliation reconcile_crs(const ParcelLayer& parcels, std::vector<PointCloud>& clouds,
-                                Dtm* dtm = nullptr);
+CrsReconciliation reconcile_crs(ParcelLayer& parcels, std::vector<PointCloud>& clouds, Dtm* dtm = nullptr);
 
 }  // namespace c3d

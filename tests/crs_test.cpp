@@ -3,6 +3,8 @@
 
 #include "core/crs.h"
 #include "core/error.h"
+#include "core/geometry.h"
+#include "core/polygon_ops.h"
 
 namespace c3d {
 namespace {
@@ -100,4 +102,52 @@ TEST(Crs, ReconcileImpossibleReprojectionNamesFileAndBothCrs) {
 }
 
 }  // namespace
+TEST(Crs, ParcelsInDegreesAreMeasuredInTheCloudsMetres) {
+  // A GeoJSON layer is WGS 84 by its standard: a 10 m x 10 m Cimahi parcel in
+  // degrees goes into the cloud's UTM zone, where its area is 100 m^2 again.
+  const std::string utm = wkt_from_epsg(32748), wgs84 = wkt_from_epsg(4326);
+  const MultiPolygon2 square = poly::box({781850, 9240000}, {781860, 9240010});
+  ParcelLayer parcels;
+  parcels.source = "parcels.geojson";
+  parcels.crs_wkt = wgs84;
+  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, reproject(square, utm, wgs84, "test"), ""});
+  PointCloud cloud;
+  cloud.source = "cloud.las";
+  cloud.crs_wkt = kEsriUtm48S;
+  cloud.points = {{781855, 9240005, 790}};
+  std::vector<PointCloud> clouds = {cloud};
+  CrsReconciliation r = reconcile_crs(parcels, clouds);
+  EXPECT_TRUE(same_crs(r.crs_wkt, utm));
+  EXPECT_TRUE(same_crs(parcels.crs_wkt, utm));
+  EXPECT_NEAR(area(parcels.parcels[0].shape), 100.0, 1e-3);
+  EXPECT_NEAR(parcels.parcels[0].shape[0].outer[0].y(), 9240000, 1e-3);
+  EXPECT_EQ(clouds[0].points[0], cloud.points[0]);  // the cloud stays as it is
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("parcels.geojson: reprojected from WGS 84 (EPSG:4326)"), std::string::npos)
+      << r.warnings[0];
+  EXPECT_TRUE(is_metric(utm));
+  EXPECT_FALSE(is_metric(wgs84));
+  EXPECT_FALSE(is_metric(wkt_from_epsg(2227)));  // a state plane in US feet
+}
+
+TEST(Crs, ParcelsInDegreesWithNoCloudInMetresIsAnError) {
+  ParcelLayer parcels;
+  parcels.source = "parcels.geojson";
+  parcels.crs_wkt = wkt_from_epsg(4326);
+  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, poly::box({107.55, -6.87}, {107.5501, -6.8699}), ""});
+  PointCloud cloud;
+  cloud.source = "cloud.ply";  // no CRS: it would be taken for degrees
+  cloud.points = {{781855, 9240005, 790}};
+  std::vector<PointCloud> clouds = {cloud};
+  try {
+    reconcile_crs(parcels, clouds);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("parcels.geojson"), std::string::npos) << m;
+    EXPECT_NE(m.find("not in metres"), std::string::npos) << m;
+    EXPECT_NE(m.find("EPSG:32748"), std::string::npos) << m;  // the UTM zone over the layer
+  }
+}
+
 }  // namespace c3d
