@@ -65,6 +65,16 @@ EnvelopeInput flat_roof_input(const std::string& id, const Polygon2& outline) {
   return in;
 }
 
+// `in` with a roof of two planes: `island` over `hole`, `around` over the rest of `whole`.
+EnvelopeInput with_island_roof(EnvelopeInput in, const MultiPolygon2& whole, const MultiPolygon2& hole,
+                               const Plane& around, const Plane& island) {
+  in.roof = {RoofRegion{0, around, poly::subtract(whole, hole)}, RoofRegion{1, island, hole}};
+  in.fits = {in.fits[0], in.fits[0]};
+  in.fits[0].plane = around;
+  in.fits[1].plane = island;
+  return in;
+}
+
 }  // namespace
 
 TEST(Planes, SvdFitRecoversNoisyPlane) {
@@ -498,14 +508,10 @@ TEST(Envelope, IslandRoofCrossingTheRoofAroundItStaysClosed) {
   // the island's west and east edges: there each roof walls the part where it
   // is the higher (two triangles per edge, 1 m long, 2 cm high at their ends);
   // along y = 3 the island is 2 cm higher, along y = 5 the roof around it.
-  EnvelopeInput in = flat_roof_input("island", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
-  Plane around = plane_through({0, 4, 3}, {0, -0.01, 1}), island = plane_through({0, 4, 3}, {0, 0.01, 1});
-  const MultiPolygon2 hole = poly::box({4, 3}, {6, 5});
-  in.roof = {RoofRegion{0, around, poly::subtract(poly::box({-0.5, -0.5}, {10.5, 8.5}), hole)},
-             RoofRegion{1, island, hole}};
-  in.fits = {in.fits[0], in.fits[0]};
-  in.fits[0].plane = around;
-  in.fits[1].plane = island;
+  const EnvelopeInput in = with_island_roof(
+      flat_roof_input("island", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}}),
+      poly::box({-0.5, -0.5}, {10.5, 8.5}), poly::box({4, 3}, {6, 5}), plane_through({0, 4, 3}, {0, -0.01, 1}),
+      plane_through({0, 4, 3}, {0, 0.01, 1}));
   Building b = build_building(in);
   const SolidCheck check = check_solid(b.solid);
   EXPECT_TRUE(check.ok) << check.summary();
@@ -531,14 +537,10 @@ TEST(Envelope, SliverStepBetweenRoofPlanesJoinsTheNearestWall) {
   // nearest wall element, not as a wall of its own that no one could point
   // at. A 5 mm step (0.02 m^2) stays a roof-step wall.
   for (double rise : {0.0022, 0.005}) {
-    EnvelopeInput in = flat_roof_input("sliver", Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}});
+    EnvelopeInput in = with_island_roof(flat_roof_input("sliver", Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}}),
+                                        poly::box({0, 0}, {10, 8}), poly::box({4.5, 3.5}, {5.5, 4.5}),
+                                        plane_through({0, 0, 3}, {0, 0, 1}), plane_through({0, 0, 3 + rise}, {0, 0, 1}));
     in.default_overhang = 0.0;
-    Plane around = plane_through({0, 0, 3}, {0, 0, 1}), island = plane_through({0, 0, 3 + rise}, {0, 0, 1});
-    const MultiPolygon2 hole = poly::box({4.5, 3.5}, {5.5, 4.5});
-    in.roof = {RoofRegion{0, around, poly::subtract(poly::box({0, 0}, {10, 8}), hole)}, RoofRegion{1, island, hole}};
-    in.fits = {in.fits[0], in.fits[0]};
-    in.fits[0].plane = around;
-    in.fits[1].plane = island;
     Building b = build_building(in);
     const SolidCheck check = check_solid(b.solid);
     EXPECT_TRUE(check.ok) << check.summary();
