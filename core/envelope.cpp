@@ -516,12 +516,14 @@ void fold_sliver_steps(std::vector<Element>& steps, std::vector<Element>& elemen
   for (auto& e : steps)
     if (e.area >= kMinStepWallArea) elements.push_back(std::move(e));
   for (auto& e : steps) {
-    if (e.faces.empty() || e.area >= kMinStepWallArea) continue;  // moved, or kept
+    if (e.area >= kMinStepWallArea) continue;  // listed above
     Element* host = nullptr;
     double gap = 1e18;
-    for (auto& w : elements)
-      if ((w.type == ElementType::Wall || w.type == ElementType::PartyWall) && vertex_gap(e, w) < gap)
-        gap = vertex_gap(e, w), host = &w;
+    for (auto& w : elements) {
+      if (w.type != ElementType::Wall && w.type != ElementType::PartyWall) continue;
+      const double d = vertex_gap(e, w);
+      if (d < gap) gap = d, host = &w;
+    }
     if (!host) {  // no other wall: keep it as it is
       elements.push_back(std::move(e));
       continue;
