@@ -194,11 +194,29 @@ std::string utm_hint(const ParcelLayer& parcels) {
   return "EPSG:" + std::to_string((lat < 0 ? 32700 : 32600) + zone);
 }
 
+// Whether every vertex of the layer could be longitude, latitude.
+bool within_degrees(const ParcelLayer& parcels) {
+  for (const auto& p : parcels.parcels)
+    for (const auto& poly : p.shape)
+      for (const auto& v : poly.outer)
+        if (std::abs(v.x()) > 180 || std::abs(v.y()) > 90) return false;
+  return true;
+}
+
 // Measuring needs metres: a layer in degrees (GeoJSON is WGS 84 by its
-// standard) or in feet goes into the first clouds' CRS that is in metres.
+// standard) or in feet goes into the first clouds' CRS that is in metres. A
+// layer claiming degrees with coordinates no degrees can be (a GeoJSON in UTM
+// without a "crs" member, which GDAL reads as WGS 84) has no CRS known.
 void put_parcels_in_metres(ParcelLayer& parcels, const std::vector<PointCloud>& clouds,
                            std::vector<std::string>& warnings) {
   if (parcels.crs_wkt.empty() || is_metric(parcels.crs_wkt)) return;
+  OGRSpatialReference srs;
+  if (parse_horizontal(parcels.crs_wkt, srs) && srs.IsGeographic() && !within_degrees(parcels)) {
+    warnings.push_back(parcels.source + ": coordinates are not degrees, so its CRS " + describe(parcels.crs_wkt) +
+                       " is taken as unknown");
+    parcels.crs_wkt.clear();
+    return;
+  }
   for (const PointCloud& c : clouds) {
     if (!is_metric(c.crs_wkt)) continue;
     for (auto& p : parcels.parcels) p.shape = reproject(p.shape, parcels.crs_wkt, c.crs_wkt, parcels.source);

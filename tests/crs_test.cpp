@@ -130,6 +130,25 @@ TEST(Crs, ParcelsInDegreesAreMeasuredInTheCloudsMetres) {
   EXPECT_FALSE(is_metric(wkt_from_epsg(2227)));  // a state plane in US feet
 }
 
+TEST(Crs, LayerClaimingDegreesWithMetreCoordinatesTakesTheCloudsCrs) {
+  // A GeoJSON in UTM without a "crs" member: GDAL reads it as WGS 84.
+  ParcelLayer parcels;
+  parcels.source = "parcels.geojson";
+  parcels.crs_wkt = wkt_from_epsg(4326);
+  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, poly::box({781850, 9240000}, {781860, 9240010}), ""});
+  PointCloud cloud;
+  cloud.source = "cloud.las";
+  cloud.crs_wkt = kEsriUtm48S;
+  cloud.points = {{781855, 9240005, 790}};
+  std::vector<PointCloud> clouds = {cloud};
+  CrsReconciliation r = reconcile_crs(parcels, clouds);
+  EXPECT_TRUE(same_crs(r.crs_wkt, kEsriUtm48S));
+  EXPECT_NEAR(area(parcels.parcels[0].shape), 100.0, 1e-9);  // untouched
+  ASSERT_GE(r.warnings.size(), 2u);
+  EXPECT_NE(r.warnings[0].find("not degrees"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("no CRS; assumed"), std::string::npos) << r.warnings[1];
+}
+
 TEST(Crs, ParcelsInDegreesWithNoCloudInMetresIsAnError) {
   ParcelLayer parcels;
   parcels.source = "parcels.geojson";
