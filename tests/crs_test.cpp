@@ -102,19 +102,31 @@ TEST(Crs, ReconcileImpossibleReprojectionNamesFileAndBothCrs) {
 }
 
 }  // namespace
+// A one-parcel GeoJSON-like layer in WGS 84 (whatever its coordinates are).
+ParcelLayer wgs84_layer(const MultiPolygon2& shape) {
+  ParcelLayer parcels;
+  parcels.source = "parcels.geojson";
+  parcels.crs_wkt = wkt_from_epsg(4326);
+  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, shape, ""});
+  return parcels;
+}
+
+// A one-point cloud in Cimahi's UTM zone, with or without its CRS.
+PointCloud cimahi_cloud(const std::string& source, bool with_crs) {
+  PointCloud cloud;
+  cloud.source = source;
+  if (with_crs) cloud.crs_wkt = kEsriUtm48S;
+  cloud.points = {{781855, 9240005, 790}};
+  return cloud;
+}
+
 TEST(Crs, ParcelsInDegreesAreMeasuredInTheCloudsMetres) {
   // A GeoJSON layer is WGS 84 by its standard: a 10 m x 10 m Cimahi parcel in
   // degrees goes into the cloud's UTM zone, where its area is 100 m^2 again.
   const std::string utm = wkt_from_epsg(32748), wgs84 = wkt_from_epsg(4326);
   const MultiPolygon2 square = poly::box({781850, 9240000}, {781860, 9240010});
-  ParcelLayer parcels;
-  parcels.source = "parcels.geojson";
-  parcels.crs_wkt = wgs84;
-  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, reproject(square, utm, wgs84, "test"), ""});
-  PointCloud cloud;
-  cloud.source = "cloud.las";
-  cloud.crs_wkt = kEsriUtm48S;
-  cloud.points = {{781855, 9240005, 790}};
+  ParcelLayer parcels = wgs84_layer(reproject(square, utm, wgs84, "test"));
+  const PointCloud cloud = cimahi_cloud("cloud.las", true);
   std::vector<PointCloud> clouds = {cloud};
   CrsReconciliation r = reconcile_crs(parcels, clouds);
   EXPECT_TRUE(same_crs(r.crs_wkt, utm));
@@ -132,15 +144,8 @@ TEST(Crs, ParcelsInDegreesAreMeasuredInTheCloudsMetres) {
 
 TEST(Crs, LayerClaimingDegreesWithMetreCoordinatesTakesTheCloudsCrs) {
   // A GeoJSON in UTM without a "crs" member: GDAL reads it as WGS 84.
-  ParcelLayer parcels;
-  parcels.source = "parcels.geojson";
-  parcels.crs_wkt = wkt_from_epsg(4326);
-  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, poly::box({781850, 9240000}, {781860, 9240010}), ""});
-  PointCloud cloud;
-  cloud.source = "cloud.las";
-  cloud.crs_wkt = kEsriUtm48S;
-  cloud.points = {{781855, 9240005, 790}};
-  std::vector<PointCloud> clouds = {cloud};
+  ParcelLayer parcels = wgs84_layer(poly::box({781850, 9240000}, {781860, 9240010}));
+  std::vector<PointCloud> clouds = {cimahi_cloud("cloud.las", true)};
   CrsReconciliation r = reconcile_crs(parcels, clouds);
   EXPECT_TRUE(same_crs(r.crs_wkt, kEsriUtm48S));
   EXPECT_NEAR(area(parcels.parcels[0].shape), 100.0, 1e-9);  // untouched
@@ -150,14 +155,8 @@ TEST(Crs, LayerClaimingDegreesWithMetreCoordinatesTakesTheCloudsCrs) {
 }
 
 TEST(Crs, ParcelsInDegreesWithNoCloudInMetresIsAnError) {
-  ParcelLayer parcels;
-  parcels.source = "parcels.geojson";
-  parcels.crs_wkt = wkt_from_epsg(4326);
-  parcels.parcels.push_back(Parcel{0, "P1", "", kNaN, poly::box({107.55, -6.87}, {107.5501, -6.8699}), ""});
-  PointCloud cloud;
-  cloud.source = "cloud.ply";  // no CRS: it would be taken for degrees
-  cloud.points = {{781855, 9240005, 790}};
-  std::vector<PointCloud> clouds = {cloud};
+  ParcelLayer parcels = wgs84_layer(poly::box({107.55, -6.87}, {107.5501, -6.8699}));
+  std::vector<PointCloud> clouds = {cimahi_cloud("cloud.ply", false)};  // no CRS: it would be taken for degrees
   try {
     reconcile_crs(parcels, clouds);
     FAIL() << "no InputError";
