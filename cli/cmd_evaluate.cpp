@@ -148,10 +148,10 @@ void print_cover(const RoofCover& c) {
   for (const Deviation* d : parts) total += double(d->n) * d->rmse * d->rmse;
   auto share = [&](const Deviation& d) { return total > 0 ? 100.0 * double(d.n) * d.rmse * d.rmse / total : 0.0; };
   std::printf("roof points by what the model has above or below them (share of the squared distance):\n"
-              "  a roof within 0.3 m  %8ld  rmse %6.3f  %5.1f %%\n"
+              "  a roof within %.1f m  %8ld  rmse %6.3f  %5.1f %%\n"
               "  a roof further off   %8ld  rmse %6.3f  %5.1f %%\n"
               "  no roof              %8ld  rmse %6.3f  %5.1f %%\n",
-              c.on_model.n, c.on_model.rmse, share(c.on_model), c.off_model.n, c.off_model.rmse, share(c.off_model),
+              kOnModelM, c.on_model.n, c.on_model.rmse, share(c.on_model), c.off_model.n, c.off_model.rmse, share(c.off_model),
               c.uncovered.n, c.uncovered.rmse, share(c.uncovered));
 }
 

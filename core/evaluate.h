@@ -57,8 +57,9 @@ Deviation pool(const std::vector<Deviation>& parts);
 struct RoofCover {
   Deviation on_model, off_model, uncovered;
 };
+constexpr double kOnModelM = 0.3;  // a roof this near above or below: the point is on the model
 RoofCover split_by_cover(const std::vector<double>& distance, const std::vector<double>& vertical,
-                         double near = 0.3);
+                         double near = kOnModelM);
 
 // Deviation of the points from the faces: 3D nearest distance, or the vertical
 // distance (points with no face above or below them are left out of n).
