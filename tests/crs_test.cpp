@@ -101,7 +101,6 @@ TEST(Crs, ReconcileImpossibleReprojectionNamesFileAndBothCrs) {
   }
 }
 
-}  // namespace
 // A one-parcel GeoJSON-like layer in WGS 84 (whatever its coordinates are).
 ParcelLayer wgs84_layer(const MultiPolygon2& shape) {
   ParcelLayer parcels;
@@ -168,4 +167,5 @@ TEST(Crs, ParcelsInDegreesWithNoCloudInMetresIsAnError) {
   }
 }
 
+}  // namespace
 }  // namespace c3d
