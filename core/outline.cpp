@@ -73,7 +73,14 @@ std::vector<EdgeLine> merge_collinear(std::vector<EdgeLine> lines) {
 // Short edges at corners (chamfers left by the hull) are removed by extending
 // their neighbours until they meet, when that point is close by. An oblique
 // edge counts as half its length: a real corner cut is square or 45 degrees.
-std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_len) {
+// With keep_notch_ends, the end (10 cm or wider) of a narrow notch stays: its
+// sides, sharper than 30 degrees, would otherwise run on into a spike. Only
+// for a finished outline: on the hull's, whose edges move afterwards, a kept
+// end can close into a spike of its own.
+constexpr double kCos30 = 0.8660254037844386;
+
+std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_len,
+                                       bool keep_notch_ends) {
   auto weight = [](const EdgeLine& l) { return (l.t1 - l.t0) * (l.oblique ? 0.5 : 1.0); };
   while (lines.size() > 3) {
     size_t k = 0;
@@ -103,8 +110,10 @@ std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_l
       for (size_t g : gone) lines.erase(lines.begin() + long(g));
       continue;
     }
-    if (!p || (*p - mid).norm() > 2.0 * min_len) {
-      lines[k].keep = true;  // a real step of the outline
+    const bool notch_end =
+        keep_notch_ends && prev.dir.dot(next.dir) < -kCos30 && lines[k].t1 - lines[k].t0 >= 0.1;
+    if (!p || (*p - mid).norm() > 2.0 * min_len || notch_end) {
+      lines[k].keep = true;  // a real step of the outline, or a notch's end
       continue;
     }
     prev.t1 = prev.dir.dot(*p - prev.origin);
@@ -299,7 +308,7 @@ Polygon2 regularize_polygon(const Polygon2& poly, double min_edge) {
     l.t1 = l.dir.dot(b - l.origin);
     lines.push_back(l);
   }
-  lines = merge_collinear(drop_short_edges(merge_collinear(lines), min_edge));
+  lines = merge_collinear(drop_short_edges(merge_collinear(lines), min_edge, true));
   if (lines.size() < 3) return poly;
   Polygon2 out{rebuild_ring(lines), {}};
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
@@ -379,7 +388,7 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
     lines.push_back(l);
   }
   lines = merge_collinear(lines);
-  lines = drop_short_edges(lines, 1.5);
+  lines = drop_short_edges(lines, 1.5, false);
   lines = merge_collinear(lines);
   if (lines.size() < 3) return {};
   // Move every edge to where the density says the roof ends.

@@ -182,6 +182,35 @@ MultiPolygon2 drop_small(const MultiPolygon2& a, double min_area) {
   return out;
 }
 
+namespace {
+Ring2 without_needles(Ring2 r, double cos_max) {
+  for (bool dropped = true; dropped && r.size() > 3;) {  // a tip gone may leave another
+    dropped = false;
+    for (size_t i = 0; i < r.size() && r.size() > 3; ++i) {
+      const Vec2& v = r[i];
+      const Vec2 a = r[(i + r.size() - 1) % r.size()] - v, b = r[(i + 1) % r.size()] - v;
+      const double na = a.norm(), nb = b.norm();
+      if (na < 1e-12 || nb < 1e-12 || a.dot(b) > cos_max * na * nb) {
+        r.erase(r.begin() + long(i));
+        dropped = true;
+      }
+    }
+  }
+  return r;
+}
+}  // namespace
+
+MultiPolygon2 drop_needles(const MultiPolygon2& a, double max_angle) {
+  const double cos_max = std::cos(max_angle);
+  MultiPolygon2 out;
+  for (const auto& p : a) {
+    Polygon2 q{without_needles(p.outer, cos_max), {}};
+    for (const auto& h : p.holes) q.holes.push_back(without_needles(h, cos_max));
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+
 bool covers(const MultiPolygon2& a, const Vec2& p) {
   auto winding = [&](const Ring2& r) {
     bool in = false;

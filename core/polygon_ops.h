@@ -30,6 +30,10 @@ MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge);
 Polygon2 largest(const MultiPolygon2& mp);
 // Drops polygons (and holes) smaller than min_area.
 MultiPolygon2 drop_small(const MultiPolygon2& a, double min_area);
+// Removes needle tips: vertices whose two edges leave them less than
+// max_angle (radians) apart, repeatedly, so a sliver spike of no width left by
+// an overlay (valid to GEOS, but welded shut later) goes.
+MultiPolygon2 drop_needles(const MultiPolygon2& a, double max_angle);
 // Point in polygon (boundary counts as inside).
 bool covers(const MultiPolygon2& a, const Vec2& p);
 // Distance from p to the polygon (0 inside).

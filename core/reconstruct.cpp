@@ -295,6 +295,8 @@ MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with) {
   return cut;
 }
 
+constexpr double kNeedleAngle = 0.0175;  // rad (1 degree): sharper than any building's corner
+
 std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentation& seg,
                                          const MultiPolygon2& cut, double loose_reach, bool turn_axes) {
   std::map<int, std::vector<int>> comps_of_roof;
@@ -327,7 +329,8 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
     }
     u = poly::buffer(poly::buffer(u, 0.25), -0.25);  // close gaps between roof levels
     if (!cut.empty()) u = poly::subtract(u, cut);
-    for (Polygon2& part : poly::simplify(u, 0.02)) {  // the cut may leave several buildings
+    // The cut may leave several buildings, and needles where it grazes a corner.
+    for (Polygon2& part : poly::drop_needles(poly::simplify(u, 0.02), kNeedleAngle)) {
       part.holes.clear();
       if (part.outer.size() >= 3 && area(part) >= 4.0) plans.push_back({part, comps});
     }
@@ -388,7 +391,8 @@ std::vector<Polygon2> cut_at_narrows(const Polygon2& outline, const FootprintApa
   }
   std::vector<Polygon2> out;
   for (const auto& h : houses) {
-    Polygon2 part = poly::largest(poly::simplify(poly::buffer(poly::buffer(h, 0.01), -0.01), 0.02));
+    const MultiPolygon2 closed = poly::buffer(poly::buffer(h, 0.01), -0.01);
+    Polygon2 part = poly::largest(poly::drop_needles(poly::simplify(closed, 0.02), kNeedleAngle));
     part.holes.clear();
     if (area(part) >= kMinFootprintPart) out.push_back(part);
   }

@@ -164,6 +164,20 @@ TEST(Outline, EdgePlacementNearTheSamplingLimit) {
   std::printf("outline area error RMS over %d roofs: %.3f m2\n", runs, rms);
 }
 
+TEST(Outline, NarrowNotchKeepsItsEnd) {
+  // A 10 x 8 m outline with a notch 3 m deep, 0.6 m wide at its mouth and
+  // 0.2 m at its end (as between two roofs on 09365). Dropping the short end
+  // would run its converging sides on into a spike 1.5 m past it; the
+  // regularised outline must keep the notch as it is.
+  const Polygon2 notched{{{0, 0}, {10, 0}, {10, 8}, {5.3, 8}, {5.1, 5}, {4.9, 5}, {4.7, 8}, {0, 8}}, {}};
+  const Polygon2 out = regularize_polygon(notched, 1.0);
+  EXPECT_NEAR(area(out), area(notched), 1e-6);
+  const MultiPolygon2 in{notched}, result{out};
+  EXPECT_LT(area(poly::subtract(in, result)) + area(poly::subtract(result, in)), 1e-6);
+  for (const Vec2& v : out.outer)
+    if (v.y() > 1) EXPECT_GE(v.y(), 5.0 - 1e-9) << "vertex beyond the notch end: " << v.transpose();
+}
+
 TEST(Segmentation, CorrugatedSlopeBecomesOnePlane) {
   // A gable at the Cimahi UAV density (87 points/m2, 1 cm noise): the south
   // slope smooth, the north slope corrugated sheet (5 cm waves every 0.35 m
@@ -187,6 +201,20 @@ TEST(Segmentation, CorrugatedSlopeBecomesOnePlane) {
     EXPECT_GT(double(c.points.size()), 0.93 * expected) << (is_north ? "north" : "south");
     EXPECT_NEAR(c.fit.plane.n.y() / c.fit.plane.n.z(), is_north ? 0.47 : -0.47, 0.02);
   }
+}
+
+TEST(PolygonOps, NeedleTipsGoSharpCornersStay) {
+  // A 10 x 8 m outline with a 0.13 m needle of almost no width at a corner
+  // (as subtracting a parcel cut can leave): the tip goes, the area stays.
+  // A 5 degree wedge is a real, if sharp, corner and stays.
+  const MultiPolygon2 needled{{{{0, 0}, {10, 0}, {10.13, -0.0001}, {10, 0.0001}, {10, 8}, {0, 8}}, {}}};
+  const MultiPolygon2 out = poly::drop_needles(needled, 0.0175);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].outer.size(), 5u);  // one tip, and the base vertex left on a straight edge stays
+  EXPECT_NEAR(area(out), 80.0, 1e-3);
+  for (const Vec2& v : out[0].outer) EXPECT_LE(v.x(), 10.0 + 1e-9);
+  const MultiPolygon2 wedge{{{{0, 0}, {10, 0}, {0, 10 * std::tan(5 * M_PI / 180)}}, {}}};
+  EXPECT_EQ(poly::drop_needles(wedge, 0.0175)[0].outer.size(), 3u);
 }
 
 TEST(PolygonOps, LandBeyondASharedCornerGoesToTheNearerParcel) {
