@@ -72,6 +72,21 @@ std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q,
   return Vec2(p + d * ((w.x() * e.y() - w.y() * e.x()) / den));
 }
 
+std::vector<Vec2> points_along(const std::vector<Vec2>& line, double step) {
+  if (line.empty()) return {};
+  std::vector<Vec2> out{line.front()};
+  double walked = 0;  // since the last point
+  for (size_t k = 1; k < line.size(); ++k) {
+    const Vec2 d = line[k] - line[k - 1];
+    const double len = d.norm();
+    double t = step - walked;
+    for (; t < len; t += step) out.push_back(line[k - 1] + d * (t / len));
+    walked = len - (t - step);
+  }
+  if ((out.back() - line.back()).norm() > 1e-9) out.push_back(line.back());
+  return out;
+}
+
 BuildingTotals totals(const Building& b) {
   BuildingTotals t;
   auto add = [](double& sum, double& sigma, const Element& e) {

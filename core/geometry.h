@@ -23,6 +23,11 @@ Ring2 to_2d(const Ring3& ring);
 // parallel within 1e-6.
 std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q, const Vec2& e);
 
+// Points every `step` along a polyline, its ends included: sums and fits over
+// them weigh the line by its length, whatever vertices it is drawn with (a
+// straight stretch may have two, a staircase one per step).
+std::vector<Vec2> points_along(const std::vector<Vec2>& line, double step);
+
 // Largest distance of a face's vertices (holes too) from their least-squares plane.
 double planarity_deviation(const Face& f);
 

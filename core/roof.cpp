@@ -191,9 +191,13 @@ std::vector<Vec2> straight_legs(const std::vector<Vec2>& stairs, double toleranc
   return out;
 }
 
-std::vector<Vec2> flatten(const std::vector<std::vector<Vec2>>& lines) {
+// The shared boundary's pieces sampled by length (see points_along).
+std::vector<Vec2> boundary_samples(const std::vector<std::vector<Vec2>>& pieces, double step) {
   std::vector<Vec2> out;
-  for (const auto& l : lines) out.insert(out.end(), l.begin(), l.end());
+  for (const auto& piece : pieces) {
+    const std::vector<Vec2> samples = points_along(piece, step);
+    out.insert(out.end(), samples.begin(), samples.end());
+  }
   return out;
 }
 
@@ -274,7 +278,7 @@ void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regi
 void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
   auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
   if (polyline_length(shared) < 0.4) return;
-  auto verts = flatten(shared);
+  const auto verts = boundary_samples(shared, 0.5 * in.cell);
   auto cut = intersection_cut(in.planes[i], in.planes[j], verts);
   if (!cut) cut = step_cut(verts);
   if (!cut) return polyline_cut(in, regions, i, j, shared);

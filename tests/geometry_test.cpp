@@ -43,6 +43,28 @@ TEST(Geometry, TotalsSumElementsAndCombineSigma) {
   EXPECT_DOUBLE_EQ(t.wall, 5);
 }
 
+TEST(Geometry, PointsAlongALineDoNotDependOnItsVertices) {
+  // One straight 3 m line drawn with its two ends, and again with 30
+  // vertices crowded into its first 0.3 m (as a staircase crowds them):
+  // sampled every 0.25 m, both give the same 13 points, evenly spaced.
+  const std::vector<Vec2> plain{{0, 0}, {3, 0}};
+  std::vector<Vec2> crowded;
+  for (int k = 0; k < 30; ++k) crowded.emplace_back(0.01 * k, 0);
+  crowded.emplace_back(3, 0);
+  const auto a = points_along(plain, 0.25), b = points_along(crowded, 0.25);
+  ASSERT_EQ(a.size(), 13u);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_NEAR(a[k].x(), 0.25 * double(k), 1e-12);
+    EXPECT_NEAR((a[k] - b[k]).norm(), 0.0, 1e-12);
+  }
+  // Around a corner the spacing is kept along the line; the end is always in.
+  const auto c = points_along({{0, 0}, {0.3, 0}, {0.3, 0.5}}, 0.25);
+  ASSERT_EQ(c.size(), 5u);
+  EXPECT_NEAR((c[2] - Vec2(0.3, 0.2)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((c.back() - Vec2(0.3, 0.5)).norm(), 0.0, 1e-12);
+}
+
 TEST(Dtm, BilinearAndOutside) {
   Dtm d;
   d.x0 = 0.5; d.y0 = 9.5; d.dx = 1; d.dy = -1; d.nx = 2; d.ny = 2;
