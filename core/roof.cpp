@@ -9,6 +9,7 @@
 #include <map>
 
 #include "core/geometry.h"
+#include "core/label_grid.h"
 #include "core/polygon_ops.h"
 
 namespace c3d {
@@ -36,10 +37,9 @@ double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
   return len;
 }
 
-// Label grid -> one region per component (row runs united by GEOS).
+// Label grid -> one region per component.
 std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
   size_t k = in.components.size();
-  std::vector<MultiPolygon2> rects(k);
   pcl::PointCloud<pcl::PointXY>::Ptr cloud(new pcl::PointCloud<pcl::PointXY>);
   for (const auto& p : in.points) cloud->push_back(pcl::PointXY{float(p.x()), float(p.y())});
   pcl::KdTreeFLANN<pcl::PointXY> tree;
@@ -76,23 +76,9 @@ std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
       for (auto& [lab, v] : votes)
         if (v >= 5) smooth[size_t(j) * nx + i] = lab;
     }
-  for (int j = 0; j < ny; ++j) {
-    double y0 = lo.y() + j * in.cell;
-    int run_label = -1, run_start = 0;
-    for (int i = 0; i <= nx; ++i) {
-      int lab = i < nx ? smooth[size_t(j) * nx + i] : -1;
-      if (lab == run_label) continue;
-      if (run_label >= 0)
-        rects[run_label].push_back(poly::box({lo.x() + run_start * in.cell, y0},
-                                             {lo.x() + i * in.cell, y0 + in.cell})[0]);
-      run_label = lab;
-      run_start = i;
-    }
-  }
-  std::vector<MultiPolygon2> regions(k);
-  MultiPolygon2 outline{in.outline};
-  for (size_t i = 0; i < k; ++i)
-    regions[i] = poly::intersect(poly::unite_all({rects[i]}), outline);
+  std::vector<MultiPolygon2> regions = polygonize(LabelGrid{nx, ny, lo, in.cell, std::move(smooth)}, k);
+  const MultiPolygon2 outline{in.outline};
+  for (auto& r : regions) r = poly::intersect(r, outline);
   return regions;
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "core/geometry.h"
+#include "core/label_grid.h"
 
 using namespace c3d;
 
@@ -71,4 +72,40 @@ TEST(Dtm, BilinearAndOutside) {
   d.z = {0, 1, 2, 3};
   EXPECT_NEAR(d.height_at(1.0, 9.0), 1.5, 1e-12);
   EXPECT_TRUE(std::isnan(d.height_at(5, 5)));
+}
+
+// Rows go up in y from the origin. Label 0 is an L round a hole of label 1
+// (one polygon with a hole and a separate square), label 2 two cells that
+// touch only at a corner (two polygons), -1 is nothing.
+TEST(LabelGrid, PolygonsFollowTheCellLinesWithHolesAndParts) {
+  const int nx = 5, ny = 4;
+  // clang-format off
+  const std::vector<int> rows_top_down = {
+       2, -1,  0,  0,  0,
+      -1,  2,  0,  1,  0,
+      -1, -1,  0,  0,  0,
+      -1, -1,  0,  0, -1};
+  // clang-format on
+  LabelGrid g{nx, ny, Vec2(100.0, 200.0), 0.5, std::vector<int>(size_t(nx * ny))};
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) g.labels[size_t(j * nx + i)] = rows_top_down[size_t((ny - 1 - j) * nx + i)];
+  const auto regions = polygonize(g, 4);
+  ASSERT_EQ(regions.size(), 4u);
+  const double cell = 0.25;
+  ASSERT_EQ(regions[0].size(), 1u);
+  ASSERT_EQ(regions[0][0].holes.size(), 1u);
+  EXPECT_NEAR(area(regions[0][0]), 10 * cell, 1e-12);
+  // Only the corners: the L's outer ring has 6, the hole 4.
+  EXPECT_EQ(regions[0][0].outer.size(), 6u);
+  EXPECT_EQ(regions[0][0].holes[0].size(), 4u);
+  ASSERT_EQ(regions[1].size(), 1u);
+  EXPECT_NEAR(area(regions[1][0]), cell, 1e-12);
+  Vec2 lo = regions[1][0].outer[0], hi = lo;
+  for (const auto& v : regions[1][0].outer) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  EXPECT_NEAR(lo.x(), 101.5, 1e-12);  // column 3, row 2 from the bottom
+  EXPECT_NEAR(lo.y(), 201.0, 1e-12);
+  EXPECT_NEAR(hi.x(), 102.0, 1e-12);
+  EXPECT_NEAR(hi.y(), 201.5, 1e-12);
+  EXPECT_EQ(regions[2].size(), 2u);
+  EXPECT_TRUE(regions[3].empty());
 }
