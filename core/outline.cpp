@@ -74,9 +74,9 @@ std::vector<EdgeLine> merge_collinear(std::vector<EdgeLine> lines) {
 // their neighbours until they meet, when that point is close by. An oblique
 // edge counts as half its length: a real corner cut is square or 45 degrees.
 // With keep_notch_ends, the end (10 cm or wider) of a narrow notch stays: its
-// sides, sharper than 30 degrees, would otherwise run on into a spike. Only
-// for a finished outline: on the hull's, whose edges move afterwards, a kept
-// end can close into a spike of its own.
+// sides, sharper than 30 degrees, would otherwise run on into a spike. Used
+// on footprints, where such wedges were seen (05792, 09365); the roof hull's
+// outline, whose edges the density moves afterwards, keeps the older rule.
 constexpr double kCos30 = 0.8660254037844386;
 
 std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_len,

@@ -264,9 +264,9 @@ void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regi
 void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
   auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
   if (polyline_length(shared) < 0.4) return;
-  const auto verts = boundary_samples(shared, 0.5 * in.cell);
-  auto cut = intersection_cut(in.planes[i], in.planes[j], verts);
-  if (!cut) cut = step_cut(verts);
+  const auto samples = boundary_samples(shared, 0.5 * in.cell);
+  auto cut = intersection_cut(in.planes[i], in.planes[j], samples);
+  if (!cut) cut = step_cut(samples);
   if (!cut) return polyline_cut(in, regions, i, j, shared);
   MultiPolygon2 corridor;
   for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, 1.0));
@@ -275,14 +275,14 @@ void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions,
   // plane's area to one of these two.
   const Vec2 dir = cut->dir.normalized(), across(-dir.y(), dir.x());
   double t0 = 1e18, t1 = -1e18;
-  for (const auto& v : verts) {
+  for (const auto& v : samples) {
     const double t = dir.dot(v - cut->point);
     t0 = std::min(t0, t), t1 = std::max(t1, t);
   }
   const Vec2 start = cut->point + (t0 - kCutOverrun) * dir, end = cut->point + (t1 + kCutOverrun) * dir;
   corridor = poly::intersect(corridor, poly::intersect(poly::halfplane_box(start, across, end, 1e4),
                                                        poly::halfplane_box(end, across, start, 1e4)));
-  Vec2 side = local_side_point(in, i, corridor, verts.front());
+  Vec2 side = local_side_point(in, i, corridor, samples.front());
   if (std::abs(across.dot(side - cut->point)) < 1e-6) return;
   share_corridor(regions, i, j, corridor, poly::halfplane_box(cut->point, cut->dir, side, 1e4));
 }
