@@ -13,14 +13,11 @@
 
 #include "core/geos_util.h"
 #include "core/error.h"
+#include "core/gdal_dataset.h"
 #include "core/geometry.h"
 
 namespace c3d {
 namespace {
-
-struct DatasetCloser {
-  void operator()(GDALDataset* d) const { GDALClose(d); }
-};
 
 bool is_polygonal(OGRwkbGeometryType t) {
   t = wkbFlatten(t);
@@ -136,13 +133,12 @@ std::string validity_problem(const MultiPolygon2& shape) {
 
 ParcelLayer read_parcels(const std::string& path, const ParcelFields& fields,
                          std::vector<std::string>* warnings) {
-  static const bool registered = (GDALAllRegister(), true);  // callers need not remember
-  (void)registered;
+  register_gdal_drivers();
   auto warn = [&](const std::string& w) {
     if (warnings) warnings->push_back(path + ": " + w);
   };
   CPLPushErrorHandler(CPLQuietErrorHandler);
-  std::unique_ptr<GDALDataset, DatasetCloser> ds(
+  GdalDataset ds(
       GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   CPLPopErrorHandler();
   if (!ds) throw InputError(path, "not a vector layer OGR can read");

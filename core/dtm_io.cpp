@@ -13,14 +13,10 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "core/gdal_dataset.h"
 
 namespace c3d {
 namespace {
-
-struct DatasetCloser {
-  void operator()(GDALDataset* d) const { GDALClose(d); }
-};
-using Dataset = std::unique_ptr<GDALDataset, DatasetCloser>;
 
 // Remaining holes take the value of the nearest valid cell (multi-source BFS,
 // 8-connected): GDALFillNodata stops at its search distance.
@@ -50,7 +46,7 @@ void fill_nearest(std::vector<float>& z, const std::vector<char>& valid_in, int 
 // NoData; whatever it leaves takes the nearest valid cell.
 void idw_fill(std::vector<float>& z, int nx, int ny, const std::string& source) {
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
-  Dataset ds(mem->Create("", nx, ny, 1, GDT_Float32, nullptr));
+  GdalDataset ds(mem->Create("", nx, ny, 1, GDT_Float32, nullptr));
   GDALRasterBand* band = ds->GetRasterBand(1);
   constexpr float kNoData = -3.4e38f;
   std::vector<float> work = z;
@@ -205,10 +201,9 @@ std::string crs_of(const GDALDataset& ds) {
 }  // namespace
 
 Dtm read_dtm(const std::string& path) {
-  static const bool registered = (GDALAllRegister(), true);  // callers need not remember
-  (void)registered;
+  register_gdal_drivers();
   CPLPushErrorHandler(CPLQuietErrorHandler);
-  Dataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  GdalDataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   CPLPopErrorHandler();
   if (!ds) throw InputError(path, "not a raster GDAL can read (" + std::string(CPLGetLastErrorMsg()) + ")");
   if (ds->GetRasterCount() < 1) throw InputError(path, "raster has no band");
@@ -242,8 +237,7 @@ Dtm read_dtm(const std::string& path) {
 
 Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt, double cell_m,
                     DtmCell stat, const std::string& source) {
-  static const bool registered = (GDALAllRegister(), true);  // callers need not remember
-  (void)registered;
+  register_gdal_drivers();
   if (ground.empty()) throw InputError(source, "no ground points to build a DTM from");
   if (!(cell_m > 0)) throw InputError(source, "DTM cell size must be positive");
   double minx = ground[0].x(), maxx = minx, miny = ground[0].y(), maxy = miny;

@@ -4,23 +4,18 @@
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
-#include <memory>
 #include <stdexcept>
+
+#include "core/gdal_dataset.h"
 
 namespace c3d {
 namespace {
 
-struct DatasetCloser {
-  void operator()(GDALDataset* d) const { GDALClose(d); }
-};
-using Dataset = std::unique_ptr<GDALDataset, DatasetCloser>;
-
-Dataset create(const char* driver, int nx, int ny, GDALDataType type) {
-  static const bool registered = (GDALAllRegister(), true);  // callers need not remember
-  (void)registered;
+GdalDataset create(const char* driver, int nx, int ny, GDALDataType type) {
+  register_gdal_drivers();
   GDALDriver* d = GetGDALDriverManager()->GetDriverByName(driver);
   if (!d) throw std::runtime_error(std::string("GDAL has no ") + driver + " driver");
-  return Dataset(d->Create("", nx, ny, nx > 0 ? 1 : 0, type, nullptr));
+  return GdalDataset(d->Create("", nx, ny, nx > 0 ? 1 : 0, type, nullptr));
 }
 
 Ring2 ring_of(const OGRLinearRing& r) {
@@ -34,14 +29,14 @@ Ring2 ring_of(const OGRLinearRing& r) {
 std::vector<MultiPolygon2> polygonize(const LabelGrid& grid, size_t label_count) {
   std::vector<MultiPolygon2> out(label_count);
   if (grid.nx <= 0 || grid.ny <= 0) return out;
-  Dataset raster = create("MEM", grid.nx, grid.ny, GDT_Int32);
+  GdalDataset raster = create("MEM", grid.nx, grid.ny, GDT_Int32);
   double transform[6] = {grid.origin.x(), grid.cell, 0, grid.origin.y(), 0, grid.cell};  // rows go up in y
   raster->SetGeoTransform(transform);
   GDALRasterBand* band = raster->GetRasterBand(1);
   if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, const_cast<int*>(grid.labels.data()), grid.nx, grid.ny,
                      GDT_Int32, 0, 0) != CE_None)
     throw std::runtime_error("label grid: GDAL could not write the memory raster");
-  Dataset vector = create("Memory", 0, 0, GDT_Unknown);
+  GdalDataset vector = create("Memory", 0, 0, GDT_Unknown);
   OGRLayer* layer = vector->CreateLayer("regions", nullptr, wkbPolygon, nullptr);
   OGRFieldDefn field("label", OFTInteger);
   layer->CreateField(&field);

@@ -16,6 +16,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "core/gdal_dataset.h"
 #include "core/geometry.h"
 #include "core/point_io.h"
 
@@ -1178,12 +1179,12 @@ nlohmann::ordered_json building_json(const TruthBuilding& tb, const LocalFrame& 
 }
 
 void write_parcels(const SampleTown& town, const std::string& path, ParcelFormat format) {
-  GDALAllRegister();
+  register_gdal_drivers();
   const char* drv_name = format == ParcelFormat::GeoPackage ? "GPKG" : "GeoJSON";
   GDALDriver* drv = GetGDALDriverManager()->GetDriverByName(drv_name);
   if (!drv) throw std::runtime_error(std::string("GDAL driver missing: ") + drv_name);
   std::filesystem::remove(path);
-  std::unique_ptr<GDALDataset> ds(drv->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+  GdalDataset ds(drv->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
   if (!ds) throw std::runtime_error(path + ": cannot create");
   OGRSpatialReference srs;
   srs.importFromEPSG(town.epsg);
@@ -1212,11 +1213,11 @@ void write_parcels(const SampleTown& town, const std::string& path, ParcelFormat
 }
 
 void write_dtm(const SampleTown& town, const std::string& path) {
-  GDALAllRegister();
+  register_gdal_drivers();
   GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GTiff");
   const Dtm& d = town.dtm;
   const char* opts[] = {"COMPRESS=DEFLATE", "TILED=YES", nullptr};
-  std::unique_ptr<GDALDataset> ds(
+  GdalDataset ds(
       drv->Create(path.c_str(), d.nx, d.ny, 1, GDT_Float32, const_cast<char**>(opts)));
   if (!ds) throw std::runtime_error(path + ": cannot create");
   double gt[6] = {d.x0 - 0.5, d.dx, 0, d.y0 + 0.5, 0, d.dy};
