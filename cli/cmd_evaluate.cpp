@@ -3,6 +3,7 @@
 // roof surfaces (3D and vertical distance), wall points against the walls; per
 // parcel when a parcel layer is given, and pooled.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -29,7 +30,7 @@ namespace {
 
 struct EvalOptions {
   std::vector<std::string> meshes;
-  std::string cloud, classes = "roof=6,wall=64", parcels, id_field, json;
+  std::string cloud, classes = "roof=6,wall=64", parcels, id_field, json, residuals;
   double buffer = kWallPointReachM;
 };
 
@@ -78,7 +79,9 @@ struct Zone {
   std::string id;
   std::vector<Face> faces[2];
   std::unique_ptr<FaceIndex> index[2];
+  std::vector<Vec3> measured[2];  // the points behind dist[k], in the same order
   std::vector<double> dist[2], vertical;
+  std::vector<double> own_roof, other_roof;  // over/under each wall point: see WallCover
   long unmodelled[2] = {0, 0};
 };
 
@@ -136,23 +139,39 @@ nlohmann::json to_json(const Deviation& d) {
   return {{"n", d.n}, {"mean", d.mean}, {"std", d.std}, {"rmse", d.rmse}, {"max", d.max}};
 }
 
-nlohmann::json to_json(const RoofCover& c) {
-  return {{"on_model", to_json(c.on_model)}, {"off_model", to_json(c.off_model)}, {"uncovered", to_json(c.uncovered)}};
+const char* const kRoofParts[] = {"a roof within 0.3 m", "a roof further off", "no roof"};
+const char* const kWallParts[] = {"a wall within 0.3 m", "under the parcel's roof", "under another's roof",
+                                  "under no roof"};
+const char* const kRoofPartKeys[] = {"on_model", "off_model", "uncovered"};
+const char* const kWallPartKeys[] = {"on_wall", "under_own_roof", "under_other_roof", "under_no_roof"};
+
+nlohmann::json to_json(const char* const* keys, const std::vector<Deviation>& parts) {
+  nlohmann::json j;
+  for (size_t k = 0; k < parts.size(); ++k) j[keys[k]] = to_json(parts[k]);
+  return j;
 }
 
-// Where the pooled roof deviation comes from: each class's points and share of
-// the squared distance.
-void print_cover(const RoofCover& c) {
-  const Deviation* parts[] = {&c.on_model, &c.off_model, &c.uncovered};
+std::vector<Deviation> pool_parts(const std::vector<std::vector<Deviation>>& per_zone) {
+  std::vector<Deviation> pooled;
+  for (size_t k = 0; !per_zone.empty() && k < per_zone.front().size(); ++k) {
+    std::vector<Deviation> part;
+    for (const auto& z : per_zone) part.push_back(z[k]);
+    pooled.push_back(pool(part));
+  }
+  return pooled;
+}
+
+// Where a pooled deviation comes from: each part's points and share of the
+// squared distance.
+void print_parts(const char* title, const char* const* labels, const std::vector<Deviation>& parts) {
   double total = 0;
-  for (const Deviation* d : parts) total += double(d->n) * d->rmse * d->rmse;
-  auto share = [&](const Deviation& d) { return total > 0 ? 100.0 * double(d.n) * d.rmse * d.rmse / total : 0.0; };
-  std::printf("roof points by what the model has above or below them (share of the squared distance):\n"
-              "  a roof within %.1f m  %8ld  rmse %6.3f  %5.1f %%\n"
-              "  a roof further off   %8ld  rmse %6.3f  %5.1f %%\n"
-              "  no roof              %8ld  rmse %6.3f  %5.1f %%\n",
-              kOnModelM, c.on_model.n, c.on_model.rmse, share(c.on_model), c.off_model.n, c.off_model.rmse, share(c.off_model),
-              c.uncovered.n, c.uncovered.rmse, share(c.uncovered));
+  for (const Deviation& d : parts) total += double(d.n) * d.rmse * d.rmse;
+  std::printf("%s (share of the squared distance):\n", title);
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const Deviation& d = parts[k];
+    const double share = total > 0 ? 100.0 * double(d.n) * d.rmse * d.rmse / total : 0.0;
+    std::printf("  %-24s %8ld  rmse %6.3f  %5.1f %%\n", labels[k], d.n, d.rmse, share);
+  }
 }
 
 void print_row(const std::string& id, const Deviation& r, const Deviation& v, const Deviation& w) {
@@ -165,6 +184,28 @@ void print_row(const std::string& id, const Deviation& r, const Deviation& v, co
   char vbuf[32];
   std::snprintf(vbuf, sizeof vbuf, "%8s", v.n ? fixed(v.rmse).c_str() : "-");
   std::printf("%-22s %s %s  %s\n", id.c_str(), cols(r).c_str(), vbuf, cols(w).c_str());
+}
+
+// One row per measured point, so a disputed deviation can be looked at point by
+// point (QGIS reads the CSV as a point layer by its x/y columns).
+void write_residuals(const std::string& path, const std::vector<Zone>& zones) {
+  std::ofstream out(path);
+  out << "parcel,kind,x,y,z,distance_m,vertical_m,part\n";
+  char buf[160];
+  for (const auto& z : zones)
+    for (int k : {kRoof, kWall})
+      for (size_t i = 0; i < z.measured[k].size(); ++i) {
+        const Vec3& p = z.measured[k][i];
+        const double d = z.dist[k][i], v = k == kRoof ? z.vertical[i] : kNaN;
+        std::snprintf(buf, sizeof buf, ",%s,%.3f,%.3f,%.3f,%.4f,", k == kRoof ? "roof" : "wall", p.x(), p.y(),
+                      p.z(), d);
+        out << z.id << buf;
+        if (std::isfinite(v)) out << fixed(v, 4);
+        out << "," << (k == kRoof ? kRoofPartKeys[roof_cover_part(v)]
+                                  : kWallPartKeys[wall_cover_part(d, z.own_roof[i], z.other_roof[i])])
+            << "\n";
+      }
+  if (!out) throw InputError(path, "cannot write");
 }
 
 void run_evaluate(const EvalOptions& o) {
@@ -212,6 +253,17 @@ void run_evaluate(const EvalOptions& o) {
   for (auto& z : zones)
     for (int k : {kRoof, kWall})
       if (!z.faces[k].empty()) z.index[k] = std::make_unique<FaceIndex>(z.faces[k]);
+  // Every zone's roofs, tagged by zone: whose roof stands over a wall point.
+  std::unique_ptr<FaceIndex> all_roofs;
+  if (zones.size() > 1) {
+    std::vector<Face> faces;
+    std::vector<int> owner;
+    for (size_t z = 0; z < zones.size(); ++z) {
+      faces.insert(faces.end(), zones[z].faces[kRoof].begin(), zones[z].faces[kRoof].end());
+      owner.insert(owner.end(), zones[z].faces[kRoof].size(), int(z));
+    }
+    if (!faces.empty()) all_roofs = std::make_unique<FaceIndex>(faces, owner);
+  }
 
   // Points by class. The batch's ruler: every roof point inside a parcel
   // against that parcel's roofs, every wall point within the buffer of a parcel
@@ -238,9 +290,24 @@ void run_evaluate(const EvalOptions& o) {
       }
       std::vector<Vec3> sub;
       for (size_t i : lists[z]) sub.push_back(P[i]);
-      for (const auto& h : zones[z].index[k]->nearest(sub)) zones[z].dist[k].push_back(h.distance);
+      Zone& zone = zones[z];
+      for (const auto& h : zone.index[k]->nearest(sub)) zone.dist[k].push_back(h.distance);
+      zone.measured[k].insert(zone.measured[k].end(), sub.begin(), sub.end());
       if (k == kRoof)
-        for (const auto& h : zones[z].index[k]->vertical(sub)) zones[z].vertical.push_back(h.distance);
+        for (const auto& h : zone.index[k]->vertical(sub)) zone.vertical.push_back(h.distance);
+      if (k == kWall) {
+        zone.own_roof.assign(sub.size(), kNaN);
+        zone.other_roof.assign(sub.size(), kNaN);
+        if (zone.index[kRoof]) {
+          const auto hits = zone.index[kRoof]->vertical(sub);
+          for (size_t i = 0; i < sub.size(); ++i) zone.own_roof[i] = hits[i].distance;
+        }
+        if (all_roofs) {  // consulted where the zone's own roof is not over the point: another's then
+          const auto hits = all_roofs->vertical(sub);
+          for (size_t i = 0; i < sub.size(); ++i)
+            if (hits[i].owner != int(z)) zone.other_roof[i] = hits[i].distance;
+        }
+      }
     }
     outside += std::count(counted.begin(), counted.end(), 0);
   }
@@ -248,38 +315,42 @@ void run_evaluate(const EvalOptions& o) {
   // Report.
   std::printf("%-22s %8s %7s %7s %7s %7s %8s  %8s %7s %7s %7s %7s\n", "parcel", "roof n", "mean", "std",
               "rmse", "max", "vert rms", "wall n", "mean", "std", "rmse", "max");
-  std::vector<Deviation> all[2], all_v, on_model, off_model, uncovered;
+  std::vector<Deviation> all[2], all_v;
+  std::vector<std::vector<Deviation>> roof_parts, wall_parts;  // per zone
   nlohmann::json jz = nlohmann::json::array();
   long unmodelled[2] = {0, 0};
   for (const auto& z : zones) {
     const Deviation r = deviation(z.dist[kRoof]), w = deviation(z.dist[kWall]), v = deviation(z.vertical);
     const RoofCover cover = split_by_cover(z.dist[kRoof], z.vertical);
-    on_model.push_back(cover.on_model);
-    off_model.push_back(cover.off_model);
-    uncovered.push_back(cover.uncovered);
+    const WallCover wall_cover = split_wall_cover(z.dist[kWall], z.own_roof, z.other_roof);
+    roof_parts.push_back(cover.parts());
+    wall_parts.push_back(wall_cover.parts());
     all[kRoof].push_back(r);
     all[kWall].push_back(w);
     all_v.push_back(v);
     unmodelled[kRoof] += z.unmodelled[kRoof];
     unmodelled[kWall] += z.unmodelled[kWall];
     if (clipper) print_row(z.id, r, v, w);
-    jz.push_back({{"id", z.id}, {"roof", to_json(r)}, {"roof_vertical", to_json(v)}, {"roof_cover", to_json(cover)},
-                  {"wall", to_json(w)},
+    jz.push_back({{"id", z.id}, {"roof", to_json(r)}, {"roof_vertical", to_json(v)},
+                  {"roof_cover", to_json(kRoofPartKeys, cover.parts())}, {"wall", to_json(w)},
+                  {"wall_cover", to_json(kWallPartKeys, wall_cover.parts())},
                   {"roof_faces", z.faces[kRoof].size()}, {"wall_faces", z.faces[kWall].size()},
                   {"unmodelled_roof_points", z.unmodelled[kRoof]}, {"unmodelled_wall_points", z.unmodelled[kWall]}});
   }
   const Deviation pr = pool(all[kRoof]), pw = pool(all[kWall]), pv = pool(all_v);
-  const RoofCover pc{pool(on_model), pool(off_model), pool(uncovered)};
+  const std::vector<Deviation> roof_cover = pool_parts(roof_parts), wall_cover = pool_parts(wall_parts);
   print_row("pooled", pr, pv, pw);
-  print_cover(pc);
+  print_parts("roof points by what the model has above or below them", kRoofParts, roof_cover);
+  print_parts("wall points by where they stand", kWallParts, wall_cover);
   std::printf("roof points %zu, wall points %zu; in parcels without a model: %ld roof, %ld wall; "
               "outside every parcel: %ld; model faces outside every parcel: %ld\n",
               pts[kRoof].size(), pts[kWall].size(), unmodelled[0], unmodelled[1], outside, faces_outside);
   std::printf("distances in m: mean/std/rmse/max of |d|; vert rms = vertical distance RMSE\n");
+  if (!o.residuals.empty()) write_residuals(o.residuals, zones);
   if (!o.json.empty()) {
     nlohmann::json j = {{"mesh", o.meshes}, {"cloud", o.cloud}, {"classes", o.classes}, {"buffer_m", o.buffer},
-                        {"pooled", {{"roof", to_json(pr)}, {"roof_vertical", to_json(pv)}, {"roof_cover", to_json(pc)},
-                                    {"wall", to_json(pw)}}},
+                        {"pooled", {{"roof", to_json(pr)}, {"roof_vertical", to_json(pv)}, {"roof_cover", to_json(kRoofPartKeys, roof_cover)},
+                                    {"wall", to_json(pw)}, {"wall_cover", to_json(kWallPartKeys, wall_cover)}}},
                         {"points_outside_parcels", outside}, {"faces_outside_parcels", faces_outside}};
     if (clipper) j["parcels"] = jz;
     std::ofstream out(o.json);
@@ -309,6 +380,9 @@ void register_evaluate(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--json", o->json, "also write the results as JSON");
+  cmd->add_option("--residuals", o->residuals, "also write every measured point as CSV: parcel, kind (roof/wall), "
+                                               "x, y, z, distance_m, vertical_m (roof points; empty: no roof above or below), "
+                                               "part (of the split printed)");
   cmd->callback([o] {
     try {
       run_evaluate(*o);

@@ -175,13 +175,28 @@ Deviation pool(const std::vector<Deviation>& parts) {
   return d;
 }
 
+int roof_cover_part(double vertical, double near) {
+  return !std::isfinite(vertical) ? 2 : vertical <= near ? 0 : 1;
+}
+
 RoofCover split_by_cover(const std::vector<double>& distance, const std::vector<double>& vertical, double near) {
-  std::vector<double> on, off, none;
-  for (size_t i = 0; i < distance.size(); ++i) {
-    const double v = i < vertical.size() ? vertical[i] : kNaN;
-    (!std::isfinite(v) ? none : v <= near ? on : off).push_back(distance[i]);
-  }
-  return {deviation(on), deviation(off), deviation(none)};
+  std::vector<double> parts[3];
+  for (size_t i = 0; i < distance.size(); ++i)
+    parts[roof_cover_part(i < vertical.size() ? vertical[i] : kNaN, near)].push_back(distance[i]);
+  return {deviation(parts[0]), deviation(parts[1]), deviation(parts[2])};
+}
+
+int wall_cover_part(double distance, double own_roof, double other_roof, double near) {
+  return distance <= near ? 0 : std::isfinite(own_roof) ? 1 : std::isfinite(other_roof) ? 2 : 3;
+}
+
+WallCover split_wall_cover(const std::vector<double>& distance, const std::vector<double>& own_roof,
+                           const std::vector<double>& other_roof, double near) {
+  auto at = [](const std::vector<double>& v, size_t i) { return i < v.size() ? v[i] : kNaN; };
+  std::vector<double> parts[4];
+  for (size_t i = 0; i < distance.size(); ++i)
+    parts[wall_cover_part(distance[i], at(own_roof, i), at(other_roof, i), near)].push_back(distance[i]);
+  return {deviation(parts[0]), deviation(parts[1]), deviation(parts[2]), deviation(parts[3])};
 }
 
 Deviation deviation_to_faces(const std::vector<Vec3>& points, const std::vector<Face>& faces,

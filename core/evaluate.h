@@ -56,10 +56,30 @@ Deviation pool(const std::vector<Deviation>& parts);
 // vertical is NaN where no roof lies above or below.
 struct RoofCover {
   Deviation on_model, off_model, uncovered;
+  std::vector<Deviation> parts() const { return {on_model, off_model, uncovered}; }
 };
 constexpr double kOnModelM = 0.3;  // a roof this near above or below: the point is on the model
 RoofCover split_by_cover(const std::vector<double>& distance, const std::vector<double>& vertical,
                          double near = kOnModelM);
+// The part of RoofCover one point falls in: 0 on_model, 1 off_model, 2 uncovered.
+int roof_cover_part(double vertical, double near = kOnModelM);
+
+// The wall deviation split by where each wall point stands: within `near` of
+// a wall of the parcel's model; under (or over) the parcel's own roof
+// elsewhere (an inner or courtyard wall, a wall the model places off); under
+// another parcel's roof (a neighbour's facade within the ruler's reach); under
+// no roof at all (a fence, a garden wall, a building nobody models). `own_roof`
+// and `other_roof` are the vertical distances to the nearest roof of this
+// parcel's model and of any other parcel's, NaN where none lies above or below.
+struct WallCover {
+  Deviation on_wall, under_own_roof, under_other_roof, under_no_roof;
+  std::vector<Deviation> parts() const { return {on_wall, under_own_roof, under_other_roof, under_no_roof}; }
+};
+WallCover split_wall_cover(const std::vector<double>& distance, const std::vector<double>& own_roof,
+                           const std::vector<double>& other_roof, double near = kOnModelM);
+// The part of WallCover one point falls in: 0 on_wall, 1 under_own_roof,
+// 2 under_other_roof, 3 under_no_roof.
+int wall_cover_part(double distance, double own_roof, double other_roof, double near = kOnModelM);
 
 // Deviation of the points from the faces: 3D nearest distance, or the vertical
 // distance (points with no face above or below them are left out of n).

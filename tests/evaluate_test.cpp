@@ -1,6 +1,7 @@
 // Point-to-model deviation, pooling, mesh IO and the evaluate command.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -281,4 +282,98 @@ TEST(EvaluateCli, PooledAndPerParcelDeviation) {
 
   EXPECT_NE(test::run_cli("evaluate --mesh " + dir + "/missing.obj --cloud " + dir + "/cloud.las", &out), 0);
   EXPECT_NE(out.find("missing.obj"), std::string::npos) << out;
+}
+
+TEST(Deviation, WallPointsSplitByWhereTheyStand) {
+  // Distances to the parcel's walls, vertical distances to its own roof and to
+  // another parcel's (NaN: none above or below).
+  const std::vector<double> distance{0.1, 2.0, 3.0, 4.0, 0.25};
+  const std::vector<double> own{1.0, 1.5, kNaN, kNaN, kNaN}, other{kNaN, 0.5, 2.0, kNaN, kNaN};
+  const WallCover c = split_wall_cover(distance, own, other);
+  EXPECT_EQ(c.on_wall.n, 2);  // near a wall wins, whatever roof is over it
+  EXPECT_EQ(c.under_own_roof.n, 1);
+  EXPECT_NEAR(c.under_own_roof.mean, 2.0, 1e-12);  // own roof wins over another's
+  EXPECT_EQ(c.under_other_roof.n, 1);
+  EXPECT_EQ(c.under_no_roof.n, 1);
+  EXPECT_NEAR(c.under_no_roof.max, 4.0, 1e-12);
+  const Deviation all = pool(c.parts()), direct = deviation(distance);
+  EXPECT_EQ(all.n, direct.n);
+  EXPECT_NEAR(all.rmse, direct.rmse, 1e-12);
+}
+
+TEST(EvaluateCli, WallSplitAndResidualsPerPoint) {
+  const std::string dir = test::temp_dir("evaluate_walls");
+  const Vec3 o(512300.0, 9241200.0, 700.0);
+  auto shell = [&](const std::string& id, double x0, double x1) {
+    auto b = test::box_shell(o + Vec3(x0, 0, 0), o + Vec3(x1, 8, 3));
+    return std::vector<MeshGroup>{{id + "_b1_roof", "", {b[1]}}, {id + "_b1_wall", "", {b[2], b[3], b[4], b[5]}},
+                                  {id + "_b1_ground", "", {b[0]}}};
+  };
+  auto groups = shell("P1", 0, 10), second = shell("P2", 12, 20);
+  groups.insert(groups.end(), second.begin(), second.end());
+  write_obj(dir + "/model.obj", groups);
+  PointCloud cloud;
+  auto add = [&](Vec3 offset, int cls) {
+    cloud.points.push_back(o + offset);
+    cloud.classes.push_back(cls);
+  };
+  add({5, 4, 3.1}, 6);    // P1: on its roof
+  add({10.8, 4, 3}, 6);   // P1: on its land, no roof over it, 0.8 m off the roof's edge
+  add({-0.2, 4, 1.5}, 64);  // P1: 0.2 m off its west wall
+  add({5, 4, 1}, 64);       // P1: under its roof, 4 m from every wall
+  add({12.5, 4, 1}, 64);    // under P2's roof: 2.5 m from P1's east wall, 0.5 m from P2's west wall
+  add({5, 10, 1}, 64);      // 1 m off P1's land, under no roof, 2 m from P1's north wall
+  write_las(dir + "/cloud.las", cloud);
+  {
+    std::ofstream g(dir + "/parcels.geojson");
+    g.precision(12);
+    auto feature = [&](const std::string& id, double x0, double x1) {
+      std::ostringstream s;
+      s.precision(12);
+      const double y0 = o.y() - 1, y1 = o.y() + 9;
+      s << R"({"type":"Feature","properties":{"NIB":")" << id
+        << R"("},"geometry":{"type":"Polygon","coordinates":[[[)" << o.x() + x0 << "," << y0 << "],["
+        << o.x() + x1 << "," << y0 << "],[" << o.x() + x1 << "," << y1 << "],[" << o.x() + x0 << "," << y1
+        << "],[" << o.x() + x0 << "," << y0 << "]]]}}";
+      return s.str();
+    };
+    g << R"({"type":"FeatureCollection","features":[)" << feature("P1", -1, 11) << ","
+      << feature("P2", 11.5, 21) << "]}";
+  }
+  std::string out;
+  ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --parcels " + dir +
+                              "/parcels.geojson --id-field NIB --json " + dir + "/e.json --residuals " + dir +
+                              "/residuals.csv",
+                          &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("under another's roof"), std::string::npos) << out;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/e.json"));
+  const auto& p1 = j["parcels"][0]["wall_cover"];
+  EXPECT_EQ(p1["on_wall"]["n"], 1);
+  EXPECT_NEAR(p1["on_wall"]["max"].get<double>(), 0.2, 1e-6);
+  EXPECT_EQ(p1["under_own_roof"]["n"], 1);
+  EXPECT_NEAR(p1["under_own_roof"]["max"].get<double>(), 4.0, 1e-6);
+  EXPECT_EQ(p1["under_other_roof"]["n"], 1);
+  EXPECT_NEAR(p1["under_other_roof"]["max"].get<double>(), 2.5, 1e-6);
+  EXPECT_EQ(p1["under_no_roof"]["n"], 1);
+  EXPECT_NEAR(p1["under_no_roof"]["max"].get<double>(), 2.0, 1e-6);
+  const auto& p2 = j["parcels"][1]["wall_cover"];
+  EXPECT_EQ(p2["under_own_roof"]["n"], 1);  // the point under its roof, 0.5 m inside its wall
+  EXPECT_EQ(j["pooled"]["wall_cover"]["under_own_roof"]["n"], 2);
+  EXPECT_EQ(j["pooled"]["roof_cover"]["uncovered"]["n"], 1);
+
+  // One row per measured point, world coordinates kept to the millimetre.
+  std::ifstream csv(dir + "/residuals.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "parcel,kind,x,y,z,distance_m,vertical_m,part");
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 7u);  // P1: 2 roof + 4 wall points; P2: 1 wall point
+  auto has = [&](const std::string& row) { return std::find(rows.begin(), rows.end(), row) != rows.end(); };
+  EXPECT_TRUE(has("P1,roof,512310.800,9241204.000,703.000,0.8000,,uncovered"));
+  EXPECT_TRUE(has("P1,roof,512305.000,9241204.000,703.100,0.1000,0.1000,on_model"));
+  EXPECT_TRUE(has("P1,wall,512305.000,9241210.000,701.000,2.0000,,under_no_roof"));
+  EXPECT_TRUE(has("P2,wall,512312.500,9241204.000,701.000,0.5000,,under_own_roof"));
 }
