@@ -139,9 +139,13 @@ nlohmann::json to_json(const Deviation& d) {
   return {{"n", d.n}, {"mean", d.mean}, {"std", d.std}, {"rmse", d.rmse}, {"max", d.max}};
 }
 
-const char* const kRoofParts[] = {"a roof within 0.3 m", "a roof further off", "no roof"};
-const char* const kWallParts[] = {"a wall within 0.3 m", "under the parcel's roof", "under another's roof",
-                                  "under no roof"};
+// "a roof within 0.3 m": the printed name of the part on the model, from the
+// same constant the split uses.
+std::string within_on_model(const char* surface) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "a %s within %.1f m", surface, kOnModelM);
+  return buf;
+}
 const char* const kRoofPartKeys[] = {"on_model", "off_model", "uncovered"};
 const char* const kWallPartKeys[] = {"on_wall", "under_own_roof", "under_other_roof", "under_no_roof"};
 
@@ -163,14 +167,14 @@ std::vector<Deviation> pool_parts(const std::vector<std::vector<Deviation>>& per
 
 // Where a pooled deviation comes from: each part's points and share of the
 // squared distance.
-void print_parts(const char* title, const char* const* labels, const std::vector<Deviation>& parts) {
+void print_parts(const char* title, const std::vector<std::string>& labels, const std::vector<Deviation>& parts) {
   double total = 0;
   for (const Deviation& d : parts) total += double(d.n) * d.rmse * d.rmse;
   std::printf("%s (share of the squared distance):\n", title);
   for (size_t k = 0; k < parts.size(); ++k) {
     const Deviation& d = parts[k];
     const double share = total > 0 ? 100.0 * double(d.n) * d.rmse * d.rmse / total : 0.0;
-    std::printf("  %-24s %8ld  rmse %6.3f  %5.1f %%\n", labels[k], d.n, d.rmse, share);
+    std::printf("  %-24s %8ld  rmse %6.3f  %5.1f %%\n", labels[k].c_str(), d.n, d.rmse, share);
   }
 }
 
@@ -302,7 +306,7 @@ void run_evaluate(const EvalOptions& o) {
           const auto hits = zone.index[kRoof]->vertical(sub);
           for (size_t i = 0; i < sub.size(); ++i) zone.own_roof[i] = hits[i].distance;
         }
-        if (all_roofs) {  // consulted where the zone's own roof is not over the point: another's then
+        if (all_roofs) {  // counts only where the zone's own roof is not over the point, so it is another's
           const auto hits = all_roofs->vertical(sub);
           for (size_t i = 0; i < sub.size(); ++i)
             if (hits[i].owner != int(z)) zone.other_roof[i] = hits[i].distance;
@@ -340,8 +344,10 @@ void run_evaluate(const EvalOptions& o) {
   const Deviation pr = pool(all[kRoof]), pw = pool(all[kWall]), pv = pool(all_v);
   const std::vector<Deviation> roof_cover = pool_parts(roof_parts), wall_cover = pool_parts(wall_parts);
   print_row("pooled", pr, pv, pw);
-  print_parts("roof points by what the model has above or below them", kRoofParts, roof_cover);
-  print_parts("wall points by where they stand", kWallParts, wall_cover);
+  print_parts("roof points by what the model has above or below them",
+              {within_on_model("roof"), "a roof further off", "no roof"}, roof_cover);
+  print_parts("wall points by where they stand",
+              {within_on_model("wall"), "under the parcel's roof", "under another's roof", "under no roof"}, wall_cover);
   std::printf("roof points %zu, wall points %zu; in parcels without a model: %ld roof, %ld wall; "
               "outside every parcel: %ld; model faces outside every parcel: %ld\n",
               pts[kRoof].size(), pts[kWall].size(), unmodelled[0], unmodelled[1], outside, faces_outside);
