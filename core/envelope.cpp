@@ -154,6 +154,24 @@ WallFit fit_edge_wall(const EnvelopeInput& in, const EdgeInfo& e, bool beyond_en
 
 Vec2 direction(const EdgeInfo& e) { return (e.b - e.a).normalized(); }
 
+// The wall under edge e: a wall the outline was grown onto, where e lies on
+// its line (flush: offset 0), else the one fit_edge_wall finds. Fitting again
+// after growing could pick another peak of a thick wall's points.
+WallFit wall_on_outline(const EnvelopeInput& in, const EdgeInfo& e) {
+  const Vec2 mid = 0.5 * (e.a + e.b);
+  for (const auto& w : in.walls_on_outline) {
+    const Vec2 d = (w.b - w.a).normalized();
+    const double t = d.dot(mid - w.a);
+    if (std::abs(d.dot(direction(e))) > 0.999 && std::abs(outward(d).dot(mid - w.a)) < 0.01 && t > 0 &&
+        t < (w.b - w.a).norm()) {
+      WallFit flush = w.fit;
+      flush.offset = 0;
+      return flush;
+    }
+  }
+  return fit_edge_wall(in, e);
+}
+
 std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<EdgeInfo> edges(ring.size());
@@ -168,7 +186,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
       e.sigma = 0.05;
       continue;
     }
-    const WallFit fit = fit_edge_wall(in, e);
+    const WallFit fit = wall_on_outline(in, e);
     if (fit.found && -fit.offset < kMaxOverhang) {
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Measured;
@@ -850,6 +868,45 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
     if (fit.found) return fit;
   }
   return {};
+}
+
+// A wall this little outside the outline is within the outline's own error
+// (a hull edge is placed to about a centimetre, a wall fit to millimetres).
+constexpr double kMinOutside = 0.05;
+
+GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2& room) {
+  const Ring2& ring = in.outline.outer;
+  const size_t n = ring.size();
+  std::vector<WallFit> fits(n);  // the walls standing outside their edges
+  for (size_t i = 0; i < n; ++i) {
+    if (i < in.party_edge.size() && in.party_edge[i]) continue;
+    EdgeInfo e;
+    e.a = ring[i], e.b = ring[(i + 1) % n];
+    const WallFit fit = fit_edge_wall(in, e);
+    if (fit.found && fit.offset > kMinOutside) fits[i] = fit;
+  }
+  auto out = [&](size_t i) { return fits[i % n].found ? fits[i % n].offset : 0.0; };
+  GrownOutline g{in.outline, {}};
+  MultiPolygon2 grown{in.outline};
+  for (size_t i = 0; i < n; ++i) {
+    if (!fits[i].found) continue;
+    const Vec2 a = ring[i], b = ring[(i + 1) % n], d = (b - a).normalized(), o = outward(d) * out(i);
+    // Run on past each end by the next edge's growth, so that two grown edges
+    // meet in a corner rather than leave a notch (at a reflex corner the run
+    // on lies inside the outline already).
+    const Vec2 a0 = a - d * out(i + n - 1), b0 = b + d * out(i + 1);
+    const MultiPolygon2 strip = poly::intersect({Polygon2{{a0, b0, b0 + o, a0 + o}, {}}}, room);
+    if (area(strip) < 0.05) continue;  // no land to grow on
+    grown = poly::unite(grown, strip);
+    g.walls.push_back({a0 + o, b0 + o, fits[i]});
+  }
+  Polygon2 best = poly::largest(poly::simplify(grown, 0.005));
+  best.holes.clear();
+  if (area(best) > area(in.outline) + 0.05)
+    g.outline = best;
+  else
+    g.walls.clear();
+  return g;
 }
 
 Building build_building(const EnvelopeInput& in, FootprintApart* apart) {

@@ -16,6 +16,23 @@
 
 namespace c3d {
 
+// Wall evidence for one outline edge: offset (m, negative = inside the edge) of
+// the wall seen by the scanner between heights min_z and max_z, with its
+// support. found=false without evidence.
+struct WallFit {
+  bool found = false;
+  double offset = 0;
+  int support = 0;
+  double rms = 0;
+};
+
+// A wall seen outside the roof outline, which the outline was grown onto
+// (grow_to_walls_outside): the line it stands on and its fit.
+struct WallOnOutline {
+  Vec2 a, b;
+  WallFit fit;
+};
+
 struct EnvelopeInput {
   std::string building_id;
   Polygon2 outline;                   // roof outline, counter-clockwise
@@ -27,6 +44,7 @@ struct EnvelopeInput {
   double default_overhang = 0.5;
   double storey_height = 3.0;
   double spacing = 0.2;               // roof point spacing, for boundary sigma
+  std::vector<WallOnOutline> walls_on_outline;  // edges on these are their measured walls, flush
 };
 
 // A footprint that comes apart under one roof: the roof outline narrows to less
@@ -41,15 +59,17 @@ constexpr double kMinFootprintPart = 4.0;  // m^2: smaller parts are slivers, no
 
 Building build_building(const EnvelopeInput& in, FootprintApart* apart = nullptr);
 
-// Wall evidence for one outline edge: offset (m, negative = inside the edge) of
-// the wall seen by the scanner between heights min_z and max_z, with its
-// support. found=false without evidence.
-struct WallFit {
-  bool found = false;
-  double offset = 0;
-  int support = 0;
-  double rms = 0;
+// The outline grown out to the walls the scanner saw outside it (up to
+// kMaxOutside: a flush eave whose points are missing), each such edge moved
+// parallel onto its wall within `room` (the land this building may take); the
+// outline itself where no wall stands outside it. A measured wall is where the
+// floor ends, so the floor reaches it and the roof over it.
+struct GrownOutline {
+  Polygon2 outline;
+  std::vector<WallOnOutline> walls;  // for EnvelopeInput::walls_on_outline
 };
+GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2& room);
+
 // beyond_ends: look only just past the edge's ends (the facade of attached
 // neighbours continuing the same line), without the coverage check.
 WallFit fit_wall(const std::vector<Vec3>& wall_points, const Vec2& a, const Vec2& b,

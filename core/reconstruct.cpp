@@ -282,7 +282,12 @@ std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s
 struct BuildingPlan {
   Polygon2 outline;
   std::vector<int> components;
+  MultiPolygon2 room;  // where the outline may grow to a wall seen outside it
 };
+
+// A building's wall stands on its own parcel; this much beyond the boundary
+// is registration error between the scans and the parcel layer.
+constexpr double kWallRoomM = 0.3;
 
 // A roof split with a neighbour ends at their boundary, and beyond their
 // shared corner (over a street, or over a third parcel whose land their eaves
@@ -332,8 +337,14 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
     // The cut may leave several buildings, and needles where it grazes a corner.
     for (Polygon2& part : poly::drop_needles(poly::simplify(u, 0.02), kNeedleAngle)) {
       part.holes.clear();
-      if (part.outer.size() >= 3 && area(part) >= 4.0) plans.push_back({part, comps});
+      if (part.outer.size() >= 3 && area(part) >= 4.0) plans.push_back({part, comps, {}});
     }
+  }
+  const MultiPolygon2 land = poly::subtract(poly::buffer(s.parcel, kWallRoomM), cut);
+  for (auto& bp : plans) {
+    bp.room = land;
+    for (const auto& other : plans)
+      if (&other != &bp) bp.room = poly::subtract(bp.room, {other.outline});
   }
   return plans;
 }
@@ -403,7 +414,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
                         const ReconstructionParams& p, const std::string& id, StageClock& clock,
                         FootprintApart* apart = nullptr) {
   RoofPartitionInput rp;
-  rp.outline = bp.outline;
+  rp.outline = bp.outline;  // add_points_by_height keeps the points inside it
   rp.components = bp.components;
   std::set<int> roofs;
   for (int c : bp.components) {  // one a neighbour's cut left in two buildings serves both, with one plane
@@ -421,17 +432,26 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   rp.cell = p.partition_cell_m > 0 ? p.partition_cell_m : std::max(0.1, std::min(0.25, 1.5 * seg.spacing));
   EnvelopeInput ei;
   ei.building_id = id;
-  ei.outline = bp.outline;
   clock.lap("roof partition input");
-  ei.roof = partition_roof(rp);
-  clock.lap("roof partition");
-  for (const auto& r : ei.roof) ei.fits.push_back(seg.components[r.component].fit);
+  auto partition = [&](const Polygon2& outline) {
+    rp.outline = ei.outline = outline;
+    ei.roof = partition_roof(rp);
+    ei.fits.clear();
+    for (const auto& r : ei.roof) ei.fits.push_back(seg.components[r.component].fit);
+    ei.party_edge = find_party_edges(outline, s, seg.label);
+    clock.lap("roof partition");
+  };
+  partition(bp.outline);
   ei.wall_points = s.wall_points;
-  ei.party_edge = find_party_edges(bp.outline, s, seg.label);
   ei.terrain = s.terrain;
   ei.default_overhang = p.default_overhang_m;
   ei.storey_height = p.storey_height_m;
   ei.spacing = seg.spacing;
+  GrownOutline grown = grow_to_walls_outside(ei, bp.room);
+  if (!grown.walls.empty()) {  // a wall seen outside: the floor and the roof reach it
+    partition(poly::largest(poly::drop_needles({grown.outline}, kNeedleAngle)));
+    ei.walls_on_outline = std::move(grown.walls);
+  }
   Building b = build_building(ei, apart);
   clock.lap("envelope");
   if (p.optimize) {
@@ -523,7 +543,9 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
                                                  : std::vector<Polygon2>{};
       if (pieces.size() > 1) {  // one building per house, modelled next
         std::vector<BuildingPlan> houses;
-        for (const Polygon2& piece : pieces) houses.push_back({piece, plans[k].components});
+        for (const Polygon2& piece : pieces)  // each house may grow on its parent's room, not on its siblings
+          houses.push_back({piece, plans[k].components,
+                            poly::subtract(plans[k].room, poly::subtract({plans[k].outline}, {piece}))});
         plans.erase(plans.begin() + long(k));
         plans.insert(plans.begin() + long(k), houses.begin(), houses.end());
         continue;

@@ -465,7 +465,9 @@ TEST(Envelope, WallSeenJustOutsideTheRoofOutlineStandsUnderThatEave) {
   // seen) and is flush with the south wall, whose eave points are missing:
   // the outline stops 0.45 m short of it. The south wall is that edge's wall,
   // flush; taking the building's 0.5 m overhang there instead would put it
-  // 0.95 m inside the points (ground 70.5 m2, not 75.5).
+  // 0.95 m inside the points (ground 70.5 m2, not 75.5). The envelope alone
+  // keeps the wall at the outline; a batch first grows the outline onto the
+  // wall (OutlineGrowsOntoAWallSeenOutsideIt).
   EnvelopeInput in = flat_roof_input("short-eave", Polygon2{{{-0.5, 0.45}, {10.5, 0.45}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
   see_wall(in, {0, 0}, {10, 0}, 31);  // south, 0.45 m outside the outline
   see_wall(in, {0, 8}, {0, 0}, 32);   // west
@@ -480,6 +482,48 @@ TEST(Envelope, WallSeenJustOutsideTheRoofOutlineStandsUnderThatEave) {
     if (e.type == ElementType::Ground) EXPECT_GT(e.sigma_area, 10 * 0.4);
   }
   EXPECT_EQ(measured, 3);
+}
+
+TEST(Envelope, OutlineGrowsOntoAWallSeenOutsideIt) {
+  // The case above, the way a batch models it: the outline is grown onto the
+  // south wall, the roof (re-partitioned) reaches it, and the floor is the
+  // 10 x 8 m inside the walls. A fence 1 m beyond the east edge (farther out
+  // than kMaxOutside) moves nothing, nor does a wall on land the building
+  // may not take.
+  const Polygon2 outline{{{-0.5, 0.45}, {10.5, 0.45}, {10.5, 8.5}, {-0.5, 8.5}}, {}};
+  EnvelopeInput in = flat_roof_input("grow", outline);
+  see_wall(in, {0, 0}, {10, 0}, 31);      // south, 0.45 m outside the outline
+  see_wall(in, {0, 8}, {0, 0}, 32);       // west, under the 0.5 m eave
+  see_wall(in, {10, 8}, {0, 8}, 33);      // north, likewise
+  see_wall(in, {11.5, 1}, {11.5, 8}, 38); // a fence 1 m east of the outline
+  EXPECT_TRUE(grow_to_walls_outside(in, poly::box({-5, 0.45}, {15, 15})).walls.empty());
+  const GrownOutline g = grow_to_walls_outside(in, poly::box({-5, -5}, {15, 15}));
+  ASSERT_EQ(g.walls.size(), 1u);
+  EXPECT_NEAR(area(g.outline), 11.0 * 8.5, 0.05);  // -0.5..10.5 x 0..8.5
+  EXPECT_NEAR(g.walls[0].a.y(), 0.0, 0.01);
+  EXPECT_NEAR(g.walls[0].b.y(), 0.0, 0.01);
+
+  in.outline = g.outline;
+  in.roof = {RoofRegion{0, in.roof[0].plane, {g.outline}}};
+  in.walls_on_outline = g.walls;
+  const Building b = build_building(in);
+  const BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.ground, 80.0, 0.3);  // was 75.5 with the wall kept at the outline
+  EXPECT_NEAR(t.roof, 11.0 * 8.5, 0.05);
+  EXPECT_NEAR(t.outer_ceiling, 11.0 * 8.5 - 80.0, 0.3);
+  EXPECT_EQ(elements_with(b, WallEvidence::Measured), 3);
+  for (const auto& e : b.elements)  // the floor no longer stops short of the south wall
+    if (e.type == ElementType::Ground) EXPECT_LT(e.sigma_area, 10 * 0.2);
+  const SolidCheck check = check_solid(b.solid);
+  EXPECT_TRUE(check.ok) << check.summary();
+}
+
+TEST(Envelope, NoWallOutsideLeavesTheOutlineAsItIs) {
+  EnvelopeInput in = flat_roof_input("keep", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
+  see_south_and_west_walls(in, 39);  // both 0.5 m inside their edges
+  const GrownOutline g = grow_to_walls_outside(in, poly::box({-5, -5}, {15, 15}));
+  EXPECT_TRUE(g.walls.empty());
+  EXPECT_EQ(g.outline.outer, in.outline.outer);
 }
 
 TEST(Envelope, TallerWallBehindTheEdgeIsNotThisEdgesWall) {
