@@ -1,8 +1,10 @@
 #pragma once
 // Stage "envelope": from the partitioned roof to a building of elements.
 // Wall points move each roof-outline edge inward to the wall they show
-// (measured); edges without wall points take the building's median measured
-// overhang (propagated) or the configured default (default). Walls are
+// (measured; a wall seen outside the outline moves it outward first, with
+// grow_to_walls_outside, before the roof is partitioned); edges without wall
+// points take the building's median measured overhang (propagated) or the
+// configured default (default). Walls are
 // extruded from the roof underside down to the terrain; the ground floor is the
 // footprint at terrain level; the roof beyond the walls is the hanging roof,
 // whose underside is the outer ceiling (a horizontal soffit at the lowest
@@ -60,7 +62,8 @@ constexpr double kMinFootprintPart = 4.0;  // m^2: smaller parts are slivers, no
 Building build_building(const EnvelopeInput& in, FootprintApart* apart = nullptr);
 
 // The outline grown out to the walls the scanner saw outside it (up to
-// kMaxOutside: a flush eave whose points are missing), each such edge moved
+// 0.6 m: a flush eave or parapet whose roof points are missing; farther out
+// stands a fence or a neighbour), each such edge moved
 // parallel onto its wall within `room` (the land this building may take); the
 // outline itself where no wall stands outside it. A measured wall is where the
 // floor ends, so the floor reaches it and the roof over it.
