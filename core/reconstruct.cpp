@@ -49,6 +49,13 @@ class StageClock {
 
 Vec2 plan(const Vec3& p) { return p.head<2>(); }
 
+// The q-quantile of v (0 <= q <= 1), v non-empty; v is reordered.
+double quantile(std::vector<double>& v, double q) {
+  auto k = v.begin() + long(q * double(v.size() - 1));
+  std::nth_element(v.begin(), k, v.end());
+  return *k;
+}
+
 constexpr size_t kMinPointsAcross = 10;  // fewer points on a neighbour's land say nothing about it
 
 // Whether a component (its `hull`) runs over parcel `over` from parcel `from`
@@ -289,6 +296,75 @@ struct BuildingPlan {
 // is registration error between the scans and the parcel layer.
 constexpr double kWallRoomM = 0.3;
 
+// A neighbour's eave hides the edge of this roof: an outline edge that stops
+// short of the parcel boundary (by up to kMaxHiddenGapM, evenly along it)
+// where a roof not this building's stands over the whole gap, clearly higher
+// than this roof at the edge. The scan cannot see under the eave, so this roof
+// ends where the neighbour's begins; it runs on under it to the boundary and
+// meets the neighbour there (a party wall), rather than standing free with an
+// overhang of its own (9 under 05801's eave: an exterior wall 0.8 m inside the
+// boundary with an outer ceiling, where 05801 sees a party wall). A wall seen
+// under the edge or in the gap says the house stands free (an alley under the
+// eave): the edge stays.
+constexpr double kMaxHiddenGapM = 0.8;
+
+Polygon2 grow_under_neighbour_eaves(const Polygon2& outline, const ParcelScene& s, const Segmentation& seg,
+                                    const BuildingPlan& bp) {
+  std::set<int> roofs;
+  for (int c : bp.components) roofs.insert(seg.components[size_t(c)].roof);
+  const Ring2& r = outline.outer;
+  const MultiPolygon2 land = poly::intersect(s.parcel, bp.room);
+  MultiPolygon2 grown{outline};
+  bool changed = false;
+  for (size_t i = 0; i < r.size(); ++i) {
+    const Vec2 a = r[i], b = r[(i + 1) % r.size()];
+    const double len = (b - a).norm();
+    if (len < 2.0) continue;
+    const Vec2 d = (b - a) / len, n(d.y(), -d.x());  // outward (CCW ring)
+    // The gap to the boundary, measured across the edge at five places.
+    double gmin = 1e9, gmax = -1e9;
+    for (double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+      const Vec2 m = a + f * len * d;
+      double g = 0;
+      while (g <= kMaxHiddenGapM + 0.02 && poly::covers(s.parcel, m + (g + 0.02) * n)) g += 0.02;
+      gmin = std::min(gmin, g), gmax = std::max(gmax, g);
+    }
+    if (gmin < 0.1 || gmax > kMaxHiddenGapM || gmax - gmin > 0.2) continue;  // on it, too far, or askew
+    std::vector<double> own_z, over_z;
+    std::vector<bool> covered(size_t(len / 0.5) + 1, false);
+    int walls_in_gap = 0;
+    for (size_t k = 0; k < s.roof_points.size(); ++k) {
+      const Vec2 q = plan(s.roof_points[k]) - a;
+      const double t = d.dot(q), off = n.dot(q);
+      if (t < 0.1 * len || t > 0.9 * len) continue;
+      const bool ours = roofs.count(seg.roof_of[k]) > 0;
+      if (ours && off > -0.6 && off <= 0) own_z.push_back(s.roof_points[k].z());
+      if (!ours && off > 0 && off < gmax + 0.05) {
+        over_z.push_back(s.roof_points[k].z());
+        covered[size_t(t / 0.5)] = true;
+      }
+    }
+    for (const auto& w : s.wall_points) {
+      const Vec2 q = plan(w) - a;
+      const double t = d.dot(q), off = n.dot(q);
+      walls_in_gap += t > 0.1 * len && t < 0.9 * len && off > 0.05 && off < gmin - 0.05;
+    }
+    const size_t spans = size_t(0.8 * len / 0.5);
+    if (own_z.size() < 10 || over_z.size() < 10 || walls_in_gap >= 10) continue;
+    if (size_t(std::count(covered.begin(), covered.end(), true)) < size_t(0.7 * double(spans))) continue;
+    const double own_top = quantile(own_z, 0.9), over_bottom = quantile(over_z, 0.1);
+    if (over_bottom < own_top + 0.5) continue;  // this roof's own edge, or a neighbour's at its height
+    if (fit_wall(s.wall_points, a, b, -1e9, own_top, false).found) continue;  // its wall is seen: it stands free
+    const Vec2 o = (gmax + 0.3) * n;  // past the boundary, then cut back to it
+    grown = poly::unite(grown, poly::intersect({Polygon2{{a, b, b + o, a + o}, {}}}, land));
+    changed = true;
+  }
+  if (!changed) return outline;
+  Polygon2 best = poly::largest(poly::simplify(grown, 0.005));
+  best.holes.clear();
+  return best;
+}
+
 // A roof split with a neighbour ends at their boundary, and beyond their
 // shared corner (over a street, or over a third parcel whose land their eaves
 // reach) where the land is nearer to the neighbour: each keeps its side, so
@@ -441,7 +517,7 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
     ei.party_edge = find_party_edges(outline, s, seg.label);
     clock.lap("roof partition");
   };
-  partition(bp.outline);
+  partition(grow_under_neighbour_eaves(bp.outline, s, seg, bp));
   ei.wall_points = s.wall_points;
   ei.terrain = s.terrain;
   ei.default_overhang = p.default_overhang_m;

@@ -900,6 +900,43 @@ TEST(ReconstructBadInput, RoofCrossingTheBoundaryStaysWholeWithItsOverhang) {
   EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.02);
 }
 
+// This parcel's shed roof (x 3..17, y 2..9.7, falling north) stops 0.3 m short
+// of the boundary y = 10 where the neighbour's roof, 5 m higher, hangs over it:
+// the scan cannot see under that eave. The roof runs on under it to the
+// boundary and meets the neighbour in a party wall (not an exterior wall with
+// an overhang of its own). With the house's north wall seen under its edge,
+// it stands free (an alley under the eave) and keeps its outline.
+TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
+  auto model = [](bool north_wall_seen) {
+    std::mt19937_64 rng(17);
+    ParcelScene s = square_parcel_scene();
+    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
+    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+    s.roof_points = sample_plane(plane_through({0, 2, 104}, {0, 0.2, 1}), 3, 17, 2, 9.7, 40, 0.02, rng);
+    const auto eave = sample_plane(plane_through({0, 0, 108}, {0, 0, 1}), 1, 19, 9.7, 18, 40, 0.02, rng);
+    s.roof_points.insert(s.roof_points.end(), eave.begin(), eave.end());
+    if (north_wall_seen) {
+      EnvelopeInput walls;
+      see_wall(walls, {16, 9.2}, {4, 9.2}, 5, 1500, 100.3, 102.3);
+      s.wall_points = walls.wall_points;
+    }
+    ParcelResult r = reconstruct_parcel(s, params());
+    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+    EXPECT_EQ(r.buildings.size(), 1u);
+    for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+  };
+  const double o = params().default_overhang_m, eave_z = 104 - 0.2 * 8;  // roof height at y = 10
+  const BuildingTotals hidden = model(false);
+  EXPECT_NEAR(hidden.ground, (14 - 2 * o) * (8 - o), 0.6);          // the floor reaches the boundary
+  EXPECT_NEAR(hidden.party_wall, (14 - 2 * o) * (eave_z - 100), 0.6);  // and meets the neighbour there
+  EXPECT_NEAR(hidden.roof_plan, 14 * 8, 0.8);
+  const BuildingTotals free_standing = model(true);
+  EXPECT_NEAR(free_standing.ground, (14 - 2 * o) * (9.2 - 2 - o), 0.6);
+  EXPECT_NEAR(free_standing.party_wall, 0, 1e-9);
+  EXPECT_NEAR(free_standing.roof_plan, 14 * 7.7, 0.8);
+}
+
 TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
   // East of the parcel lies land no parcel of the layer holds. A flat roof
   // standing there reaches 1 m into this parcel: it is not this parcel's
