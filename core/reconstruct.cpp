@@ -299,7 +299,7 @@ constexpr double kWallRoomM = 0.3;
 // A neighbour's eave hides the edge of this roof: an outline edge that stops
 // short of the parcel boundary (by up to kMaxHiddenGapM, evenly along it)
 // where a roof not this building's stands over the whole gap, clearly higher
-// than this roof at the edge. The scan cannot see under the eave, so this roof
+// than this roof at the edge, and a neighbour's parcel lies beyond. The scan cannot see under the eave, so this roof
 // ends where the neighbour's begins; it runs on under it to the boundary and
 // meets the neighbour there (a party wall), rather than standing free with an
 // overhang of its own (9 under 05801's eave: an exterior wall 0.8 m inside the
@@ -307,6 +307,7 @@ constexpr double kWallRoomM = 0.3;
 // under the edge or in the gap says the house stands free (an alley under the
 // eave): the edge stays.
 constexpr double kMaxHiddenGapM = 0.8;
+constexpr double kHigherEaveM = 1.0;  // a storey or a roof pitch higher, not a step of this roof
 
 Polygon2 grow_under_neighbour_eaves(const Polygon2& outline, const ParcelScene& s, const Segmentation& seg,
                                     const BuildingPlan& bp) {
@@ -330,6 +331,10 @@ Polygon2 grow_under_neighbour_eaves(const Polygon2& outline, const ParcelScene& 
       gmin = std::min(gmin, g), gmax = std::max(gmax, g);
     }
     if (gmin < 0.1 || gmax > kMaxHiddenGapM || gmax - gmin > 0.2) continue;  // on it, too far, or askew
+    const Vec2 across = a + 0.5 * len * d + (gmax + 0.2) * n;
+    if (std::none_of(s.neighbours.begin(), s.neighbours.end(),
+                     [&](const MultiPolygon2& nb) { return poly::covers(nb, across); }))
+      continue;  // no neighbour's land beyond: nobody to meet there
     std::vector<double> own_z, over_z;
     std::vector<bool> covered(size_t(len / 0.5) + 1, false);
     int walls_in_gap = 0;
@@ -353,7 +358,7 @@ Polygon2 grow_under_neighbour_eaves(const Polygon2& outline, const ParcelScene& 
     if (own_z.size() < 10 || over_z.size() < 10 || walls_in_gap >= 10) continue;
     if (size_t(std::count(covered.begin(), covered.end(), true)) < size_t(0.7 * double(spans))) continue;
     const double own_top = quantile(own_z, 0.9), over_bottom = quantile(over_z, 0.1);
-    if (over_bottom < own_top + 0.5) continue;  // this roof's own edge, or a neighbour's at its height
+    if (over_bottom < own_top + kHigherEaveM) continue;  // this roof's own edge, or a roof at its height
     if (fit_wall(s.wall_points, a, b, -1e9, own_top, false).found) continue;  // its wall is seen: it stands free
     const Vec2 o = (gmax + 0.3) * n;  // past the boundary, then cut back to it
     grown = poly::unite(grown, poly::intersect({Polygon2{{a, b, b + o, a + o}, {}}}, land));

@@ -905,13 +905,14 @@ TEST(ReconstructBadInput, RoofCrossingTheBoundaryStaysWholeWithItsOverhang) {
 // the scan cannot see under that eave. The roof runs on under it to the
 // boundary and meets the neighbour in a party wall (not an exterior wall with
 // an overhang of its own). With the house's north wall seen under its edge,
-// it stands free (an alley under the eave) and keeps its outline.
+// it stands free (an alley under the eave) and keeps its outline; so it does
+// where no parcel lies beyond the boundary (a street): no neighbour to meet.
 TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
-  auto model = [](bool north_wall_seen) {
+  auto model = [](bool north_wall_seen, bool neighbour_beyond = true) {
     std::mt19937_64 rng(17);
     ParcelScene s = square_parcel_scene();
     s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
-    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+    if (neighbour_beyond) s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
     s.roof_points = sample_plane(plane_through({0, 2, 104}, {0, 0.2, 1}), 3, 17, 2, 9.7, 40, 0.02, rng);
     const auto eave = sample_plane(plane_through({0, 0, 108}, {0, 0, 1}), 1, 19, 9.7, 18, 40, 0.02, rng);
     s.roof_points.insert(s.roof_points.end(), eave.begin(), eave.end());
@@ -935,6 +936,9 @@ TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
   EXPECT_NEAR(free_standing.ground, (14 - 2 * o) * (9.2 - 2 - o), 0.6);
   EXPECT_NEAR(free_standing.party_wall, 0, 1e-9);
   EXPECT_NEAR(free_standing.roof_plan, 14 * 7.7, 0.8);
+  const BuildingTotals by_a_street = model(false, false);
+  EXPECT_NEAR(by_a_street.ground, (14 - 2 * o) * (7.7 - 2 * o), 0.6);
+  EXPECT_NEAR(by_a_street.party_wall, 0, 1e-9);
 }
 
 TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
