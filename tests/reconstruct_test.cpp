@@ -941,6 +941,42 @@ TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
   EXPECT_NEAR(by_a_street.party_wall, 0, 1e-9);
 }
 
+// This parcel's flat roof (x 3..17, y 2..10 at 103 m) reaches its boundary
+// y = 10, with the neighbour's lower roof right across: a party wall on the
+// line. With the house's north wall seen 0.9 m inside its eave, the scanner
+// stood in front of it: the wall stands free (an alley under the eave, as on
+// 05794) and is exterior, with the eave's 0.9 m overhang.
+TEST(ReconstructBadInput, WallSeenUnderAnEdgeOnTheLineIsNotAPartyWall) {
+  auto model = [](bool north_wall_seen) {
+    std::mt19937_64 rng(19);
+    ParcelScene s = square_parcel_scene();
+    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
+    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+    s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
+    const auto across = sample_plane(plane_through({0, 0, 102}, {0, 0, 1}), 1, 19, 10.2, 18, 40, 0.02, rng);
+    s.roof_points.insert(s.roof_points.end(), across.begin(), across.end());
+    if (north_wall_seen) {
+      EnvelopeInput walls;
+      see_wall(walls, {16, 9.1}, {4, 9.1}, 7, 1500, 100.3, 102.7);
+      s.wall_points = walls.wall_points;
+    }
+    ParcelResult r = reconstruct_parcel(s, params());
+    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+    EXPECT_EQ(r.buildings.size(), 1u);
+    for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+  };
+  const double o = params().default_overhang_m;
+  const BuildingTotals attached = model(false);
+  EXPECT_NEAR(attached.party_wall, (14 - 2 * o) * 3, 0.6);
+  EXPECT_NEAR(attached.ground, (14 - 2 * o) * (8 - o), 1.0);
+  const BuildingTotals free_standing = model(true);
+  EXPECT_NEAR(free_standing.party_wall, 0, 1e-9);
+  // The seen eave's 0.9 m is the building's overhang on every side.
+  EXPECT_NEAR(free_standing.ground, (14 - 1.8) * (8 - 1.8), 1.0);
+  EXPECT_NEAR(free_standing.outer_ceiling, 14 * 8 - (14 - 1.8) * (8 - 1.8), 1.2);
+}
+
 TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
   // East of the parcel lies land no parcel of the layer holds. A flat roof
   // standing there reaches 1 m into this parcel: it is not this parcel's
