@@ -194,8 +194,8 @@ namespace {
 // Whether the handheld scanner saw this edge's wall (under the edge or just
 // outside it, below the roof there): a wall shared with the neighbour's house
 // is covered by it, so a wall seen from outside stands free, on an alley or a
-// yard, whatever roof reaches over the line from across (05794: its facade
-// seen 0.9 m inside its eave, which reaches the line over a 2 m alley). Not
+// yard, whatever roof-class points lie across the line (05794: its facade
+// seen 0.9 m inside its eave, a screen classed roof hanging at the line). Not
 // on a short edge: a few wall points there are as likely the end of a facade
 // running on past the corner (two row houses' party jogs of 1.1 and 1.5 m on
 // the sample towns lost their party walls to 26-28 such points).
