@@ -247,17 +247,36 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   return edges;
 }
 
+bool pinched(const Ring2& r) {
+  for (size_t i = 0; i < r.size(); ++i)
+    for (size_t j = i + 1; j < r.size(); ++j)
+      if ((r[i] - r[j]).norm() < kWeldTol) return true;
+  return false;
+}
+
+// Consecutive edges closer to one line than this (sin 3 degrees) do not meet
+// in a corner: where their overhangs differ the footprint steps between them.
+constexpr double kInLineSin = 0.052;
+
 // Each outline edge moved inward by its overhang; corners where the moved lines meet.
 Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in,
                               FootprintApart* apart) {
   Ring2 ring;
+  bool stepped = false;
   size_t n = edges.size();
   for (size_t i = 0; i < n; ++i) {
     const EdgeInfo& p = edges[(i + n - 1) % n];
     const EdgeInfo& c = edges[i];
     Vec2 dp = (p.b - p.a).normalized(), dc = (c.b - c.a).normalized();
     Vec2 op = p.a - outward(dp) * p.overhang, oc = c.a - outward(dc) * c.overhang;
-    ring.push_back(intersect_lines(op, dp, oc, dc).value_or(oc));
+    const bool in_line = std::abs(dp.x() * dc.y() - dp.y() * dc.x()) < kInLineSin && dp.dot(dc) > 0;
+    if (in_line) {  // one line, two overhangs (a party wall running on as a free wall): a step
+      const Vec2 end = c.a - outward(dp) * p.overhang;
+      ring.push_back(end);
+      if ((oc - end).norm() > kWeldTol) ring.push_back(oc), stepped = true;
+    } else {
+      ring.push_back(intersect_lines(op, dp, oc, dc).value_or(oc));
+    }
   }
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({Polygon2{ring, {}}}), 0.5);
   valid = poly::intersect(valid, {in.outline});
@@ -272,6 +291,10 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
               [](const Polygon2& a, const Polygon2& b) { return area(a) > area(b); });
     for (const EdgeInfo& e : edges) apart->overhang = std::max(apart->overhang, e.overhang);
   }
+  // Regularising would merge the lines of a step (0.3 m apart or less) and
+  // give the whole side one overhang and one kind of wall; a stepped ring
+  // that pinches (passes twice through a vertex) is regularised all the same.
+  if (stepped && !pinched(best.outer)) return best;
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
   MultiPolygon2 under = poly::intersect({regularize_polygon(best, 1.0)}, {in.outline});

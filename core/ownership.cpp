@@ -219,16 +219,20 @@ std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s
     if (len < 1.0) continue;
     Vec2 d = (b - a) / len, n(d.y(), -d.x()), m = 0.5 * (a + b);
     if (!poly::covers(s.parcel, m - 0.15 * n) || poly::covers(s.parcel, m + 0.15 * n)) continue;
-    int across = 0;
+    int across = 0, further = 0;
     std::vector<double> own_z;  // this parcel's roof just inside the edge
     for (size_t k = 0; k < s.roof_points.size(); ++k) {
       Vec2 q = plan(s.roof_points[k]) - a;
       double t = d.dot(q), off = n.dot(q);
       if (t <= 0.1 * len || t >= 0.9 * len) continue;
       if (label[k] >= 0 && off > -0.6 && off <= 0) own_z.push_back(s.roof_points[k].z());
-      if (label[k] < 0 && off > 0.0 && off < 1.0) ++across;
+      if (label[k] < 0 && off > 0.0 && off < 1.0) ++across, further += off > 0.5;
     }
-    party[i] = across >= std::max(10.0, 2.0 * len) && !wall_seen_under(s, a, b, own_z);
+    // The neighbour's house meeting this one gives roof all the way across the
+    // metre; a gutter, a screen or an eave tip reaching over the line only in
+    // its first half (05803's side facing open land: a 0.3-0.5 m strip).
+    party[i] = across >= std::max(10.0, 2.0 * len) && further >= std::max(5.0, 0.5 * len) &&
+               !wall_seen_under(s, a, b, own_z);
   }
   // A short jog on the parcel line (left where the outline snaps to the
   // building's axes but the boundary runs a little askew) continues the party

@@ -518,6 +518,26 @@ TEST(Envelope, OutlineGrowsOntoAWallSeenOutsideIt) {
   EXPECT_TRUE(check.ok) << check.summary();
 }
 
+// A party wall running on in one line as a free wall (05797: 12 m of its
+// south-west side meet the neighbour's roof, the last 9 m face a yard): the
+// footprint steps where the overhang changes along the line instead of
+// taking one of the two for the whole side.
+TEST(Envelope, FootprintStepsWhereAPartyWallRunsOnAsAFreeWall) {
+  // 10 x 8 m flat roof; its north side is two edges in one line, the east
+  // half on the parcel line with the neighbour (party), the west half free.
+  EnvelopeInput in = flat_roof_input("step", Polygon2{{{0, 0}, {10, 0}, {10, 8}, {5, 8}, {0, 8}}, {}});
+  in.party_edge = {false, false, true, false, false};
+  const Building b = build_building(in);
+  const SolidCheck check = check_solid(b.solid);
+  EXPECT_TRUE(check.ok) << check.summary();
+  const double o = in.default_overhang;
+  const BuildingTotals t = totals(b);
+  EXPECT_NEAR(t.ground, (10 - 2 * o) * (8 - 2 * o) + (5 - o) * o, 1e-6);
+  EXPECT_NEAR(t.party_wall, (5 - o) * 3, 1e-6);
+  EXPECT_NEAR(t.wall, (10 - 2 * o) * 3 + 2 * (8 - 2 * o) * 3 + 5 * 3 + o * 3, 1e-6);  // the step's 0.3 m included
+  EXPECT_NEAR(t.outer_ceiling, 80 - t.ground, 1e-6);
+}
+
 TEST(Envelope, NoWallOutsideLeavesTheOutlineAsItIs) {
   EnvelopeInput in = flat_roof_input("keep", Polygon2{{{-0.5, -0.5}, {10.5, -0.5}, {10.5, 8.5}, {-0.5, 8.5}}, {}});
   see_south_and_west_walls(in, 39);  // both 0.5 m inside their edges
@@ -975,6 +995,35 @@ TEST(ReconstructBadInput, WallSeenUnderAnEdgeOnTheLineIsNotAPartyWall) {
   // The seen eave's 0.9 m is the building's overhang on every side.
   EXPECT_NEAR(free_standing.ground, (14 - 1.8) * (8 - 1.8), 1.0);
   EXPECT_NEAR(free_standing.outer_ceiling, 14 * 8 - (14 - 1.8) * (8 - 1.8), 1.2);
+}
+
+// This parcel's flat roof (x 3..17, y 2..10 at 103 m) reaches its boundary
+// y = 10. Across it lies either the neighbour's roof, running on for metres
+// (a party wall), or only a 0.3 m strip of roof-class points (a gutter, a
+// screen, the tip of an eave, as along 05803's side facing open land): no
+// neighbour's house meets this one there, the wall is free.
+TEST(ReconstructBadInput, RoofStripAcrossTheLineIsNoNeighboursHouse) {
+  auto model = [](double across_depth) {
+    std::mt19937_64 rng(23);
+    ParcelScene s = square_parcel_scene();
+    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
+    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+    s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
+    const auto across =
+        sample_plane(plane_through({0, 0, 101.5}, {0, 0, 1}), 2, 18, 10.05, 10.05 + across_depth, 40, 0.02, rng);
+    s.roof_points.insert(s.roof_points.end(), across.begin(), across.end());
+    ParcelResult r = reconstruct_parcel(s, params());
+    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+    EXPECT_EQ(r.buildings.size(), 1u);
+    for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+    return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+  };
+  const double o = params().default_overhang_m;
+  const BuildingTotals house = model(6.0), strip = model(0.3);
+  EXPECT_NEAR(house.party_wall, (14 - 2 * o) * 3, 0.6);
+  EXPECT_NEAR(house.ground, (14 - 2 * o) * (8 - o), 1.5);
+  EXPECT_NEAR(strip.party_wall, 0, 1e-9);
+  EXPECT_NEAR(strip.ground, (14 - 2 * o) * (8 - 2 * o), 1.5);
 }
 
 TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
