@@ -208,6 +208,94 @@ bool wall_seen_under(const ParcelScene& s, const Vec2& a, const Vec2& b, std::ve
 
 }  // namespace
 
+namespace {
+constexpr double kPartyBinM = 0.5;     // stretch of an edge counted at a time
+constexpr double kMinStretchM = 2.0;   // shortest party or free stretch a split leaves
+constexpr int kMinPointsInBin = 2;     // roof points 0.5-1 m across in a bin that say "a house"
+constexpr size_t kMaxGapBins = 2;      // a gap of 1 m in those points (a skylight, a shadow) is no end
+
+// Where along edge a -> b (outward normal n) the neighbour's roof lies right
+// across it: per bin of kPartyBinM, on the parcel line and with roof points
+// no component here keeps 0.5-1 m beyond it; and the t of those points.
+struct AcrossProfile {
+  std::vector<bool> covered;
+  std::vector<double> first_t, last_t;
+};
+
+AcrossProfile profile_across(const Vec2& a, const Vec2& b, const ParcelScene& s, const std::vector<int>& label) {
+  const double len = (b - a).norm();
+  const Vec2 d = (b - a) / len, n(d.y(), -d.x());
+  const size_t bins = size_t(std::ceil(len / kPartyBinM));
+  AcrossProfile p{std::vector<bool>(bins, false), std::vector<double>(bins, len), std::vector<double>(bins, 0)};
+  std::vector<int> count(bins, 0);
+  for (size_t k = 0; k < s.roof_points.size(); ++k) {
+    if (label[k] >= 0) continue;
+    const Vec2 q = plan(s.roof_points[k]) - a;
+    const double t = d.dot(q), off = n.dot(q);
+    if (t < 0 || t >= len || off <= 0.5 || off >= 1.0) continue;
+    const size_t i = std::min(bins - 1, size_t(t / kPartyBinM));
+    ++count[i];
+    p.first_t[i] = std::min(p.first_t[i], t), p.last_t[i] = std::max(p.last_t[i], t);
+  }
+  for (size_t i = 0; i < bins; ++i) {
+    const Vec2 m = a + std::min(len, (double(i) + 0.5) * kPartyBinM) * d;
+    p.covered[i] = count[i] >= kMinPointsInBin && poly::covers(s.parcel, m - 0.15 * n) &&
+                   !poly::covers(s.parcel, m + 0.15 * n);
+  }
+  return p;
+}
+
+// The longest run of covered bins, bridging gaps of up to kMaxGapBins: [first, last].
+std::pair<size_t, size_t> longest_run(const std::vector<bool>& covered) {
+  std::pair<size_t, size_t> best{1, 0};
+  size_t start = 0, last = 0, gap = 0;
+  bool open = false;
+  for (size_t i = 0; i <= covered.size(); ++i) {
+    const bool c = i < covered.size() && covered[i];
+    if (c) {
+      if (!open) start = i, open = true;
+      last = i, gap = 0;
+    } else if (open && (++gap > kMaxGapBins || i == covered.size())) {
+      if (best.first > best.second || last - start > best.second - best.first) best = {start, last};
+      open = false;
+    }
+  }
+  return best;
+}
+
+// Whether bins [from, to) hold a house across: a free stretch has next to none.
+bool free_stretch(const std::vector<bool>& covered, size_t from, size_t to) {
+  if (double(to - from) * kPartyBinM < kMinStretchM) return false;
+  return double(std::count(covered.begin() + long(from), covered.begin() + long(to), true)) <=
+         0.1 * double(to - from);
+}
+}  // namespace
+
+// A long edge on the parcel line that meets the neighbour's house along one
+// stretch and faces a yard or an alley along the rest (05797's south-west
+// side: 12 m against the neighbour's roof, then 9 m over a yard) gets a vertex
+// where the neighbour's roof ends, so each stretch is decided on its own:
+// a party wall along the house, a free wall with its eave beyond it.
+Polygon2 split_where_neighbour_roof_ends(const Polygon2& outline, const ParcelScene& s,
+                                         const std::vector<int>& label) {
+  const Ring2& r = outline.outer;
+  Ring2 out;
+  for (size_t i = 0; i < r.size(); ++i) {
+    const Vec2 a = r[i], b = r[(i + 1) % r.size()];
+    out.push_back(a);
+    const double len = (b - a).norm();
+    if (len < 2 * kMinStretchM) continue;
+    const AcrossProfile p = profile_across(a, b, s, label);
+    const auto [first, last] = longest_run(p.covered);
+    if (first > last || double(last - first + 1) * kPartyBinM < kMinStretchM) continue;
+    const Vec2 d = (b - a) / len;
+    if (free_stretch(p.covered, 0, first)) out.push_back(a + p.first_t[first] * d);
+    if (free_stretch(p.covered, last + 1, p.covered.size())) out.push_back(a + p.last_t[last] * d);
+  }
+  if (out.size() == r.size()) return outline;
+  return Polygon2{out, outline.holes};
+}
+
 // Outline edges on the parcel boundary with the neighbour's roof right across.
 std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s,
                                    const std::vector<int>& label) {

@@ -20,6 +20,11 @@ std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const Rec
 // The land a roof split with these neighbours may not reach.
 MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with);
 
+// The outline with a vertex added on an edge along the parcel boundary where
+// the neighbour's roof across it ends, so the stretch meeting the neighbour's
+// house and the stretch facing open land are decided apart.
+Polygon2 split_where_neighbour_roof_ends(const Polygon2& outline, const ParcelScene& s, const std::vector<int>& label);
+
 // Per outline edge (outer[i] -> outer[i+1]): a party edge, on the boundary
 // with the neighbour's roof right across. `label` is the segmentation's.
 std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s, const std::vector<int>& label);

@@ -216,11 +216,11 @@ Building model_building(const ParcelScene& s, const Segmentation& seg, const Bui
   ei.building_id = id;
   clock.lap("roof partition input");
   auto partition = [&](const Polygon2& outline) {
-    rp.outline = ei.outline = outline;
+    rp.outline = ei.outline = split_where_neighbour_roof_ends(outline, s, seg.label);
     ei.roof = partition_roof(rp);
     ei.fits.clear();
     for (const auto& r : ei.roof) ei.fits.push_back(seg.components[r.component].fit);
-    ei.party_edge = find_party_edges(outline, s, seg.label);
+    ei.party_edge = find_party_edges(ei.outline, s, seg.label);
     clock.lap("roof partition");
   };
   partition(grow_under_neighbour_eaves(bp.outline, s, seg, bp.components, bp.room));

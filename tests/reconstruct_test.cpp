@@ -15,6 +15,7 @@
 #include "core/geometry.h"
 #include "core/outline.h"
 #include "core/planes.h"
+#include "core/ownership.h"
 #include "core/reconstruct.h"
 #include "core/roof.h"
 #include "core/sample_town.h"
@@ -1024,6 +1025,46 @@ TEST(ReconstructBadInput, RoofStripAcrossTheLineIsNoNeighboursHouse) {
   EXPECT_NEAR(house.ground, (14 - 2 * o) * (8 - o), 1.5);
   EXPECT_NEAR(strip.party_wall, 0, 1e-9);
   EXPECT_NEAR(strip.ground, (14 - 2 * o) * (8 - 2 * o), 1.5);
+}
+
+// The same flat roof (x 3..17, y 2..10 at 103 m); the neighbour's house
+// across y = 10 meets it from x = 3 to x = 10 only (its roof 6 m deep
+// there), and beyond x = 10 lies the neighbour's yard. The north side is a
+// party wall along the house and a free wall with its eave along the yard,
+// the footprint stepping at x = 10 (9's side along 05803, 05799's along 05800).
+TEST(ReconstructBadInput, PartyWallEndsWhereTheNeighboursHouseEnds) {
+  std::mt19937_64 rng(29);
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
+  s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+  s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
+  const auto house = sample_plane(plane_through({0, 0, 101.5}, {0, 0, 1}), 2, 10, 10.05, 16, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), house.begin(), house.end());
+  const ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 1u);
+  EXPECT_TRUE(r.buildings[0].solid_valid) << r.buildings[0].solid_problem;
+  const double o = params().default_overhang_m;
+  const BuildingTotals t = totals(r.buildings[0]);
+  // The split lies within the point spacing (0.16 m) of x = 10: 0.5 m^2 of wall, 0.1 m^2 of floor.
+  EXPECT_NEAR(t.party_wall, (10 - 3 - o) * 3, 0.6);
+  EXPECT_NEAR(t.ground, (14 - 2 * o) * (8 - 2 * o) + (10 - 3 - o) * o, 0.6);
+  EXPECT_NEAR(t.roof_plan, 14 * 8, 0.6);
+  EXPECT_NEAR(t.outer_ceiling, t.roof_plan - t.ground, 1e-6);
+
+  // The split itself: a vertex where the house ends, the edge along it a
+  // party edge, the rest free; no vertex where the house runs along the whole side.
+  const Polygon2 outline{{{3, 2}, {17, 2}, {17, 10}, {3, 10}}, {}};
+  std::vector<int> label(s.roof_points.size(), -1);  // every point another's: only the house counts across
+  const Polygon2 split = split_where_neighbour_roof_ends(outline, s, label);
+  ASSERT_EQ(split.outer.size(), 5u);
+  EXPECT_NEAR(split.outer[3].x(), 10, 0.2);
+  EXPECT_NEAR(split.outer[3].y(), 10, 1e-9);
+  const std::vector<bool> party = find_party_edges(split, s, label);
+  EXPECT_EQ(party, (std::vector<bool>{false, false, false, true, false}));
+  ParcelScene whole = s;
+  whole.roof_points = sample_plane(plane_through({0, 0, 101.5}, {0, 0, 1}), 2, 18, 10.05, 16, 40, 0.02, rng);
+  EXPECT_EQ(split_where_neighbour_roof_ends(outline, whole, std::vector<int>(whole.roof_points.size(), -1)).outer.size(), 4u);
 }
 
 TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {
