@@ -962,6 +962,28 @@ TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
   EXPECT_NEAR(by_a_street.party_wall, 0, 1e-9);
 }
 
+// This parcel's flat roof (x 3..17, y 2..10 at 103 m) reaching its boundary
+// y = 10, the neighbour's parcel beyond it, and a flat roof at height z over
+// [x0,x1] x [y0,y1] there.
+ParcelScene flat_roof_at_the_line(std::mt19937_64& rng, double z, double x0, double x1, double y0, double y1) {
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
+  s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+  s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
+  const auto across = sample_plane(plane_through({0, 0, z}, {0, 0, 1}), x0, x1, y0, y1, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), across.begin(), across.end());
+  return s;
+}
+
+// The parcel's one building's totals, its solid checked.
+BuildingTotals one_building(const ParcelScene& s) {
+  const ParcelResult r = reconstruct_parcel(s, params());
+  EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  EXPECT_EQ(r.buildings.size(), 1u);
+  for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+  return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+}
+
 // This parcel's flat roof (x 3..17, y 2..10 at 103 m) reaches its boundary
 // y = 10, with the neighbour's lower roof right across: a party wall on the
 // line. With the house's north wall seen 0.9 m inside its eave, the scanner
@@ -970,22 +992,13 @@ TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
 TEST(ReconstructBadInput, WallSeenUnderAnEdgeOnTheLineIsNotAPartyWall) {
   auto model = [](bool north_wall_seen) {
     std::mt19937_64 rng(19);
-    ParcelScene s = square_parcel_scene();
-    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
-    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
-    s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
-    const auto across = sample_plane(plane_through({0, 0, 102}, {0, 0, 1}), 1, 19, 10.2, 18, 40, 0.02, rng);
-    s.roof_points.insert(s.roof_points.end(), across.begin(), across.end());
+    ParcelScene s = flat_roof_at_the_line(rng, 102, 1, 19, 10.2, 18);
     if (north_wall_seen) {
       EnvelopeInput walls;
       see_wall(walls, {16, 9.1}, {4, 9.1}, 7, 1500, 100.3, 102.7);
       s.wall_points = walls.wall_points;
     }
-    ParcelResult r = reconstruct_parcel(s, params());
-    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
-    EXPECT_EQ(r.buildings.size(), 1u);
-    for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
-    return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+    return one_building(s);
   };
   const double o = params().default_overhang_m;
   const BuildingTotals attached = model(false);
@@ -1006,18 +1019,7 @@ TEST(ReconstructBadInput, WallSeenUnderAnEdgeOnTheLineIsNotAPartyWall) {
 TEST(ReconstructBadInput, RoofStripAcrossTheLineIsNoNeighboursHouse) {
   auto model = [](double across_depth) {
     std::mt19937_64 rng(23);
-    ParcelScene s = square_parcel_scene();
-    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
-    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
-    s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
-    const auto across =
-        sample_plane(plane_through({0, 0, 101.5}, {0, 0, 1}), 2, 18, 10.05, 10.05 + across_depth, 40, 0.02, rng);
-    s.roof_points.insert(s.roof_points.end(), across.begin(), across.end());
-    ParcelResult r = reconstruct_parcel(s, params());
-    EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
-    EXPECT_EQ(r.buildings.size(), 1u);
-    for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
-    return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+    return one_building(flat_roof_at_the_line(rng, 101.5, 2, 18, 10.05, 10.05 + across_depth));
   };
   const double o = params().default_overhang_m;
   const BuildingTotals house = model(6.0), strip = model(0.3);
@@ -1034,18 +1036,9 @@ TEST(ReconstructBadInput, RoofStripAcrossTheLineIsNoNeighboursHouse) {
 // the footprint stepping at x = 10 (9's side along 05803, 05799's along 05800).
 TEST(ReconstructBadInput, PartyWallEndsWhereTheNeighboursHouseEnds) {
   std::mt19937_64 rng(29);
-  ParcelScene s = square_parcel_scene();
-  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
-  s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
-  s.roof_points = sample_plane(plane_through({0, 0, 103}, {0, 0, 1}), 3, 17, 2, 10, 40, 0.02, rng);
-  const auto house = sample_plane(plane_through({0, 0, 101.5}, {0, 0, 1}), 2, 10, 10.05, 16, 40, 0.02, rng);
-  s.roof_points.insert(s.roof_points.end(), house.begin(), house.end());
-  const ParcelResult r = reconstruct_parcel(s, params());
-  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
-  ASSERT_EQ(r.buildings.size(), 1u);
-  EXPECT_TRUE(r.buildings[0].solid_valid) << r.buildings[0].solid_problem;
+  const ParcelScene s = flat_roof_at_the_line(rng, 101.5, 2, 10, 10.05, 16);
   const double o = params().default_overhang_m;
-  const BuildingTotals t = totals(r.buildings[0]);
+  const BuildingTotals t = one_building(s);
   // The split lies within the point spacing (0.16 m) of x = 10: 0.5 m^2 of wall, 0.1 m^2 of floor.
   EXPECT_NEAR(t.party_wall, (10 - 3 - o) * 3, 0.6);
   EXPECT_NEAR(t.ground, (14 - 2 * o) * (8 - 2 * o) + (10 - 3 - o) * o, 0.6);
