@@ -227,6 +227,12 @@ AcrossProfile profile_across(const Vec2& a, const Vec2& b, const ParcelScene& s,
   const Vec2 d = (b - a) / len, n(d.y(), -d.x());
   const size_t bins = size_t(std::ceil(len / kPartyBinM));
   AcrossProfile p{std::vector<bool>(bins, false), std::vector<double>(bins, len), std::vector<double>(bins, 0)};
+  std::vector<bool> on_line(bins);
+  for (size_t i = 0; i < bins; ++i) {
+    const Vec2 m = a + std::min(len, (double(i) + 0.5) * kPartyBinM) * d;
+    on_line[i] = poly::covers(s.parcel, m - 0.15 * n) && !poly::covers(s.parcel, m + 0.15 * n);
+  }
+  if (std::none_of(on_line.begin(), on_line.end(), [](bool b) { return b; })) return p;
   std::vector<int> count(bins, 0);
   for (size_t k = 0; k < s.roof_points.size(); ++k) {
     if (label[k] >= 0) continue;
@@ -237,11 +243,7 @@ AcrossProfile profile_across(const Vec2& a, const Vec2& b, const ParcelScene& s,
     ++count[i];
     p.first_t[i] = std::min(p.first_t[i], t), p.last_t[i] = std::max(p.last_t[i], t);
   }
-  for (size_t i = 0; i < bins; ++i) {
-    const Vec2 m = a + std::min(len, (double(i) + 0.5) * kPartyBinM) * d;
-    p.covered[i] = count[i] >= kMinPointsInBin && poly::covers(s.parcel, m - 0.15 * n) &&
-                   !poly::covers(s.parcel, m + 0.15 * n);
-  }
+  for (size_t i = 0; i < bins; ++i) p.covered[i] = on_line[i] && count[i] >= kMinPointsInBin;
   return p;
 }
 
