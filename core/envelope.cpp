@@ -247,6 +247,7 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   return edges;
 }
 
+// Whether the ring passes twice through one vertex (within the weld tolerance).
 bool pinched(const Ring2& r) {
   for (size_t i = 0; i < r.size(); ++i)
     for (size_t j = i + 1; j < r.size(); ++j)

@@ -206,9 +206,6 @@ bool wall_seen_under(const ParcelScene& s, const Vec2& a, const Vec2& b, std::ve
   return fit_wall(s.wall_points, a, b, -1e9, quantile(own_z, 0.1), false).found;
 }
 
-}  // namespace
-
-namespace {
 constexpr double kPartyBinM = 0.5;     // stretch of an edge counted at a time
 constexpr double kMinStretchM = 2.0;   // shortest party or free stretch a split leaves
 constexpr int kMinPointsInBin = 2;     // roof points 0.5-1 m across in a bin that say "a house"
@@ -274,8 +271,8 @@ bool free_stretch(const std::vector<bool>& covered, size_t from, size_t to) {
 }  // namespace
 
 // A long edge on the parcel line that meets the neighbour's house along one
-// stretch and faces a yard or an alley along the rest (05797's south-west
-// side: 12 m against the neighbour's roof, then 9 m over a yard) gets a vertex
+// stretch and faces a yard or an alley along the rest (9's south-west side:
+// 9 m against 05803's roof, then 5 m over open land) gets a vertex
 // where the neighbour's roof ends, so each stretch is decided on its own:
 // a party wall along the house, a free wall with its eave beyond it.
 Polygon2 split_where_neighbour_roof_ends(const Polygon2& outline, const ParcelScene& s,
