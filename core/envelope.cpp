@@ -255,9 +255,13 @@ bool pinched(const Ring2& r) {
   return false;
 }
 
-// Consecutive edges closer to one line than this (sin 3 degrees) do not meet
-// in a corner: where their overhangs differ the footprint steps between them.
+// Consecutive edges closer to one line than this (sin 3 degrees) whose
+// overhangs differ by more than kMinStepM do not meet in a corner (their
+// moved lines cross far off, or nowhere): the footprint steps between them.
+// A smaller difference is no change of wall kind, and a step of millimetres
+// would keep the footprint from being regularised.
 constexpr double kInLineSin = 0.052;
+constexpr double kMinStepM = 0.05;
 
 // Each outline edge moved inward by its overhang; corners where the moved lines meet.
 Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in,
@@ -271,7 +275,7 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
     Vec2 dp = (p.b - p.a).normalized(), dc = (c.b - c.a).normalized();
     Vec2 op = p.a - outward(dp) * p.overhang, oc = c.a - outward(dc) * c.overhang;
     const bool in_line = std::abs(dp.x() * dc.y() - dp.y() * dc.x()) < kInLineSin && dp.dot(dc) > 0;
-    if (in_line) {  // one line, two overhangs (a party wall running on as a free wall): a step
+    if (in_line && std::abs(p.overhang - c.overhang) > kMinStepM) {  // a party wall running on as a free wall
       const Vec2 end = c.a - outward(dp) * p.overhang;
       ring.push_back(end);
       if ((oc - end).norm() > kWeldTol) ring.push_back(oc), stepped = true;
