@@ -276,9 +276,9 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
     Vec2 op = p.a - outward(dp) * p.overhang, oc = c.a - outward(dc) * c.overhang;
     const bool in_line = std::abs(dp.x() * dc.y() - dp.y() * dc.x()) < kInLineSin && dp.dot(dc) > 0;
     if (in_line && std::abs(p.overhang - c.overhang) > kMinStepM) {  // a party wall running on as a free wall
-      const Vec2 end = c.a - outward(dp) * p.overhang;
-      ring.push_back(end);
-      if ((oc - end).norm() > kWeldTol) ring.push_back(oc), stepped = true;
+      ring.push_back(c.a - outward(dp) * p.overhang);  // the step: from p's moved line to c's
+      ring.push_back(oc);
+      stepped = true;
     } else {
       ring.push_back(intersect_lines(op, dp, oc, dc).value_or(oc));
     }
