@@ -206,6 +206,12 @@ bool wall_seen_under(const ParcelScene& s, const Vec2& a, const Vec2& b, std::ve
   return fit_wall(s.wall_points, a, b, -1e9, quantile(own_z, 0.1), false).found;
 }
 
+// Whether m lies on the parcel boundary, n the outward normal of the edge
+// through it: the parcel just inside, not just outside.
+bool on_parcel_line(const ParcelScene& s, const Vec2& m, const Vec2& n) {
+  return poly::covers(s.parcel, m - 0.15 * n) && !poly::covers(s.parcel, m + 0.15 * n);
+}
+
 constexpr double kPartyBinM = 0.5;     // stretch of an edge counted at a time
 constexpr double kMinStretchM = 2.0;   // shortest party or free stretch a split leaves
 constexpr int kMinPointsInBin = 2;     // roof points 0.5-1 m across in a bin that say "a house"
@@ -226,8 +232,7 @@ AcrossProfile profile_across(const Vec2& a, const Vec2& b, const ParcelScene& s,
   AcrossProfile p{std::vector<bool>(bins, false), std::vector<double>(bins, len), std::vector<double>(bins, 0)};
   std::vector<bool> on_line(bins);
   for (size_t i = 0; i < bins; ++i) {
-    const Vec2 m = a + std::min(len, (double(i) + 0.5) * kPartyBinM) * d;
-    on_line[i] = poly::covers(s.parcel, m - 0.15 * n) && !poly::covers(s.parcel, m + 0.15 * n);
+    on_line[i] = on_parcel_line(s, a + std::min(len, (double(i) + 0.5) * kPartyBinM) * d, n);
   }
   if (std::none_of(on_line.begin(), on_line.end(), [](bool b) { return b; })) return p;
   std::vector<int> count(bins, 0);
@@ -305,7 +310,7 @@ std::vector<bool> find_party_edges(const Polygon2& outline, const ParcelScene& s
     double len = (b - a).norm();
     if (len < 1.0) continue;
     Vec2 d = (b - a) / len, n(d.y(), -d.x()), m = 0.5 * (a + b);
-    if (!poly::covers(s.parcel, m - 0.15 * n) || poly::covers(s.parcel, m + 0.15 * n)) continue;
+    if (!on_parcel_line(s, m, n)) continue;
     int across = 0, further = 0;
     std::vector<double> own_z;  // this parcel's roof just inside the edge
     for (size_t k = 0; k < s.roof_points.size(); ++k) {
