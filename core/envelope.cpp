@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <cstdio>
 #include <cstdlib>
@@ -247,12 +248,101 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   return edges;
 }
 
+// The first vertex of r lying within the weld tolerance of an edge of r but not of its
+// ends, and that edge's start, or nullopt.
+std::optional<std::pair<size_t, size_t>> vertex_on_edge(const Ring2& r) {
+  const size_t n = r.size();
+  for (size_t k = 0; k < n; ++k)
+    for (size_t i = 0; i < n; ++i) {
+      const size_t j = (i + 1) % n;
+      if ((r[k] - r[i]).norm() < kWeldTol || (r[k] - r[j]).norm() < kWeldTol) continue;
+      const Vec2 d = r[j] - r[i];
+      const double t = std::clamp(d.dot(r[k] - r[i]) / std::max(d.squaredNorm(), 1e-18), 0.0, 1.0);
+      if ((r[i] + t * d - r[k]).norm() < kWeldTol) return std::make_pair(k, i);
+    }
+  return std::nullopt;
+}
+
 // Whether the ring passes twice through one vertex (within the weld tolerance).
 bool pinched(const Ring2& r) {
   for (size_t i = 0; i < r.size(); ++i)
     for (size_t j = i + 1; j < r.size(); ++j)
       if ((r[i] - r[j]).norm() < kWeldTol) return true;
   return false;
+}
+
+// Whether the ring comes back within the weld tolerance of a vertex after
+// leaving it (a pinch between two lobes), or a vertex lies on an edge away
+// from that edge's ends (a fold: a spike of no width). Welded and noded, such
+// a ring passes twice through one vertex. A cluster of vertices within the
+// tolerance (a micro zig-zag) is neither: it is one vertex.
+bool touches_itself(const Ring2& r) {
+  const size_t n = r.size();
+  auto leaves = [&](size_t from, size_t to, const Vec2& c) {  // some vertex strictly between is away from c
+    for (size_t k = (from + 1) % n; k != to; k = (k + 1) % n)
+      if ((r[k] - c).norm() >= kWeldTol) return true;
+    return false;
+  };
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      if ((r[i] - r[j]).norm() < kWeldTol && leaves(i, j, r[i]) && leaves(j, i, r[i])) return true;
+  return vertex_on_edge(r).has_value();
+}
+
+// A ring passing twice through one vertex becomes two simple rings; holes go
+// to the part holding them. Vertices closer than `tolerance` count as one.
+std::vector<Polygon2> split_pinched(const Polygon2& p, double tolerance) {
+  std::vector<Ring2> todo{p.outer}, done;
+  while (!todo.empty()) {
+    Ring2 r = todo.back();
+    todo.pop_back();
+    bool split = false;
+    for (size_t i = 0; i < r.size() && !split; ++i)
+      for (size_t j = i + 1; j < r.size() && !split; ++j)
+        if ((r[i] - r[j]).norm() < tolerance) {
+          Ring2 a(r.begin() + long(i), r.begin() + long(j));
+          Ring2 b(r.begin() + long(j), r.end());
+          b.insert(b.end(), r.begin(), r.begin() + long(i));
+          todo.push_back(a);
+          todo.push_back(b);
+          split = true;
+        }
+    if (!split && r.size() >= 3 && std::abs(signed_area(r)) > 1e-6) done.push_back(r);
+  }
+  std::vector<Polygon2> out;
+  for (auto& r : done) out.push_back({r, {}});
+  for (const auto& h : p.holes)
+    for (auto& o : out)
+      if (poly::covers({Polygon2{o.outer, {}}}, h.front()) ||
+          poly::covers({Polygon2{o.outer, {}}}, 0.5 * (h[0] + h[1]))) {
+        o.holes.push_back(h);
+        break;
+      }
+  return out;
+}
+
+// Parts whose ring comes within the weld tolerance of itself split into
+// simple parts there: at a pinch (two lobes of a footprint where the inset
+// outline narrows to nothing) and at a fold (a spike of no width: its vertex
+// is put into the edge it lies on first). Welded, such a ring would pass
+// twice through one vertex and no solid closes round it.
+MultiPolygon2 separate_pinched(const MultiPolygon2& parts) {
+  MultiPolygon2 out;
+  for (Polygon2 part : parts) {
+    if (!touches_itself(part.outer)) {
+      out.push_back(std::move(part));
+      continue;
+    }
+    Ring2& r = part.outer;
+    for (size_t guard = r.size(); guard > 0; --guard) {  // the vertex into the edge it touches
+      const auto touch = vertex_on_edge(r);
+      if (!touch) break;
+      const Vec2 v = r[touch->first];  // a copy: the insert may move r
+      r.insert(r.begin() + long(touch->second) + 1, v);
+    }
+    for (Polygon2& lobe : split_pinched(part, kWeldTol)) out.push_back(std::move(lobe));
+  }
+  return out;
 }
 
 // Consecutive edges closer to one line than this (sin 3 degrees) whose
@@ -284,7 +374,7 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
     }
   }
   MultiPolygon2 valid = poly::drop_small(poly::make_valid({Polygon2{ring, {}}}), 0.5);
-  valid = poly::intersect(valid, {in.outline});
+  valid = separate_pinched(poly::intersect(valid, {in.outline}));
   if (valid.empty()) valid = poly::buffer({in.outline}, -in.default_overhang);
   if (valid.empty()) throw std::runtime_error("roof outline too small for a footprint");
   Polygon2 best = poly::largest(valid);
@@ -307,38 +397,6 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   Polygon2 fp = poly::largest(under);
   fp.holes.clear();
   return fp;
-}
-
-// A ring passing twice through one vertex (the hole of an overhang frame
-// touching its outline) becomes two simple rings; holes go to the part holding them.
-std::vector<Polygon2> split_pinched(const Polygon2& p) {
-  std::vector<Ring2> todo{p.outer}, done;
-  while (!todo.empty()) {
-    Ring2 r = todo.back();
-    todo.pop_back();
-    bool split = false;
-    for (size_t i = 0; i < r.size() && !split; ++i)
-      for (size_t j = i + 1; j < r.size() && !split; ++j)
-        if ((r[i] - r[j]).norm() < 1e-9) {
-          Ring2 a(r.begin() + long(i), r.begin() + long(j));
-          Ring2 b(r.begin() + long(j), r.end());
-          b.insert(b.end(), r.begin(), r.begin() + long(i));
-          todo.push_back(a);
-          todo.push_back(b);
-          split = true;
-        }
-    if (!split && r.size() >= 3 && std::abs(signed_area(r)) > 1e-6) done.push_back(r);
-  }
-  std::vector<Polygon2> out;
-  for (auto& r : done) out.push_back({r, {}});
-  for (const auto& h : p.holes)
-    for (auto& o : out)
-      if (poly::covers({Polygon2{o.outer, {}}}, h.front()) ||
-          poly::covers({Polygon2{o.outer, {}}}, 0.5 * (h[0] + h[1]))) {
-        o.holes.push_back(h);
-        break;
-      }
-  return out;
 }
 
 double mean_terrain(const Polygon2& fp, const std::function<double(double, double)>& terrain) {
@@ -414,9 +472,9 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
       Vec2 p2 = p.head<2>() - a, q2 = q.head<2>() - a;
       if (std::abs(n.dot(p2)) > 2 * kWeldTol || std::abs(n.dot(q2)) > 2 * kWeldTol) continue;  // welded ends may sit off the line
       double tp = d.dot(p2), tq = d.dot(q2);
-      if (std::min(tp, tq) < -1e-5 || std::max(tp, tq) > len + 1e-5) continue;
+      if (std::min(tp, tq) < -2 * kWeldTol || std::max(tp, tq) > len + 2 * kWeldTol) continue;
       if (std::abs(tp - tq) < 1e-7) continue;
-      tp = std::clamp(tp, 0.0, len);  // welding may put an end a hair past the corner
+      tp = std::clamp(tp, 0.0, len);  // welding may put an end past the corner, as it may off the line
       tq = std::clamp(tq, 0.0, len);
       if (std::abs(tp - tq) < 1e-7) continue;
       if (tp < tq) segs.push_back({tp, p.z(), tq, q.z()});
@@ -954,7 +1012,7 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   node_rings(rings, kWeldTol);
   std::vector<Piece> simple;
   for (const auto& p : pieces)
-    for (auto& part : split_pinched(p.plan)) simple.push_back({p.region, p.inside, part});
+    for (auto& part : split_pinched(p.plan, 1e-9)) simple.push_back({p.region, p.inside, part});
   pieces = std::move(simple);
 
   Heights heights;

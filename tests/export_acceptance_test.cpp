@@ -6,6 +6,7 @@
 // and every element area read back from each file equals the store's within
 // 0.01 m^2.
 #include <gtest/gtest.h>
+#include <ogr_geometry.h>
 
 #include <fstream>
 #include <map>
@@ -269,14 +270,34 @@ std::vector<std::pair<std::string, Ring2>> grid_over_cimahi(double cell) {
   return out;
 }
 
-// The Cimahi cloud batched over another parcel layer: it completes, every
-// building is a valid solid in the CityJSON, and no roof is modelled by two
-// parcels.
-void expect_sound_batch_over(const std::string& name, const std::vector<std::pair<std::string, Ring2>>& parcels) {
+// The Cimahi parcels each grown by `distance` m into their neighbours, with
+// round corners (OGR's buffer, 30 segments a quarter circle).
+std::vector<std::pair<std::string, Ring2>> grown_cimahi_parcels(double distance) {
+  std::vector<std::pair<std::string, Ring2>> out;
+  for (const auto& p : read_parcels(test::cimahi_dir() + "/parcels.shp").parcels) {
+    OGRLinearRing ring;
+    for (const auto& v : p.shape.front().outer) ring.addPoint(v.x(), v.y());
+    ring.closeRings();
+    OGRPolygon polygon;
+    polygon.addRing(&ring);
+    std::unique_ptr<OGRGeometry> grown(polygon.Buffer(distance, 30));
+    const OGRLinearRing* outer = grown->toPolygon()->getExteriorRing();
+    Ring2 r;
+    for (int i = 0; i + 1 < outer->getNumPoints(); ++i) r.emplace_back(outer->getX(i), outer->getY(i));
+    out.emplace_back(p.id, r);
+  }
+  return out;
+}
+
+// A Cimahi cloud (`cloud`, a file of ../shared/data/cimahi) batched over
+// another parcel layer: it completes, every building is a valid solid in the
+// CityJSON, and no roof is modelled by two parcels.
+void expect_sound_batch_over(const std::string& name, const std::vector<std::pair<std::string, Ring2>>& parcels,
+                             const std::string& cloud = "cimahi.las") {
   const std::string dir = test::temp_dir(name), d = test::cimahi_dir();
   const std::string layer = write_parcels(dir + "/parcels.geojson", parcels);
   std::string log;
-  ASSERT_EQ(test::run_cli("batch --quiet --cloud " + d + "/cimahi.las --parcels " + layer + " --dtm " + d +
+  ASSERT_EQ(test::run_cli("batch --quiet --cloud " + d + "/" + cloud + " --parcels " + layer + " --dtm " + d +
                               "/dtm.tif --out " + dir + "/out --formats cityjson",
                           &log),
             0)
@@ -304,4 +325,21 @@ TEST(ExportsOnAnotherLayout, GridOfSquareParcelsBlindToTheHouses) {
   // before ownership was decided alike from both sides of a boundary).
   C3D_REQUIRE_CIMAHI();
   expect_sound_batch_over("grid", grid_over_cimahi(18.0));
+}
+
+TEST(ExportsOnAnotherScan, RoofScanAloneWithoutTheHandheldWalls) {
+  // Only the UAV's roof points (roof.ply, no wall class): every wall takes the
+  // default overhang. 05770's roof narrows so that its footprint, inset by
+  // 0.5 m, folded back on itself (a spike of no width, its tip on another
+  // edge): the solid did not close.
+  C3D_REQUIRE_CIMAHI();
+  expect_sound_batch_over("roof_only", shifted_cimahi_parcels(0, 0), "roof.ply");
+}
+
+TEST(ExportsOnAnotherScan, RoofScanAloneOverParcelsGrownIntoEachOther) {
+  // Parcels grown 0.7 m overlap their neighbours: 05785's roof pieces met a
+  // footprint corner a millimetre past its end (welding moves vertices that
+  // far), so no wall stood under that edge and the shell had a hole.
+  C3D_REQUIRE_CIMAHI();
+  expect_sound_batch_over("roof_only_grown", grown_cimahi_parcels(0.7), "roof.ply");
 }
