@@ -248,8 +248,8 @@ std::vector<EdgeInfo> measure_edges(const EnvelopeInput& in) {
   return edges;
 }
 
-// The first vertex of r lying within the weld tolerance of an edge of r but not of its
-// ends, and that edge's start, or nullopt.
+// The first vertex of r lying within the weld tolerance of an edge of r but
+// not of that edge's ends, and the edge's start; nullopt when none does.
 std::optional<std::pair<size_t, size_t>> vertex_on_edge(const Ring2& r) {
   const size_t n = r.size();
   for (size_t k = 0; k < n; ++k)
@@ -1012,7 +1012,8 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   node_rings(rings, kWeldTol);
   std::vector<Piece> simple;
   for (const auto& p : pieces)
-    for (auto& part : split_pinched(p.plan, 1e-9)) simple.push_back({p.region, p.inside, part});
+    for (auto& part : split_pinched(p.plan, 1e-9))  // an overhang frame's hole touching its outline
+      simple.push_back({p.region, p.inside, part});
   pieces = std::move(simple);
 
   Heights heights;
