@@ -101,13 +101,10 @@ Inputs load_inputs(const BatchOptions& opt) {
   // One order for one set of points, whatever order the files hold them in:
   // region growing and the neighbour searches under it break ties by point
   // order, so a cloud saved in another order would give other models.
-  // Rows of 2 m cells, then coordinates within a cell: points near one
-  // another stay near in memory, which the searches need to run fast.
-  auto key = [](const Vec3& p) {
-    return std::make_tuple(std::floor(p.y() / 2.0), std::floor(p.x() / 2.0), p.x(), p.y(), p.z());
-  };
   for (auto* pts : {&in.roof, &in.wall})
-    std::sort(pts->begin(), pts->end(), [&](const Vec3& a, const Vec3& b) { return key(a) < key(b); });
+    std::sort(pts->begin(), pts->end(), [](const Vec3& a, const Vec3& b) {
+      return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
+    });
   if (in.roof.empty() && in.wall.empty())
     throw InputError(opt.clouds.empty() ? opt.parcels : opt.clouds.front(),
                      "no roof or wall points (check the class mapping)");
