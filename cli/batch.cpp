@@ -3,7 +3,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <tuple>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -98,13 +97,6 @@ Inputs load_inputs(const BatchOptions& opt) {
     in.dtm = dtm_from_points(ground, in.crs_wkt, 1.0, DtmCell::Min, "ground-class points");
   }
   check_dtm_covers(in.dtm, in.layer);
-  // One order for one set of points, whatever order the files hold them in:
-  // region growing and the neighbour searches under it break ties by point
-  // order, so a cloud saved in another order would give other models.
-  for (auto* pts : {&in.roof, &in.wall})
-    std::sort(pts->begin(), pts->end(), [](const Vec3& a, const Vec3& b) {
-      return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
-    });
   if (in.roof.empty() && in.wall.empty())
     throw InputError(opt.clouds.empty() ? opt.parcels : opt.clouds.front(),
                      "no roof or wall points (check the class mapping)");
