@@ -366,6 +366,16 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
 }
 
 // Snapping may make neighbours overlap slightly; an area belongs to one region only.
+// A region that snapping folded over itself (a vertex moved past one of its
+// own edges) would come out of make_valid covering its neighbour, which then
+// loses its plane to it (a hip roof's face, once its points came in another
+// order): such a region keeps its shape from before the snap, and
+// remove_overlaps and fix_coverage settle the seams with its neighbours.
+void undo_folding_snaps(std::vector<MultiPolygon2>& regions, const std::vector<MultiPolygon2>& before) {
+  for (size_t i = 0; i < regions.size(); ++i)
+    if (std::abs(area(poly::make_valid(regions[i])) - area(regions[i])) > 0.01) regions[i] = before[i];
+}
+
 void remove_overlaps(std::vector<MultiPolygon2>& regions) {
   MultiPolygon2 taken;
   for (auto& r : regions) {
@@ -422,7 +432,9 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     absorb_fragments(regions, in.points, region_of_point);
     for (auto& r : regions) r = poly::simplify(r, 0.02);
     fix_coverage(in.outline, regions, 0.05);
+    const std::vector<MultiPolygon2> unsnapped = regions;
     snap_to_intersections(in.outline, regions, in.planes);
+    undo_folding_snaps(regions, unsnapped);
     remove_overlaps(regions);
     fix_coverage(in.outline, regions, 0.05);
     absorb_fragments(regions, in.points, region_of_point);  // snapping can detach more
