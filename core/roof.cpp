@@ -365,7 +365,6 @@ void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& 
   node_rings(rings, 0.01);
 }
 
-// Snapping may make neighbours overlap slightly; an area belongs to one region only.
 // A region that snapping folded over itself (a vertex moved past one of its
 // own edges) would come out of make_valid covering its neighbour, which then
 // loses its plane to it (a hip roof's face, once its points came in another
@@ -376,6 +375,7 @@ void undo_folding_snaps(std::vector<MultiPolygon2>& regions, const std::vector<M
     if (std::abs(area(poly::make_valid(regions[i])) - area(regions[i])) > 0.01) regions[i] = before[i];
 }
 
+// Snapping may make neighbours overlap slightly; an area belongs to one region only.
 void remove_overlaps(std::vector<MultiPolygon2>& regions) {
   MultiPolygon2 taken;
   for (auto& r : regions) {
