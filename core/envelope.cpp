@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <optional>
 #include <stdexcept>
 #include <cstdio>
@@ -427,16 +428,25 @@ class Heights {
   double get(const Vec2& v, double z) const {
     auto it = at_.find(key(v));
     if (it == at_.end()) return z;
+    const bool all = at_mean_.count(key(v)) > 0;
     double sum = 0;
     int n = 0;
     for (double o : it->second)
-      if (std::abs(o - z) < 0.002) sum += o, ++n;
+      if (all || std::abs(o - z) < 0.002) sum += o, ++n;
     return n ? sum / n : z;
+  }
+  // Every piece at v takes the mean of their heights, if they lie within 1 cm.
+  void meet_at_mean(const Vec2& v) {
+    auto it = at_.find(key(v));
+    if (it == at_.end()) return;
+    const auto [lo, hi] = std::minmax_element(it->second.begin(), it->second.end());
+    if (*hi - *lo < 0.01) at_mean_.insert(key(v));
   }
 
  private:
   static std::pair<double, double> key(const Vec2& v) { return {v.x(), v.y()}; }
   std::map<std::pair<double, double>, std::vector<double>> at_;
+  std::set<std::pair<double, double>> at_mean_;
 };
 
 Ring3 lift(const Ring2& r, const Plane& plane, const Heights& h) {
@@ -581,6 +591,33 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
     }
   }
   return out;
+}
+
+// Planes that miss one junction by more than the 2 mm weld (a cross gable's
+// wing ridge 3 mm above the main ridge it runs into, five faces round one
+// vertex) leave a step wall between each high and low neighbour there, three
+// or more on one vertical edge, which no solid can hold. The pieces at such a
+// vertex meet at the mean of their heights, each a few millimetres off its
+// plane at that one corner. (Four regions round one vertex are split into two
+// three-plane points before, exactly: split_four_plane_vertices.)
+void meet_at_step_fans(Heights& heights, const std::vector<Piece>& pieces, const std::vector<RoofRegion>& roof) {
+  std::vector<Face> inside;
+  for (const auto& p : pieces) {
+    if (!p.inside) continue;
+    const Plane& pl = roof[p.region].plane;
+    Face f{lift(p.plan.outer, pl, heights), {}};
+    for (const auto& h : p.plan.holes) f.holes.push_back(lift(h, pl, heights));
+    inside.push_back(std::move(f));
+  }
+  std::map<std::pair<double, double>, int> vertical_edges;
+  for (const auto& [above, faces] : step_walls(inside, std::vector<int>(inside.size(), 0)))
+    for (const Face& f : faces)
+      for (size_t i = 0; i < f.ring.size(); ++i) {
+        const Vec3& a = f.ring[i];
+        if (a.head<2>() == f.ring[(i + 1) % f.ring.size()].head<2>()) ++vertical_edges[{a.x(), a.y()}];
+      }
+  for (const auto& [xy, n] : vertical_edges)
+    if (n >= 4) heights.meet_at_mean(Vec2(xy.first, xy.second));
 }
 
 double perimeter(const Ring2& r) {
@@ -1023,6 +1060,7 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
     for (const auto& h : p.plan.holes)
       for (const auto& v : h) heights.add(v, pl.z_at(v.x(), v.y()));
   }
+  meet_at_step_fans(heights, pieces, in.roof);
   std::vector<std::vector<Face>> roof_faces(in.roof.size());
   std::vector<Face> inside, soffits;
   std::vector<int> inside_region;

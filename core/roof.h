@@ -41,6 +41,17 @@ size_t add_points_by_height(RoofPartitionInput& in, const std::vector<Vec3>& poi
 // another ring's edge into that edge and welds vertices closer than tol.
 void node_rings(std::vector<Ring2*>& rings, double tol);
 
+// Four planes meet in one point only by chance. Where four regions share a
+// vertex inside the outline and their planes' heights there disagree by more
+// than the height weld (2 mm) absorbs, one point would leave four step walls on
+// one vertical edge, which no solid can hold. The vertex becomes two three-plane
+// points joined by a short edge on the line of two opposite planes (a pyramid's
+// apex becomes a hip roof's ridge a few millimetres long): the pair whose
+// three-plane points each fall on the side of their own third region.
+// planes: one per region.
+void split_four_plane_vertices(const Polygon2& outline, std::vector<MultiPolygon2>& regions,
+                               const std::vector<Plane>& planes);
+
 // Detached bits (< 1.5 m^2, not a region's largest part) of the regions of a
 // partition go to the neighbour whose points they hold most of (the one sharing
 // the most boundary when they hold none): a cut along one ridge carried past a
