@@ -1172,7 +1172,14 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
     node_faces(e.faces, verts, kWeldTol);
     if (e.type == ElementType::OuterCeiling)
       for (size_t i = 0; i < e.faces.size(); ++i) set_height(e.faces[i], level[i]);
+    // A face the weld left a line (a step wall's sliver whose ends met) has
+    // no area; the shell has dropped its copy, and no polygon can hold it.
+    e.faces.erase(std::remove_if(e.faces.begin(), e.faces.end(), [](const Face& f) { return f.ring.size() < 3; }),
+                  e.faces.end());
   }
+  b.elements.erase(std::remove_if(b.elements.begin(), b.elements.end(),
+                                  [](const Element& e) { return e.faces.empty(); }),
+                   b.elements.end());
   b.solid = std::move(solid);
   if (std::getenv("C3D_DEBUG")) debug_open_edges(b);
   return b;

@@ -440,6 +440,33 @@ TEST(Envelope, FivePiecesMissingOneJunctionMeetAtTheMeanOfTheirHeights) {
   EXPECT_EQ(at_junction, 9);
 }
 
+// Three flat roof parts 1.5 mm apart in height meet at one vertex: the
+// height weld (2 mm) is not transitive, so there the lowest part takes the
+// mean of itself and the middle one, the highest of itself and the middle
+// one, and the step between the lowest and the middle part ends 0.75 mm
+// high. The 1 mm vertex weld folds that step-wall triangle into a line. The
+// shell dropped it; its wall element kept a face of two vertices, which no
+// polygon can be (a building of the 25 m grid layout over Cimahi, reported
+// invalid). Every element face now has three vertices or more.
+TEST(Envelope, AStepWallWeldedIntoALineLeavesNoFaceBehind) {
+  EnvelopeInput in = flat_roof_input("steps", Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}});
+  const Plane low = plane_through({0, 0, 3.0}, {0, 0, 1}), middle = plane_through({0, 0, 3.0015}, {0, 0, 1}),
+              high = plane_through({0, 0, 3.003}, {0, 0, 1});
+  in.roof = {RoofRegion{0, low, {Polygon2{{{0, 0}, {5, 0}, {5, 4}, {5, 8}, {0, 8}}, {}}}},
+             RoofRegion{1, middle, {Polygon2{{{5, 0}, {10, 0}, {10, 4}, {5, 4}}, {}}}},
+             RoofRegion{2, high, {Polygon2{{{5, 4}, {10, 4}, {10, 8}, {5, 8}}, {}}}}};
+  in.fits.assign(3, in.fits[0]);
+  for (size_t k = 0; k < 3; ++k) in.fits[k].plane = in.roof[k].plane;
+  const Building b = build_building(in);
+  for (const Element& e : b.elements) {
+    EXPECT_FALSE(e.faces.empty()) << to_string(e.type);
+    for (const Face& f : e.faces) EXPECT_GE(f.ring.size(), 3u) << to_string(e.type);
+  }
+  const SolidCheck check = check_solid(b.solid);
+  EXPECT_TRUE(check.ok) << check.summary();
+  EXPECT_NEAR(totals(b).roof, 80.0, 1e-3);
+}
+
 namespace {
 
 // `count` wall points (2 cm noise, z0 to z1 high) along the segment a-b.
