@@ -393,7 +393,7 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   if (stepped && !pinched(best.outer)) return best;
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
-  MultiPolygon2 under = poly::intersect({regularize_polygon(best, 1.0)}, {in.outline});
+  MultiPolygon2 under = separate_pinched(poly::intersect({regularize_polygon(best, 1.0)}, {in.outline}));
   if (under.empty()) return best;
   Polygon2 fp = poly::largest(under);
   fp.holes.clear();

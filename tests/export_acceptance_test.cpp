@@ -15,6 +15,7 @@
 #include "cadastre/parcels.h"
 #include "cadastre/store.h"
 #include "core/geometry.h"
+#include "core/point_io.h"
 #include "core/polygon_ops.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
@@ -289,15 +290,16 @@ std::vector<std::pair<std::string, Ring2>> grown_cimahi_parcels(double distance)
   return out;
 }
 
-// A Cimahi cloud (`cloud`, a file of ../shared/data/cimahi) batched over
+// A Cimahi cloud (`cloud`: a path, or the Cimahi LAS when empty) batched over
 // another parcel layer: it completes, every building is a valid solid in the
 // CityJSON, and no roof is modelled by two parcels.
 void expect_sound_batch_over(const std::string& name, const std::vector<std::pair<std::string, Ring2>>& parcels,
-                             const std::string& cloud = "cimahi.las") {
+                             std::string cloud = "") {
   const std::string dir = test::temp_dir(name), d = test::cimahi_dir();
+  if (cloud.empty()) cloud = d + "/cimahi.las";
   const std::string layer = write_parcels(dir + "/parcels.geojson", parcels);
   std::string log;
-  ASSERT_EQ(test::run_cli("batch --quiet --cloud " + d + "/" + cloud + " --parcels " + layer + " --dtm " + d +
+  ASSERT_EQ(test::run_cli("batch --quiet --cloud " + cloud + " --parcels " + layer + " --dtm " + d +
                               "/dtm.tif --out " + dir + "/out --formats cityjson",
                           &log),
             0)
@@ -333,7 +335,7 @@ TEST(ExportsOnAnotherScan, RoofScanAloneWithoutTheHandheldWalls) {
   // 0.5 m, folded back on itself (a spike of no width, its tip on another
   // edge): the solid did not close.
   C3D_REQUIRE_CIMAHI();
-  expect_sound_batch_over("roof_only", shifted_cimahi_parcels(0, 0), "roof.ply");
+  expect_sound_batch_over("roof_only", shifted_cimahi_parcels(0, 0), test::cimahi_dir() + "/roof.ply");
 }
 
 TEST(ExportsOnAnotherScan, RoofScanAloneOverParcelsGrownIntoEachOther) {
@@ -341,5 +343,29 @@ TEST(ExportsOnAnotherScan, RoofScanAloneOverParcelsGrownIntoEachOther) {
   // footprint corner a millimetre past its end (welding moves vertices that
   // far), so no wall stood under that edge and the shell had a hole.
   C3D_REQUIRE_CIMAHI();
-  expect_sound_batch_over("roof_only_grown", grown_cimahi_parcels(0.7), "roof.ply");
+  expect_sound_batch_over("roof_only_grown", grown_cimahi_parcels(0.7), test::cimahi_dir() + "/roof.ply");
+}
+
+TEST(ExportsOnAnotherScan, EveryFifthPointOfTheScan) {
+  // The Cimahi cloud thinned to every fifth point (from the third): 05797's
+  // footprint, regularised and cut to the roof outline, came out with a
+  // needle 19 cm long and under 0.1 mm wide, whose walls met no roof, so the
+  // shell stayed open. The regularised footprint is now split where it
+  // touches itself, as the one before regularising already was.
+  C3D_REQUIRE_CIMAHI();
+  const PointCloud cloud = read_point_cloud(test::cimahi_dir() + "/cimahi.las");
+  PointCloud thin = cloud;
+  thin.points.clear(), thin.classes.clear();
+  for (size_t i = 2; i < cloud.points.size(); i += 5)
+    thin.points.push_back(cloud.points[i]), thin.classes.push_back(cloud.classes[i]);
+  const std::string dir = test::temp_dir("every_fifth"), d = test::cimahi_dir();
+  write_las(dir + "/every_fifth.las", thin);
+  std::string log;
+  ASSERT_EQ(test::run_cli("batch --quiet --cloud " + dir + "/every_fifth.las --parcels " + d + "/parcels.shp --dtm " +
+                              d + "/dtm.tif --out " + dir + "/out --formats cityjson",
+                          &log),
+            0)
+      << log;
+  EXPECT_EQ(test::run_cli("validate " + dir + "/out/buildings.city.json", &log), 0) << log;
+  EXPECT_NE(log.find(" 0 issue(s)"), std::string::npos) << log;
 }
