@@ -455,6 +455,13 @@ Ring3 lift(const Ring2& r, const Plane& plane, const Heights& h) {
   return out;
 }
 
+// A roof piece on its plane, holes included.
+Face lift(const Piece& p, const Plane& plane, const Heights& h) {
+  Face f{lift(p.plan.outer, plane, h), {}};
+  for (const auto& hole : p.plan.holes) f.holes.push_back(lift(hole, plane, h));
+  return f;
+}
+
 Ring3 flat(const Ring2& r, double z, bool downward) {
   Ring3 out;
   for (const auto& v : r) out.emplace_back(v.x(), v.y(), z);
@@ -602,13 +609,8 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
 // three-plane points before, exactly: split_four_plane_vertices.)
 void meet_at_step_fans(Heights& heights, const std::vector<Piece>& pieces, const std::vector<RoofRegion>& roof) {
   std::vector<Face> inside;
-  for (const auto& p : pieces) {
-    if (!p.inside) continue;
-    const Plane& pl = roof[p.region].plane;
-    Face f{lift(p.plan.outer, pl, heights), {}};
-    for (const auto& h : p.plan.holes) f.holes.push_back(lift(h, pl, heights));
-    inside.push_back(std::move(f));
-  }
+  for (const auto& p : pieces)
+    if (p.inside) inside.push_back(lift(p, roof[p.region].plane, heights));
   std::map<std::pair<double, double>, int> vertical_edges;
   for (const auto& [above, faces] : step_walls(inside, std::vector<int>(inside.size(), 0)))
     for (const Face& f : faces)
@@ -1065,9 +1067,7 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   std::vector<Face> inside, soffits;
   std::vector<int> inside_region;
   for (const auto& p : pieces) {
-    const Plane& pl = in.roof[p.region].plane;
-    Face f{lift(p.plan.outer, pl, heights), {}};
-    for (const auto& h : p.plan.holes) f.holes.push_back(lift(h, pl, heights));
+    const Face f = lift(p, in.roof[p.region].plane, heights);
     roof_faces[p.region].push_back(f);
     if (p.inside) {
       inside.push_back(f);
