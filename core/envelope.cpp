@@ -355,6 +355,32 @@ constexpr double kInLineSin = 0.052;
 constexpr double kMinStepM = 0.05;
 
 // Each outline edge moved inward by its overhang; corners where the moved lines meet.
+// The footprint without edges shorter than kSpeckM: an edge of a millimetre
+// or two (where a moved line crosses the roof outline next to one of its
+// vertices) puts roof corners closer than anything can be welded, with a
+// triangle a few millimetres wide between them that their heights tilt. Of
+// its two ends the one whose removal moves the footprint least goes.
+constexpr double kSpeckM = 0.005;
+Polygon2 without_specks(const Polygon2& fp) {
+  Ring2 r = fp.outer;
+  auto bend = [&](size_t k) {  // the area taken or given by dropping vertex k
+    const size_t n = r.size();
+    const Vec2 u = r[k] - r[(k + n - 1) % n], v = r[(k + 1) % n] - r[k];
+    return std::abs(u.x() * v.y() - u.y() * v.x());
+  };
+  for (size_t i = 0; i < r.size() && r.size() > 3;) {
+    const size_t j = (i + 1) % r.size();
+    if ((r[j] - r[i]).norm() >= kSpeckM) {
+      ++i;
+      continue;
+    }
+    r.erase(r.begin() + long(bend(i) <= bend(j) ? i : j));
+    i = 0;
+  }
+  Polygon2 out{r, {}};
+  return r.size() >= 3 && poly::is_valid({out}) ? out : fp;
+}
+
 Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in,
                               FootprintApart* apart) {
   Ring2 ring;
@@ -390,14 +416,14 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   // Regularising would merge the lines of a step (0.3 m apart or less) and
   // give the whole side one overhang and one kind of wall; a stepped ring
   // that pinches (passes twice through a vertex) is regularised all the same.
-  if (stepped && !pinched(best.outer)) return best;
+  if (stepped && !pinched(best.outer)) return without_specks(best);
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
   MultiPolygon2 under = separate_pinched(poly::intersect({regularize_polygon(best, 1.0)}, {in.outline}));
-  if (under.empty()) return best;
+  if (under.empty()) return without_specks(best);
   Polygon2 fp = poly::largest(under);
   fp.holes.clear();
-  return fp;
+  return without_specks(fp);
 }
 
 double mean_terrain(const Polygon2& fp, const std::function<double(double, double)>& terrain) {
@@ -469,9 +495,17 @@ Ring3 flat(const Ring2& r, double z, bool downward) {
   return out;
 }
 
+// A roof piece's edge over a footprint edge: from t0 to t1 along it, at
+// heights z0 and z1, its ends at0 and at1 in plan (within the weld tolerance
+// of the edge, not always on it); `along`: the piece's edge runs along the
+// footprint edge, not across its end (a few millimetres of the next edge).
 struct ProfileSegment {
   double t0, z0, t1, z1;
+  Vec2 at0, at1;
+  bool along;
 };
+
+constexpr double kAlongSlope = 0.1;  // a piece's edge within 6 degrees of the footprint edge runs along it
 
 // The roof underside along a footprint edge, from the inside pieces' edges on it.
 std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
@@ -494,8 +528,9 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
       tp = std::clamp(tp, 0.0, len);  // welding may put an end past the corner, as it may off the line
       tq = std::clamp(tq, 0.0, len);
       if (std::abs(tp - tq) < 1e-7) continue;
-      if (tp < tq) segs.push_back({tp, p.z(), tq, q.z()});
-      else segs.push_back({tq, q.z(), tp, p.z()});
+      const bool along = std::abs(n.dot(q2 - p2)) < kAlongSlope * std::abs(tq - tp);
+      if (tp < tq) segs.push_back({tp, p.z(), tq, q.z(), p.head<2>(), q.head<2>(), along});
+      else segs.push_back({tq, q.z(), tp, p.z(), q.head<2>(), p.head<2>(), along});
     }
   }
   std::sort(segs.begin(), segs.end(), [](auto& x, auto& y) { return x.t0 > y.t0; });
@@ -521,9 +556,18 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   Face f;
   f.ring.emplace_back(a.x(), a.y(), ground_z);
   f.ring.emplace_back(b.x(), b.y(), ground_z);
-  auto push = [&](double t, double z) {
+  // The wall meets the roof at the corner of a piece running along the edge
+  // where one ends there: a corner may sit a millimetre or two off the edge,
+  // more than the weld joins. At the footprint's corners the walls meet each
+  // other.
+  const double len = (b - a).norm();
+  auto push = [&](const ProfileSegment& s, double t) {
+    Vec2 at = a + t * d;
+    if (t < kWeldTol || t > len - kWeldTol) at = t < kWeldTol ? a : b;
+    else if (s.along && std::abs(t - s.t0) < kWeldTol) at = s.at0;
+    else if (s.along && std::abs(t - s.t1) < kWeldTol) at = s.at1;
     // A roof below the terrain (bad data) must not fold the wall over itself.
-    Vec3 v(a.x() + t * d.x(), a.y() + t * d.y(), std::max(z, ground_z + 0.01));
+    Vec3 v(at.x(), at.y(), std::max(z_on(s, t), ground_z + 0.01));
     if ((f.ring.back() - v).norm() > 1e-7) f.ring.push_back(v);
   };
   for (size_t k = ts.size(); k-- > 1;) {  // from b back to a
@@ -532,8 +576,8 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
     for (const auto& s : profile)
       if (s.t0 <= mid && s.t1 >= mid && (!best || z_on(s, mid) > z_on(*best, mid))) best = &s;
     if (!best) continue;
-    push(hi, z_on(*best, hi));
-    push(lo, z_on(*best, lo));
+    push(*best, hi);
+    push(*best, lo);
   }
   if ((f.ring.back() - f.ring.front()).norm() < 1e-7) f.ring.pop_back();
   return f;
@@ -956,6 +1000,11 @@ WallFit wall_at(const std::vector<std::pair<double, double>>& st, double centre,
 
 }  // namespace
 
+Face wall_under(const Vec2& a, const Vec2& b, double ground_z, const std::vector<Face>& inside_pieces) {
+  const auto profile = roof_profile(a, b, inside_pieces);
+  return profile.empty() ? Face{} : wall_face(a, b, ground_z, profile);
+}
+
 WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z, double max_z,
                  bool beyond_ends) {
   Vec2 d = b - a;
@@ -1107,9 +1156,8 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   std::vector<std::pair<const EdgeInfo*, std::vector<Face>>> facades;
   for (size_t i = 0; i < fp.outer.size(); ++i) {
     Vec2 a = fp.outer[i], c = fp.outer[(i + 1) % fp.outer.size()];
-    auto profile = roof_profile(a, c, inside);
-    if (profile.empty()) continue;
-    Face f = wall_face(a, c, b.terrain_z, profile);
+    Face f = wall_under(a, c, b.terrain_z, inside);
+    if (f.ring.size() < 3) continue;
     const EdgeInfo* src = &source_edge(edges, a, c);
     sigma_ground2 += std::pow((c - a).norm() * src->sigma, 2);
     solid.push_back(f);

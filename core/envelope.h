@@ -61,6 +61,12 @@ constexpr double kMinFootprintPart = 4.0;  // m^2: smaller parts are slivers, no
 
 Building build_building(const EnvelopeInput& in, FootprintApart* apart = nullptr);
 
+// The wall under footprint edge a -> b, from ground_z up to the underside of
+// the roof pieces inside the walls whose edges lie on it (the highest where
+// they overlap), meeting each piece at its own corners; no face (an empty
+// ring) where no piece lies on the edge.
+Face wall_under(const Vec2& a, const Vec2& b, double ground_z, const std::vector<Face>& inside_pieces);
+
 // The outline grown out to the walls the scanner saw outside it (up to
 // 0.6 m: a flush eave or parapet whose roof points are missing; farther out
 // stands a fence or a neighbour), each such edge moved
