@@ -354,7 +354,6 @@ MultiPolygon2 separate_pinched(const MultiPolygon2& parts) {
 constexpr double kInLineSin = 0.052;
 constexpr double kMinStepM = 0.05;
 
-// Each outline edge moved inward by its overhang; corners where the moved lines meet.
 // The footprint without edges shorter than kSpeckM: an edge of a millimetre
 // or two (where a moved line crosses the roof outline next to one of its
 // vertices) puts roof corners closer than anything can be welded, with a
@@ -363,7 +362,7 @@ constexpr double kMinStepM = 0.05;
 constexpr double kSpeckM = 0.005;
 Polygon2 without_specks(const Polygon2& fp) {
   Ring2 r = fp.outer;
-  auto bend = [&](size_t k) {  // the area taken or given by dropping vertex k
+  auto bend = [&](size_t k) {  // twice the area dropping vertex k takes or gives
     const size_t n = r.size();
     const Vec2 u = r[k] - r[(k + n - 1) % n], v = r[(k + 1) % n] - r[k];
     return std::abs(u.x() * v.y() - u.y() * v.x());
@@ -381,6 +380,7 @@ Polygon2 without_specks(const Polygon2& fp) {
   return r.size() >= 3 && poly::is_valid({out}) ? out : fp;
 }
 
+// Each outline edge moved inward by its overhang; corners where the moved lines meet.
 Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const EnvelopeInput& in,
                               FootprintApart* apart) {
   Ring2 ring;
