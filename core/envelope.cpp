@@ -416,14 +416,14 @@ Polygon2 footprint_from_edges(const std::vector<EdgeInfo>& edges, const Envelope
   // Regularising would merge the lines of a step (0.3 m apart or less) and
   // give the whole side one overhang and one kind of wall; a stepped ring
   // that pinches (passes twice through a vertex) is regularised all the same.
-  if (stepped && !pinched(best.outer)) return without_specks(best);
+  if (stepped && !pinched(best.outer)) return best;
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
   MultiPolygon2 under = separate_pinched(poly::intersect({regularize_polygon(best, 1.0)}, {in.outline}));
-  if (under.empty()) return without_specks(best);
+  if (under.empty()) return best;
   Polygon2 fp = poly::largest(under);
   fp.holes.clear();
-  return without_specks(fp);
+  return fp;
 }
 
 double mean_terrain(const Polygon2& fp, const std::function<double(double, double)>& terrain) {
@@ -563,7 +563,8 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
   const double len = (b - a).norm();
   auto push = [&](const ProfileSegment& s, double t) {
     Vec2 at = a + t * d;
-    if (t < kWeldTol || t > len - kWeldTol) at = t < kWeldTol ? a : b;
+    if (t < kWeldTol) at = a;
+    else if (t > len - kWeldTol) at = b;
     else if (s.along && std::abs(t - s.t0) < kWeldTol) at = s.at0;
     else if (s.along && std::abs(t - s.t1) < kWeldTol) at = s.at1;
     // A roof below the terrain (bad data) must not fold the wall over itself.
@@ -1087,7 +1088,7 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   Building b;
   b.id = in.building_id;
   std::vector<EdgeInfo> edges = measure_edges(in);
-  Polygon2 fp = footprint_from_edges(edges, in, apart);
+  Polygon2 fp = without_specks(footprint_from_edges(edges, in, apart));
   b.terrain_z = mean_terrain(fp, in.terrain);
 
   std::vector<Piece> pieces = roof_pieces(in.roof, fp);
