@@ -30,6 +30,7 @@
 #include "core/polygon_ops.h"
 #include "core/geometry.h"
 #include "core/point_io.h"
+#include "core/ownership.h"
 #include "core/reconstruct.h"
 #include "valuation/valuation.h"
 
@@ -174,7 +175,7 @@ std::vector<size_t> in_one_order(std::vector<size_t> idx, const std::vector<Vec3
 
 ParcelScene make_scene(const Inputs& in, const LocalFrame& frame, size_t i,
                        const std::vector<size_t>& roof_idx, const std::vector<size_t>& wall_idx,
-                       const std::vector<int>& neighbours) {
+                       const std::vector<int>& neighbours, int roof_points_per_cell) {
   const Parcel& p = in.layer.parcels[i];
   ParcelScene s;
   s.parcel_index = int(i);
@@ -185,6 +186,7 @@ ParcelScene make_scene(const Inputs& in, const LocalFrame& frame, size_t i,
   for (size_t k : in_one_order(wall_idx, in.wall)) s.wall_points.push_back(frame.to_local(in.wall[k]));
   s.overhang_buffer_m = in.cfg.clip.overhang_buffer_m;
   s.context_m = in.cfg.clip.overhang_buffer_m + kOwnershipContextM;
+  s.roof_points_per_cell = roof_points_per_cell;
   const Dtm* dtm = &in.dtm;
   Vec3 o = frame.origin;
   s.terrain = [dtm, o](double x, double y) { return dtm->height_at(x + o.x(), y + o.y()) - o.z(); };
@@ -293,6 +295,9 @@ int run_batch(const BatchOptions& opt) {
   ClipParams context = in.cfg.clip;
   context.overhang_buffer_m += kOwnershipContextM;
   auto roof_lists = ParcelClipper(in.layer, context).clip(in.roof);
+  // One density for every scene, so two parcels judge the roof at their
+  // boundary alike.
+  const int roof_points_per_cell = typical_roof_points_per_cell(in.roof);
   auto neighbours =
       neighbour_lists(in.layer, 2.0 * (in.cfg.clip.overhang_buffer_m + kOwnershipContextM) + 0.5);
   double t_ingest =
@@ -325,7 +330,7 @@ int run_batch(const BatchOptions& opt) {
   auto worker = [&] {
     for (size_t i = next++; i < n; i = next++) {
       if (!todo[i]) continue;
-      ParcelScene scene = make_scene(in, frame, i, roof_lists[i], wall_lists[i], neighbours[i]);
+      ParcelScene scene = make_scene(in, frame, i, roof_lists[i], wall_lists[i], neighbours[i], roof_points_per_cell);
       ParcelResult r = reconstruct_parcel(scene, in.cfg.reconstruction);
       ParcelValuation v = value_parcel(in.layer.parcels[i], r, in.cfg.valuation);
       std::lock_guard<std::mutex> lock(store_mutex);

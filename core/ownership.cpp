@@ -57,24 +57,38 @@ void add_runs_across(const ParcelScene& s, const RoofComponent& c, const std::ve
   }
 }
 
+constexpr double kRoofCellM = 0.5;  // the ownership grid's cell
+
+std::pair<long, long> roof_cell(const Vec2& q) {
+  return {std::lround(std::floor(q.x() / kRoofCellM)), std::lround(std::floor(q.y() / kRoofCellM))};
+}
+
 // Roof found in a band of land: the cells of a fixed grid (the local frame's,
-// the same in every scene) holding a few roof points or more. Cells, not
-// points, so that the answer does not hang on the scan's density.
+// the same in every scene) holding a share of the scan's typical count or
+// more. Cells, not points, so that the answer does not hang on the scan's
+// density, and a share of the typical count, not a fixed one, so that a
+// sparse scan's cells count as a dense one's do.
 class RoofCells {
  public:
+  explicit RoofCells(int points_per_cell) : needed_(points_per_cell) {}
   void add(const Vec2& q) {
-    if (++count_[{std::lround(std::floor(q.x() / kCell)), std::lround(std::floor(q.y() / kCell))}] == kPointsPerCell)
-      ++covered_;
+    if (++count_[roof_cell(q)] == needed_) ++covered_;
   }
   bool enough() const { return covered_ >= kMinCells; }
 
  private:
-  static constexpr double kCell = 0.5;       // m
-  static constexpr int kPointsPerCell = 3;
-  static constexpr size_t kMinCells = 4;     // 1 m^2: a metre of roof along the boundary, a metre deep
+  static constexpr size_t kMinCells = 4;  // 1 m^2: a metre of roof along the boundary, a metre deep
+  int needed_;
   std::map<std::pair<long, long>, int> count_;
   size_t covered_ = 0;
 };
+
+// What a cell must hold to count as roof: a fifth of the scan's typical
+// count (3 of Cimahi's 15), so stray points in a cell do not make it roof.
+int points_needed_per_cell(const ParcelScene& s) {
+  const int typical = s.roof_points_per_cell > 0 ? s.roof_points_per_cell : typical_roof_points_per_cell(s.roof_points);
+  return std::max(1, (typical + 4) / 5);
+}
 
 // Neighbours whose buildings meet this parcel's at their boundary: roof
 // deeper into their parcel than an overhang reaches (the overhang buffer plus
@@ -86,7 +100,8 @@ class RoofCells {
 std::set<int> meeting_neighbours(const ParcelScene& s, const ReconstructionParams& p) {
   const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
   const auto in_band = [&](double d) { return d > shared_depth && d <= s.context_m - 0.05; };
-  std::vector<RoofCells> there(s.neighbours.size());
+  const int needed = points_needed_per_cell(s);
+  std::vector<RoofCells> there(s.neighbours.size(), RoofCells(needed));
   std::vector<Vec2> own;
   for (const auto& point : s.roof_points) {
     const Vec2 q = plan(point);
@@ -104,7 +119,7 @@ std::set<int> meeting_neighbours(const ParcelScene& s, const ReconstructionParam
   std::set<int> meeting;
   for (size_t n = 0; n < there.size(); ++n) {
     if (!there[n].enough()) continue;
-    RoofCells here;
+    RoofCells here(needed);
     for (size_t k = 0; k < own.size() && !here.enough(); ++k)
       if (in_band(poly::distance(s.neighbours[n], own[k]))) here.add(own[k]);
     if (here.enough()) meeting.insert(int(n));
@@ -113,6 +128,22 @@ std::set<int> meeting_neighbours(const ParcelScene& s, const ReconstructionParam
 }
 
 }  // namespace
+
+int typical_roof_points_per_cell(const std::vector<Vec3>& roof_points) {
+  std::vector<std::pair<long, long>> cells;
+  cells.reserve(roof_points.size());
+  for (const auto& q : roof_points) cells.push_back(roof_cell(plan(q)));
+  std::sort(cells.begin(), cells.end());
+  std::vector<int> counts;
+  for (size_t i = 0, j = 0; i < cells.size(); i = j) {
+    while (j < cells.size() && cells[j] == cells[i]) ++j;
+    counts.push_back(int(j - i));
+  }
+  if (counts.empty()) return 0;
+  auto mid = counts.begin() + long(counts.size() / 2);
+  std::nth_element(counts.begin(), mid, counts.end());
+  return *mid;
+}
 
 // Ownership: a component goes whole to the land holding most of its points (an
 // overhang reaches at most the overhang buffer across a boundary) and is

@@ -13,6 +13,10 @@
 
 namespace c3d {
 
+// The scan's typical roof points per cell of the size ownership counts roof
+// in (the median over the cells holding any); 0 with no points.
+int typical_roof_points_per_cell(const std::vector<Vec3>& roof_points);
+
 // Gives away the components (or their parts across a boundary split with a
 // neighbour) this parcel does not model; returns the neighbours split against.
 std::set<int> apply_ownership(const ParcelScene& s, Segmentation& seg, const ReconstructionParams& p);

@@ -19,6 +19,7 @@ struct ParcelScene {
   std::function<double(double, double)> terrain;  // local terrain z, NaN outside
   double overhang_buffer_m = 1.6;          // how far an overhang may reach across the boundary
   double context_m = 3.1;                  // how far beyond the parcel roof_points reach
+  int roof_points_per_cell = 0;            // the whole scan's typical_roof_points_per_cell; 0: this scene's
 };
 
 // Never throws: a parcel that cannot be modelled comes back `failed` with a reason.

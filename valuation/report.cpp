@@ -179,7 +179,7 @@ std::string area_chart(const BatchModel& m) {
     }
   double top = 1;
   for (const auto& [t, x] : all) top = std::max(top, x.area + x.sigma);
-  const int w = 520, row = 34, left = 110, bar_w = 300;
+  const int w = 560, row = 34, left = 110, bar_w = 300;  // room after the longest bar for its label
   std::string s = fmt("<svg width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" role=\"img\" "
                       "aria-label=\"Area by element type\">",
                       w, row * 5 + 10, w, row * 5 + 10);
