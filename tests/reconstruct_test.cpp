@@ -508,6 +508,26 @@ TEST(Envelope, FootprintHasNoEdgeOfAMillimetreOrTwo) {
   EXPECT_TRUE(check.ok) << check.summary();
 }
 
+// Two roof regions whose boundary meets the footprint 1 mm from its
+// south-west corner, 0.47 mm inside its south edge (05786 on a random quarter
+// of the Cimahi points): noded there as it lay, the boundary bent the
+// footprint edge the pieces were cut by, and the wall under it, meeting
+// them, folded a face 1 mm wide across its corner (a polygon whose triangles'
+// normals part by tens of degrees). The boundary's end is put on the edge.
+TEST(Envelope, RoofRegionCornerBesideAFootprintEdgeLiesOnIt) {
+  EnvelopeInput in = flat_roof_input("bent", Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}});
+  const Vec2 off(0.3 + 0.00093, 0.3 + 0.00047);  // the footprint is the outline inset by 0.3 m
+  const Plane west = plane_through({0, 4, 3}, {0, 0.2, 1}), east = plane_through({0, 4, 3.2}, {0, 0.2, 1});
+  in.roof = {RoofRegion{0, west, {Polygon2{{{0, 0}, {0.30093, 0}, off, {5, 8}, {0, 8}}, {}}}},
+             RoofRegion{1, east, {Polygon2{{{0.30093, 0}, {10, 0}, {10, 8}, {5, 8}, off}, {}}}}};
+  in.fits = {in.fits[0], in.fits[0]};
+  in.fits[0].plane = west, in.fits[1].plane = east;
+  const Building b = build_building(in);
+  const SolidCheck check = check_solid(b.solid, 0.002);
+  EXPECT_TRUE(check.ok) << check.summary();
+  for (const auto& issue : validate_building(b, {})) ADD_FAILURE() << to_string(issue);
+}
+
 namespace {
 
 // `count` wall points (2 cm noise, z0 to z1 high) along the segment a-b.
