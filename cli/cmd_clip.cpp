@@ -34,10 +34,8 @@ bool has(const std::vector<int>& codes, int c) {
 }
 
 void run_clip(const ClipOptions& o) {
-  ParcelFields fields;
-  fields.id = o.id_field;
   std::vector<std::string> warnings;
-  ParcelLayer layer = read_parcels(o.parcels, fields, &warnings);
+  ParcelLayer layer = read_parcels(o.parcels, parcel_fields(o.id_field), &warnings);
   std::vector<PointCloud> clouds;
   for (const std::string& f : o.clouds) clouds.push_back(read_point_cloud(f));
   CrsReconciliation crs = reconcile_crs(layer, clouds);
@@ -103,7 +101,8 @@ void register_clip(CLI::App& app) {
   cmd->add_option("--buffer", o->buffer, "overhang buffer around each parcel, m")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--id-field", o->id_field, "parcel id field (default: the feature id)");
+  cmd->add_option("--id-field", o->id_field,
+                  "parcel id field (default: as the batch, NIB where the layer has it, else the feature id)");
   cmd->add_option("--csv", o->csv, "also write the table as CSV");
   cmd->callback([o] {
     try {

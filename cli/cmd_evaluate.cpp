@@ -227,10 +227,8 @@ void run_evaluate(const EvalOptions& o) {
   std::unique_ptr<ParcelClipper> clipper;
   std::vector<Zone> zones;
   if (!o.parcels.empty()) {
-    ParcelFields fields;
-    fields.id = o.id_field;
     std::vector<std::string> warnings;
-    layer = read_parcels(o.parcels, fields, &warnings);
+    layer = read_parcels(o.parcels, parcel_fields(o.id_field), &warnings);
     CrsReconciliation crs = reconcile_crs(layer, clouds);
     warnings.insert(warnings.end(), crs.warnings.begin(), crs.warnings.end());
     for (const auto& w : warnings) std::cerr << "cadastre3d: warning: " << w << "\n";
@@ -381,7 +379,8 @@ void register_evaluate(CLI::App& app) {
   cmd->add_option("--parcels", o->parcels, "parcel layer: per-parcel rows, measured as the batch does: "
                                            "roof points inside a parcel against its model's roofs, wall "
                                            "points within --buffer of it against its walls");
-  cmd->add_option("--id-field", o->id_field, "parcel id field (default: the feature id)");
+  cmd->add_option("--id-field", o->id_field,
+                  "parcel id field (default: as the batch, NIB where the layer has it, else the feature id)");
   cmd->add_option("--buffer", o->buffer, "wall points this far outside a parcel still count for it, m")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

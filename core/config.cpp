@@ -224,6 +224,12 @@ void read_valuation(const Section& s, ValuationParams& v) {
 
 }  // namespace
 
+ParcelFields parcel_fields(const std::string& id_field) {
+  ParcelFields f = default_config().fields;
+  if (!id_field.empty()) f.id = id_field, f.id_required = true;
+  return f;
+}
+
 Config default_config() {
   Config c;
   c.source = "(defaults)";

@@ -80,4 +80,9 @@ Config load_config(const std::string& path);
 // The built-in defaults (same values as config/cadastre3d.toml).
 Config default_config();
 
+// The batch's parcel fields, with the id field named on a command line (then
+// required) instead of the default's: so `evaluate` and `clip` name parcels
+// as the batch did (Cimahi's NIB), and match the OBJ groups it wrote.
+ParcelFields parcel_fields(const std::string& id_field);
+
 }  // namespace c3d
