@@ -1,11 +1,13 @@
 // cadastre3d sample: a synthetic town with exact ground truth (core/sample_town.h).
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
 
 #include "cli/commands.h"
 #include "core/sample_town.h"
+#include "ifc_citygml/export.h"
 
 namespace c3d::cli {
 
@@ -16,6 +18,26 @@ struct SampleArgs {
   std::string format = "gpkg";
   SampleOptions opt;
 };
+
+// The exact buildings as the batch would write them (truth_obj/<parcel>.obj,
+// a group per element), so `evaluate` can measure the perfect model with the
+// batch's ruler: what no reconstruction can beat on this town's points.
+std::vector<std::string> write_truth_obj(const SampleTown& town, const std::string& dir) {
+  BatchModel model;
+  model.frame = town.frame;
+  model.crs_wkt = town.crs_wkt;
+  model.epsg = town.epsg;
+  model.parcels = town.parcels;
+  for (size_t i = 0; i < town.parcels.size(); ++i) {
+    ParcelResult r;
+    r.parcel_index = int(i);
+    r.parcel_id = town.parcels[i].id;
+    r.status = town.truth[i].empty() ? ParcelStatus::Empty : ParcelStatus::Ok;
+    for (const auto& tb : town.truth[i]) r.buildings.push_back(tb.model);
+    model.results.push_back(std::move(r));
+  }
+  return write_obj_per_parcel(model, dir);
+}
 
 void run_sample(const SampleArgs& a) {
   using clock = std::chrono::steady_clock;
@@ -30,6 +52,8 @@ void run_sample(const SampleArgs& a) {
   auto t1 = clock::now();
   auto files = write_sample_town(town, a.out,
                                  a.format == "geojson" ? ParcelFormat::GeoJson : ParcelFormat::GeoPackage);
+  const auto truth_obj = (std::filesystem::path(a.out) / "truth_obj").string();
+  write_truth_obj(town, truth_obj);
   auto t2 = clock::now();
   std::map<std::string, int> counts;
   int buildings = 0;
@@ -48,7 +72,7 @@ void run_sample(const SampleArgs& a) {
   if (!files.cloud.empty())
     std::cout << "  cloud     " << files.cloud << "  (" << town.cloud.points.size() << " points: "
               << cls[0] << " roof, " << cls[1] << " wall, " << cls[2] << " ground)\n";
-  std::cout << "  truth     " << files.truth << "\n  layouts  ";
+  std::cout << "  truth     " << files.truth << ", " << truth_obj << "/<parcel>.obj\n  layouts  ";
   for (const auto& [k, n] : counts) std::cout << " " << k << " " << n;
   std::cout << "\n  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
 }
@@ -77,6 +101,9 @@ void register_sample(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--outliers", a->opt.outlier_share, "Share of roof points that are outliers")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--clutter", a->opt.clutter_share, "Share of buildings with an antenna or a water tank")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
