@@ -1,5 +1,5 @@
 // cadastre3d evaluate: deviation of classified points from a building model
-// (OBJ/PLY), as the plane-intersection paper measures it: roof points against the
+// (OBJ/PLY, or CityJSON), as the plane-intersection paper measures it: roof points against the
 // roof surfaces (3D and vertical distance), wall points against the walls; per
 // parcel when a parcel layer is given, and pooled.
 #include <algorithm>
@@ -24,6 +24,7 @@
 #include "core/geometry.h"
 #include "core/mesh_io.h"
 #include "core/point_io.h"
+#include "ifc_citygml/export.h"
 
 namespace c3d::cli {
 namespace {
@@ -212,11 +213,38 @@ void write_residuals(const std::string& path, const std::vector<Zone>& zones) {
   if (!out) throw InputError(path, "cannot write");
 }
 
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// A CityJSON file's buildings as mesh groups in world coordinates, one per
+// element, named "<parcel id>_<building id>_<element type>" (the parcel from
+// the building's parcel_id attribute, where it has one), so that each element
+// is measured for its own parcel, as the batch's OBJ groups are.
+std::vector<MeshGroup> read_cityjson_groups(const std::string& path) {
+  const BatchModel model = read_cityjson(path);
+  std::vector<MeshGroup> groups;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings)
+      for (const auto& e : b.elements) {
+        MeshGroup g;
+        g.name = (r.parcel_id.empty() ? "" : r.parcel_id + "_") + b.id + "_" + to_string(e.type);
+        for (Face f : e.faces) {
+          for (auto& p : f.ring) p += model.frame.origin;
+          for (auto& h : f.holes)
+            for (auto& p : h) p += model.frame.origin;
+          g.faces.push_back(std::move(f));
+        }
+        groups.push_back(std::move(g));
+      }
+  return groups;
+}
+
 void run_evaluate(const EvalOptions& o) {
   const ClassMapping classes = parse_classes(o.classes);
   std::vector<MeshGroup> mesh;
   for (const auto& path : o.meshes) {
-    auto groups = read_mesh_groups(path);
+    auto groups = ends_with(path, ".json") ? read_cityjson_groups(path) : read_mesh_groups(path);
     mesh.insert(mesh.end(), groups.begin(), groups.end());
   }
   std::vector<PointCloud> clouds{read_point_cloud(o.cloud)};
@@ -369,8 +397,9 @@ void register_evaluate(CLI::App& app) {
   auto o = std::make_shared<EvalOptions>();
   auto* cmd = app.add_subcommand(
       "evaluate", "Deviation of roof and wall points from a building model (per parcel and pooled)");
-  cmd->add_option("--mesh", o->meshes, "model meshes (.obj or .ply, one or more; groups/materials "
-                                       "named roof/wall are used, else faces are classed by their normal)")
+  cmd->add_option("--mesh", o->meshes, "models (.obj or .ply meshes, one or more: groups/materials "
+                                       "named roof/wall are used, else faces are classed by their normal; "
+                                       "or CityJSON .json: its semantic surfaces)")
       ->required()
       ->expected(1, -1);
   cmd->add_option("--cloud", o->cloud, "classified point cloud (LAS/PLY/PCD/XYZ)")->required();

@@ -31,15 +31,20 @@ namespace {
 
 struct Batch {
   std::string out, log;
+  std::string cloud, parcels;  // the inputs, for evaluate
   int rc = -1;
   BatchModel store;
   std::map<std::string, double> area;  // "<building>/e<k>" -> store area
 };
 
-Batch run_batch(const std::string& inputs, const std::string& out) {
+Batch run_batch(const std::string& cloud, const std::string& parcels, const std::string& dtm,
+                const std::string& out) {
   Batch r;
   r.out = out;
-  r.rc = test::run_cli("batch --quiet " + inputs + " --out " + out + " --formats gml,gml3,cityjson,ifc",
+  r.cloud = cloud;
+  r.parcels = parcels;
+  r.rc = test::run_cli("batch --quiet --cloud " + cloud + " --parcels " + parcels + " --dtm " + dtm + " --out " +
+                           out + " --formats gml,gml3,cityjson,ifc",
                        &r.log);
   if (r.rc != 0) return r;
   r.store = load_batch_model(out + "/cadastre.gpkg");
@@ -56,17 +61,14 @@ const Batch& batch(const std::string& data) {
   auto it = done.find(data);
   if (it != done.end()) return it->second;
   const std::string dir = test::temp_dir(data);
-  std::string inputs;
   if (data == "cimahi") {
     const std::string d = test::cimahi_dir();
-    inputs = "--cloud " + d + "/cimahi.las --parcels " + d + "/parcels.shp --dtm " + d + "/dtm.tif";
-  } else {
-    std::string log;
-    EXPECT_EQ(test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 1", &log), 0) << log;
-    const std::string t = dir + "/town";
-    inputs = "--cloud " + t + "/cloud.las --parcels " + t + "/parcels.gpkg --dtm " + t + "/dtm.tif";
+    return done[data] = run_batch(d + "/cimahi.las", d + "/parcels.shp", d + "/dtm.tif", dir + "/out");
   }
-  return done[data] = run_batch(inputs, dir + "/out");
+  std::string log;
+  EXPECT_EQ(test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 1", &log), 0) << log;
+  const std::string t = dir + "/town";
+  return done[data] = run_batch(t + "/cloud.las", t + "/parcels.gpkg", t + "/dtm.tif", dir + "/out");
 }
 
 class Exports : public ::testing::TestWithParam<std::string> {
@@ -196,6 +198,28 @@ TEST_P(Exports, CityJsonSchemaIndicesAndGeometryAreas) {
         EXPECT_NEAR(geom, b.area.at(tag), 0.01) << tag;
       }
   EXPECT_EQ(n, b.area.size());
+}
+
+// Whoever measures the CityJSON export with the batch's ruler (every roof point
+// inside a parcel against the roofs of that parcel's buildings, every wall
+// point within 2 m of it against their walls) gets the batch's own figures.
+TEST_P(Exports, CityJsonMeasuresAsTheBatchMeasuredItsModels) {
+  C3D_BATCH(b);
+  std::string out;
+  const std::string json = b.out + "/cityjson.eval.json";
+  ASSERT_EQ(test::run_cli("evaluate --mesh " + b.out + "/buildings.city.json --cloud " + b.cloud + " --parcels " +
+                              b.parcels + " --json " + json,
+                          &out),
+            0)
+      << out;
+  const nlohmann::json measured = nlohmann::json::parse(fx::read_text(json))["pooled"];
+  const nlohmann::json summary = nlohmann::json::parse(fx::read_text(b.out + "/summary.json"));
+  for (const char* kind : {"roof", "wall"}) {
+    const auto& batch_dev = summary[std::string("pooled_") + kind + "_deviation"];
+    EXPECT_EQ(measured[kind]["n"], batch_dev["n"]) << kind;
+    for (const char* m : {"mean", "std", "rmse"})  // vertices on the export's 0.1 mm grid
+      EXPECT_NEAR(measured[kind][m].get<double>(), batch_dev[m].get<double>(), 2e-4) << kind << " " << m;
+  }
 }
 
 TEST_P(Exports, IfcReadByWebIfcAndIfcPlusPlus) {
