@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's main-job command on a fresh Debian 12 machine: installs what is
 # missing (scripts/setup.sh), builds the cadastre3d program (build/, Release,
-# ccache), generates the sample town and runs the parcel batch on it.
+# ccache), generates the sample town, runs the parcel batch on it and compares
+# its models with the town's truth (scripts/compare_truth.py).
 #
 #   bash scripts/demo.sh            # sample town -> out/demo
 #   bash scripts/demo.sh --cimahi   # also the real Cimahi data (../shared/data/cimahi) -> out/cimahi
@@ -49,6 +50,10 @@ if [ "$rc" -ne 0 ] && [ "$rc" -ne 3 ]; then
   echo "demo: batch failed (exit code $rc)" >&2
   exit "$rc"
 fi
+
+echo
+echo "demo: the sample town's models against its exact truth (scripts/compare_truth.py)"
+python3 scripts/compare_truth.py --quiet out/sample/truth.json out/demo/summary.json
 
 cimahi_rc=0
 if [ "$CIMAHI" -eq 1 ]; then
