@@ -21,7 +21,7 @@ struct SampleArgs {
 
 // The exact buildings as the batch would write them (truth_obj/<parcel>.obj,
 // a group per element), so `evaluate` can measure the perfect model with the
-// batch's ruler: what no reconstruction can beat on this town's points.
+// batch's ruler: the figures a flawless reconstruction of these points gets.
 std::vector<std::string> write_truth_obj(const SampleTown& town, const std::string& dir) {
   BatchModel model;
   model.frame = town.frame;
