@@ -213,10 +213,6 @@ void write_residuals(const std::string& path, const std::vector<Zone>& zones) {
   if (!out) throw InputError(path, "cannot write");
 }
 
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 // A CityJSON file's buildings as mesh groups in world coordinates, one per
 // element, named "<parcel id>_<building id>_<element type>" (the parcel from
 // the building's parcel_id attribute, where it has one), so that each element
@@ -244,7 +240,7 @@ void run_evaluate(const EvalOptions& o) {
   const ClassMapping classes = parse_classes(o.classes);
   std::vector<MeshGroup> mesh;
   for (const auto& path : o.meshes) {
-    auto groups = ends_with(path, ".json") ? read_cityjson_groups(path) : read_mesh_groups(path);
+    auto groups = lower_ext(path) == "json" ? read_cityjson_groups(path) : read_mesh_groups(path);
     mesh.insert(mesh.end(), groups.begin(), groups.end());
   }
   std::vector<PointCloud> clouds{read_point_cloud(o.cloud)};

@@ -18,6 +18,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/mesh_io.h"
 
 namespace c3d {
 namespace {
@@ -53,13 +54,6 @@ std::vector<Vec3> xyz_of(const pcl::PCLPointCloud2& c, const std::string& path) 
       }
     }
   return out;
-}
-
-std::string lower_ext(const std::string& path) {
-  auto dot = path.find_last_of('.');
-  std::string e = dot == std::string::npos ? "" : path.substr(dot + 1);
-  for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return e;
 }
 
 }  // namespace

@@ -13,7 +13,6 @@
 #include "core/solid_check.h"
 
 namespace c3d {
-namespace {
 
 std::string lower_ext(const std::string& path) {
   auto dot = path.find_last_of('.');
@@ -21,6 +20,8 @@ std::string lower_ext(const std::string& path) {
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
   return e;
 }
+
+namespace {
 
 // ---- OBJ ---------------------------------------------------------------------
 

@@ -15,6 +15,9 @@ struct MeshGroup {
   std::vector<Face> faces;
 };
 
+// A file name's extension after its last dot, lower case ("" without one).
+std::string lower_ext(const std::string& path);
+
 // Reads .obj or .ply (by extension). Every polygon becomes one Face (no holes);
 // consecutive faces with the same (name, material) share a group. An OBJ comment
 // "world = local + (x, y, z)" (as write_obj and the exporters write it) is

@@ -58,6 +58,14 @@ def eave_length(building, footprints):
     return total
 
 
+def relative_error(true, modelled):
+    """Error in % of the truth; a truth of zero is 0 % while the model stays
+    under half a square metre, else infinite."""
+    if true > 1e-6:
+        return (modelled - true) / true * 100
+    return 0.0 if abs(modelled) < 0.5 else float("inf")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--density", type=float, default=40.0, help="roof points per m2 of the town")
@@ -83,7 +91,7 @@ def main():
                 row = []
                 for m in METRICS:
                     tv, sv = t[m], s[m]
-                    err = (sv - tv) / tv * 100 if tv > 1e-6 else (0.0 if abs(sv) < 0.5 else float("inf"))
+                    err = relative_error(tv, sv)
                     row.append(f"{m.split('_m')[0][:10]}={sv:8.2f}/{tv:8.2f} ({err:+5.1f}%)")
                     key = (tp["layout"], m)
                     worst[key] = max(worst.get(key, 0), abs(err))
