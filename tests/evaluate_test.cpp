@@ -294,6 +294,12 @@ TEST(EvaluateCli, PooledAndPerParcelDeviation) {
 
   EXPECT_NE(test::run_cli("evaluate --mesh " + dir + "/missing.obj --cloud " + dir + "/cloud.las", &out), 0);
   EXPECT_NE(out.find("missing.obj"), std::string::npos) << out;
+  // A CityJSON model that is not there or not JSON: one error naming the file.
+  EXPECT_NE(test::run_cli("evaluate --mesh " + dir + "/missing.city.json --cloud " + dir + "/cloud.las", &out), 0);
+  EXPECT_NE(out.find("missing.city.json: cannot open"), std::string::npos) << out;
+  std::ofstream(dir + "/cut.city.json") << R"({"type": "CityJSON", "CityObjects": {)";
+  EXPECT_NE(test::run_cli("evaluate --mesh " + dir + "/cut.city.json --cloud " + dir + "/cloud.las", &out), 0);
+  EXPECT_NE(out.find("cut.city.json: "), std::string::npos) << out;
 }
 
 TEST(Deviation, WallPointsSplitByWhereTheyStand) {
