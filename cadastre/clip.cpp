@@ -8,7 +8,7 @@
 #include <geos/geom/prep/PreparedPolygon.h>
 #include <geos/index/strtree/TemplateSTRtree.h>
 
-#include "core/geos_util.h"
+#include "core/geometry/geos_util.h"
 #include "core/error.h"
 
 namespace c3d {

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/config.h"
+#include "core/config/config.h"
 #include "core/types.h"
 
 namespace c3d {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 
 namespace c3d {
 

@@ -11,10 +11,10 @@
 #include <memory>
 #include <sstream>
 
-#include "core/geos_util.h"
+#include "core/geometry/geos_util.h"
 #include "core/error.h"
 #include "core/gdal_dataset.h"
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 
 namespace c3d {
 namespace {

@@ -12,7 +12,7 @@
 #include "cadastre/sha256.h"
 #include "cadastre/sqlite_util.h"
 #include "core/error.h"
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 
 namespace c3d {
 

@@ -10,9 +10,9 @@
 #include "cadastre/clip.h"
 #include "cadastre/parcels.h"
 #include "cli/commands.h"
-#include "core/crs.h"
+#include "core/io/crs.h"
 #include "core/error.h"
-#include "core/point_io.h"
+#include "core/io/point_io.h"
 
 namespace c3d::cli {
 namespace {

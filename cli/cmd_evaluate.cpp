@@ -18,12 +18,12 @@
 #include "cadastre/clip.h"
 #include "cadastre/parcels.h"
 #include "cli/commands.h"
-#include "core/crs.h"
+#include "core/io/crs.h"
 #include "core/error.h"
-#include "core/evaluate.h"
-#include "core/geometry.h"
-#include "core/mesh_io.h"
-#include "core/point_io.h"
+#include "core/evaluate/evaluate.h"
+#include "core/geometry/geometry.h"
+#include "core/io/mesh_io.h"
+#include "core/io/point_io.h"
 #include "ifc_citygml/export.h"
 
 namespace c3d::cli {

@@ -14,11 +14,11 @@
 
 #include "cadastre/parcels.h"
 #include "cli/commands.h"
-#include "core/crs.h"
-#include "core/dtm_io.h"
+#include "core/io/crs.h"
+#include "core/io/dtm_io.h"
 #include "core/error.h"
-#include "core/geometry.h"
-#include "core/point_io.h"
+#include "core/geometry/geometry.h"
+#include "core/io/point_io.h"
 
 namespace c3d::cli {
 namespace {

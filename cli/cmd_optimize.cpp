@@ -4,7 +4,7 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
-#include "core/mesh_dense.h"
+#include "core/optimizer/mesh_dense.h"
 
 namespace c3d::cli {
 

@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "core/config.h"
-#include "valuation/report.h"
+#include "core/config/config.h"
+#include "cadastre/report/report.h"
 
 namespace c3d::cli {
 

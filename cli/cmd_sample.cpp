@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "core/sample_town.h"
+#include "core/synthetic/sample_town.h"
 #include "ifc_citygml/export.h"
 
 namespace c3d::cli {

@@ -9,10 +9,10 @@
 #include <set>
 
 #include "cadastre/store.h"
-#include "core/evaluate.h"
-#include "core/geometry.h"
+#include "core/evaluate/evaluate.h"
+#include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
-#include "valuation/report.h"
+#include "cadastre/report/report.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;

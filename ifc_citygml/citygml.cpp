@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
 

@@ -13,8 +13,8 @@
 #include <unordered_map>
 
 #include "core/error.h"
-#include "core/geometry.h"
-#include "core/polygon_rules.h"
+#include "core/geometry/geometry.h"
+#include "core/check/polygon_rules.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
 

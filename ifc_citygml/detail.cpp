@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 
 namespace c3d::exp {
 

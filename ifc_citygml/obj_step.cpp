@@ -26,7 +26,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
 

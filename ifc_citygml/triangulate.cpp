@@ -1,6 +1,6 @@
 // Faces to indexed triangles for the writers: the constrained Delaunay
 // triangulation lives in core (core/solid_check), shared with the solid check.
-#include "core/solid_check.h"
+#include "core/check/solid_check.h"
 #include "ifc_citygml/detail.h"
 
 namespace c3d::exp {

@@ -15,8 +15,8 @@
 #include <numeric>
 #include <sstream>
 
-#include "core/geometry.h"
-#include "core/solid_check.h"
+#include "core/geometry/geometry.h"
+#include "core/check/solid_check.h"
 #include "ifc_citygml/detail.h"
 
 namespace c3d {

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/polygon_rules.h"
+#include "core/check/polygon_rules.h"
 #include "core/types.h"
 
 namespace c3d {

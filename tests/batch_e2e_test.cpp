@@ -27,9 +27,9 @@
 #include <vector>
 
 #include "cadastre/parcels.h"
-#include "core/config.h"
-#include "core/point_io.h"
-#include "core/polygon_ops.h"
+#include "core/config/config.h"
+#include "core/io/point_io.h"
+#include "core/geometry/polygon_ops.h"
 #include "tests/test_support.h"
 
 using namespace c3d;

@@ -9,7 +9,7 @@
 
 #include "cadastre/clip.h"
 #include "cadastre/parcels.h"
-#include "core/point_io.h"
+#include "core/io/point_io.h"
 #include "tests/test_support.h"
 
 namespace c3d {

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <regex>
 
-#include "core/config.h"
+#include "core/config/config.h"
 #include "core/error.h"
 #include "tests/test_support.h"
 

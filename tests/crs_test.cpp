@@ -1,10 +1,10 @@
 // CRS identification, comparison, reprojection and reconciliation of inputs.
 #include <gtest/gtest.h>
 
-#include "core/crs.h"
+#include "core/io/crs.h"
 #include "core/error.h"
-#include "core/geometry.h"
-#include "core/polygon_ops.h"
+#include "core/geometry/geometry.h"
+#include "core/geometry/polygon_ops.h"
 
 namespace c3d {
 namespace {

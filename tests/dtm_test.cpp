@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "core/crs.h"
-#include "core/dtm_io.h"
+#include "core/io/crs.h"
+#include "core/io/dtm_io.h"
 #include "core/error.h"
 #include "tests/test_support.h"
 

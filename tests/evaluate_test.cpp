@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/evaluate.h"
-#include "core/geometry.h"
-#include "core/mesh_io.h"
-#include "core/point_io.h"
+#include "core/evaluate/evaluate.h"
+#include "core/geometry/geometry.h"
+#include "core/io/mesh_io.h"
+#include "core/io/point_io.h"
 #include "tests/test_support.h"
 
 using namespace c3d;

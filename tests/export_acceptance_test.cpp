@@ -14,9 +14,9 @@
 
 #include "cadastre/parcels.h"
 #include "cadastre/store.h"
-#include "core/geometry.h"
-#include "core/point_io.h"
-#include "core/polygon_ops.h"
+#include "core/geometry/geometry.h"
+#include "core/io/point_io.h"
+#include "core/geometry/polygon_ops.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
 #include "tests/export_checks.h"

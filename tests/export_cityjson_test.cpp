@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
 #include "tests/export_checks.h"

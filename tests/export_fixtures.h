@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "core/types.h"
 
 namespace c3d::fixture {

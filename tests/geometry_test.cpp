@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "core/geometry.h"
-#include "core/label_grid.h"
+#include "core/geometry/geometry.h"
+#include "core/geometry/label_grid.h"
 
 using namespace c3d;
 

@@ -8,10 +8,10 @@
 #include <limits>
 
 #include "cadastre/parcels.h"
-#include "core/crs.h"
-#include "core/dtm_io.h"
+#include "core/io/crs.h"
+#include "core/io/dtm_io.h"
 #include "core/error.h"
-#include "core/point_io.h"
+#include "core/io/point_io.h"
 #include "tests/test_support.h"
 
 namespace c3d {

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/geometry.h"
-#include "core/measure.h"
-#include "core/occ_check.h"
-#include "core/solid_check.h"
+#include "core/geometry/geometry.h"
+#include "core/reconstruct/measure/measure.h"
+#include "core/check/occ_check.h"
+#include "core/check/solid_check.h"
 #include "tests/test_support.h"
 
 using namespace c3d;

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <random>
 
-#include "core/neighbours.h"
+#include "core/reconstruct/segment/neighbours.h"
 
 namespace c3d {
 namespace {

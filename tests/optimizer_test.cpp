@@ -5,9 +5,9 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "core/optimizer.h"
-#include "core/optimizer_kernels.h"
-#include "core/vulkan_compute.h"
+#include "core/optimizer/optimizer.h"
+#include "core/optimizer/optimizer_kernels.h"
+#include "core/optimizer/vulkan_compute.h"
 
 using namespace c3d;
 

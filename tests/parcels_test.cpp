@@ -4,9 +4,9 @@
 #include <fstream>
 
 #include "cadastre/parcels.h"
-#include "core/crs.h"
+#include "core/io/crs.h"
 #include "core/error.h"
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "tests/test_support.h"
 
 namespace c3d {

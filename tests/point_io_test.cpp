@@ -5,8 +5,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "core/crs.h"
-#include "core/point_io.h"
+#include "core/io/crs.h"
+#include "core/io/point_io.h"
 #include "tests/test_support.h"
 
 namespace c3d {

@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "cadastre/store.h"
-#include "core/config.h"
+#include "core/config/config.h"
 #include "tests/store_fixtures.h"
 #include "tests/test_support.h"
-#include "valuation/report.h"
+#include "cadastre/report/report.h"
 #include "valuation/valuation.h"
 
 using namespace c3d;

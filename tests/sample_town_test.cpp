@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "core/geometry.h"
-#include "core/point_io.h"
-#include "core/sample_town.h"
+#include "core/geometry/geometry.h"
+#include "core/io/point_io.h"
+#include "core/synthetic/sample_town.h"
 #include "tests/test_support.h"
 
 using namespace c3d;

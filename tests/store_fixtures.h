@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "core/types.h"
 
 namespace c3d::test {

@@ -9,7 +9,7 @@
 #include "cadastre/gpkg_geometry.h"
 #include "cadastre/sha256.h"
 #include "cadastre/store.h"
-#include "core/config.h"
+#include "core/config/config.h"
 #include "core/error.h"
 #include "tests/store_fixtures.h"
 #include "tests/test_support.h"

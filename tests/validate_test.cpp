@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/polygon_rules.h"
+#include "core/check/polygon_rules.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
 #include "tests/export_fixtures.h"

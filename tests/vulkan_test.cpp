@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "core/mesh_distance.h"
-#include "core/vulkan_compute.h"
+#include "core/optimizer/mesh_distance.h"
+#include "core/optimizer/vulkan_compute.h"
 
 using namespace c3d;
 

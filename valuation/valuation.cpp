@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 
 namespace c3d {
 

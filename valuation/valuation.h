@@ -6,7 +6,7 @@
 // Uncertainties: sigma_amount = unit cost x sigma_area, sums in quadrature.
 #include <vector>
 
-#include "core/config.h"
+#include "core/config/config.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 

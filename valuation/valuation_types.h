@@ -1,6 +1,6 @@
 #pragma once
-// Valuation results as plain data: the store writes and reads them without
-// linking the valuation code (c3d_valuation depends on c3d_cadastre, not back).
+// Valuation results as plain data. valuation/ owns them and depends on core
+// only; the store (cadastre/) writes and reads them, the report shows them.
 #include <string>
 #include <vector>
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <exception>
 
-#include "core/point_io.h"
+#include "core/io/point_io.h"
 
 int main(int argc, char** argv) {
   if (argc < 2) {

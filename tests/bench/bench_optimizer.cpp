@@ -9,10 +9,10 @@
 #include <string>
 #include <thread>
 
-#include "core/mesh_distance.h"
-#include "core/optimizer.h"
-#include "core/optimizer_kernels.h"
-#include "core/vulkan_compute.h"
+#include "core/optimizer/mesh_distance.h"
+#include "core/optimizer/optimizer.h"
+#include "core/optimizer/optimizer_kernels.h"
+#include "core/optimizer/vulkan_compute.h"
 
 using namespace c3d;
 

@@ -1,0 +1,296 @@
+#include "core/io/dtm_io.h"
+
+#include <gdal_alg.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <memory>
+#include <sstream>
+
+#include <Eigen/Dense>
+
+#include "core/error.h"
+#include "core/gdal_dataset.h"
+
+namespace c3d {
+namespace {
+
+// Remaining holes take the value of the nearest valid cell (multi-source BFS,
+// 8-connected): GDALFillNodata stops at its search distance.
+void fill_nearest(std::vector<float>& z, const std::vector<char>& valid_in, int nx, int ny) {
+  std::vector<char> valid = valid_in;
+  std::deque<size_t> queue;
+  for (size_t i = 0; i < z.size(); ++i)
+    if (valid[i]) queue.push_back(i);
+  while (!queue.empty()) {
+    size_t i = queue.front();
+    queue.pop_front();
+    int x = int(i % nx), y = int(i / nx);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        int u = x + dx, v = y + dy;
+        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
+        size_t j = size_t(v) * nx + u;
+        if (valid[j]) continue;
+        valid[j] = 1;
+        z[j] = z[i];
+        queue.push_back(j);
+      }
+  }
+}
+
+// GDALFillNodata (inverse distance) on an in-memory copy of z, NaN being
+// NoData; whatever it leaves takes the nearest valid cell.
+void idw_fill(std::vector<float>& z, int nx, int ny, const std::string& source) {
+  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+  GdalDataset ds(mem->Create("", nx, ny, 1, GDT_Float32, nullptr));
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  constexpr float kNoData = -3.4e38f;
+  std::vector<float> work = z;
+  for (float& v : work)
+    if (std::isnan(v)) v = kNoData;
+  band->SetNoDataValue(kNoData);
+  if (band->RasterIO(GF_Write, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
+    throw InputError(source, "cannot fill NoData (in-memory raster write failed)");
+  GDALFillNodata(band, nullptr, std::max(nx, ny), 0, 0, nullptr, nullptr, nullptr);
+  if (band->RasterIO(GF_Read, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
+    throw InputError(source, "cannot fill NoData (in-memory raster read failed)");
+  std::vector<char> valid(z.size());
+  for (size_t i = 0; i < z.size(); ++i) {
+    valid[i] = work[i] != kNoData && std::isfinite(work[i]);
+    z[i] = work[i];
+  }
+  fill_nearest(z, valid, nx, ny);
+}
+
+// Under a building the terrain's slope and curvature run on, but an
+// inverse-distance fill flattens them: it put detached houses' floors 1.5 cm
+// (RMS) off, and the middle of a row of houses 5 cm. So each hole of building
+// size is filled with a moving least-squares quadratic: at each cell, the
+// quadratic fitted to the valid cells within kRing cells around the hole,
+// weighted by their distance to that cell (Gaussian, kSurfaceScale_m), plus
+// the inverse-distance fill of that surface's residuals on the ring, so the
+// fill meets the ring's own heights. A ring the surface does not fit (walls,
+// trees: RMS > kRingFitRms) keeps the plain fill.
+constexpr int kRing = 2;
+constexpr size_t kMaxSurfaceHole = 10000;  // cells; larger holes keep the plain fill
+constexpr double kSurfaceScale_m = 6.0;
+constexpr double kRingFitRms = 0.10;       // m
+
+struct HoleRegion {
+  std::vector<size_t> cells;
+  int x0, y0, x1, y1;  // bounding box with the ring, clipped to the grid
+};
+
+// 4-connected NoData components of `hole`.
+std::vector<HoleRegion> hole_components(const std::vector<char>& hole, int nx, int ny) {
+  std::vector<HoleRegion> out;
+  std::vector<char> seen(hole.size(), 0);
+  for (size_t start = 0; start < hole.size(); ++start) {
+    if (!hole[start] || seen[start]) continue;
+    HoleRegion h{{start}, nx, ny, -1, -1};
+    seen[start] = 1;
+    for (size_t k = 0; k < h.cells.size(); ++k) {
+      int x = int(h.cells[k] % nx), y = int(h.cells[k] / nx);
+      h.x0 = std::min(h.x0, x), h.x1 = std::max(h.x1, x), h.y0 = std::min(h.y0, y), h.y1 = std::max(h.y1, y);
+      const int step[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (const auto& d : step) {
+        int u = x + d[0], v = y + d[1];
+        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
+        size_t j = size_t(v) * nx + u;
+        if (hole[j] && !seen[j]) seen[j] = 1, h.cells.push_back(j);
+      }
+    }
+    h.x0 = std::max(0, h.x0 - kRing), h.y0 = std::max(0, h.y0 - kRing);
+    h.x1 = std::min(nx - 1, h.x1 + kRing), h.y1 = std::min(ny - 1, h.y1 + kRing);
+    out.push_back(std::move(h));
+  }
+  return out;
+}
+
+// The valid cells within kRing cells of the hole.
+std::vector<size_t> ring_of(const HoleRegion& h, const std::vector<char>& hole, int nx) {
+  std::vector<size_t> ring;
+  int w = h.x1 - h.x0 + 1;
+  std::vector<char> in_ring(size_t(w) * size_t(h.y1 - h.y0 + 1), 0);
+  for (size_t c : h.cells) {
+    int x = int(c % nx), y = int(c / nx);
+    for (int v = std::max(h.y0, y - kRing); v <= std::min(h.y1, y + kRing); ++v)
+      for (int u = std::max(h.x0, x - kRing); u <= std::min(h.x1, x + kRing); ++u) {
+        size_t j = size_t(v) * nx + u, local = size_t(v - h.y0) * size_t(w) + size_t(u - h.x0);
+        if (!hole[j] && !in_ring[local]) in_ring[local] = 1, ring.push_back(j);
+      }
+  }
+  return ring;
+}
+
+// Moving least-squares quadratic through the ring cells, evaluated at cell
+// (x, y); NaN where the weighted ring does not span both axes.
+double mls_height(const std::vector<size_t>& ring, const std::vector<float>& z, int nx, double x, double y,
+                  double scale_cells) {
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  for (size_t r : ring) {
+    double u = double(r % nx) - x, v = double(r / nx) - y, d2 = (u * u + v * v) / (scale_cells * scale_cells);
+    if (d2 > 9.0) continue;  // weight below 1e-4
+    double w = std::exp(-d2);
+    Eigen::Matrix<double, 6, 1> t;
+    t << 1, u, v, u * u, u * v, v * v;
+    ata += w * t * t.transpose();
+    atb += w * z[r] * t;
+  }
+  Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
+  if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-9) return std::nan("");
+  return ldlt.solve(atb)(0);  // the constant term: the surface at (x, y)
+}
+
+void fill_with_surface(std::vector<float>& z, const std::vector<char>& hole, const HoleRegion& h, int nx,
+                       double cell_m, const std::string& source) {
+  if (h.cells.size() > kMaxSurfaceHole) return;
+  std::vector<size_t> ring = ring_of(h, hole, nx);
+  if (ring.size() < 12) return;
+  double scale = std::max(2.0, kSurfaceScale_m / cell_m);
+  auto surface = [&](size_t cell) { return mls_height(ring, z, nx, double(cell % nx), double(cell / nx), scale); };
+  int w = h.x1 - h.x0 + 1, hgt = h.y1 - h.y0 + 1;
+  auto local = [&](size_t cell) { return size_t(int(cell / nx) - h.y0) * w + size_t(int(cell % nx) - h.x0); };
+  std::vector<float> residual(size_t(w) * size_t(hgt), std::nanf(""));
+  double sq = 0;
+  for (size_t r : ring) {
+    double d = z[r] - surface(r);
+    if (!std::isfinite(d)) return;
+    sq += d * d;
+    residual[local(r)] = float(d);
+  }
+  if (!(std::sqrt(sq / double(ring.size())) <= kRingFitRms)) return;
+  std::vector<double> fitted(h.cells.size());
+  for (size_t k = 0; k < h.cells.size(); ++k)
+    if (!std::isfinite(fitted[k] = surface(h.cells[k]))) return;
+  idw_fill(residual, w, hgt, source);
+  for (size_t k = 0; k < h.cells.size(); ++k) z[h.cells[k]] = float(fitted[k] + residual[local(h.cells[k])]);
+}
+
+// Fills NaN cells of dtm.z: inverse-distance interpolation (GDALFillNodata),
+// building-size holes with the terrain's trend (fill_with_surface).
+void fill_holes(Dtm& dtm) {
+  const size_t cells = dtm.z.size();
+  size_t holes = std::count_if(dtm.z.begin(), dtm.z.end(), [](float v) { return std::isnan(v); });
+  dtm.nodata_share = cells ? double(holes) / double(cells) : 0.0;
+  if (holes == 0) return;
+  if (holes == cells) throw InputError(dtm.source, "DTM has no valid height (all cells NoData)");
+  std::vector<char> hole(cells);
+  for (size_t i = 0; i < cells; ++i) hole[i] = std::isnan(dtm.z[i]);
+  idw_fill(dtm.z, dtm.nx, dtm.ny, dtm.source);
+  for (const auto& h : hole_components(hole, dtm.nx, dtm.ny))
+    fill_with_surface(dtm.z, hole, h, dtm.nx, std::abs(dtm.dx), dtm.source);
+}
+
+std::string crs_of(const GDALDataset& ds) {
+  const OGRSpatialReference* srs = ds.GetSpatialRef();
+  if (!srs) return {};
+  char* out = nullptr;
+  const char* opts[] = {"FORMAT=WKT2_2019", nullptr};  // compound CRS need WKT2
+  srs->exportToWkt(&out, opts);
+  std::string wkt = out ? out : "";
+  CPLFree(out);
+  return wkt;
+}
+
+}  // namespace
+
+Dtm read_dtm(const std::string& path) {
+  register_gdal_drivers();
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  GdalDataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  CPLPopErrorHandler();
+  if (!ds) throw InputError(path, "not a raster GDAL can read (" + std::string(CPLGetLastErrorMsg()) + ")");
+  if (ds->GetRasterCount() < 1) throw InputError(path, "raster has no band");
+  Dtm dtm;
+  dtm.source = path;
+  dtm.crs_wkt = crs_of(*ds);
+  double gt[6];
+  if (ds->GetGeoTransform(gt) != CE_None) throw InputError(path, "raster has no geotransform");
+  if (gt[2] != 0 || gt[4] != 0) throw InputError(path, "rotated rasters are not supported");
+  dtm.nx = ds->GetRasterXSize();
+  dtm.ny = ds->GetRasterYSize();
+  dtm.dx = gt[1];
+  dtm.dy = gt[5];
+  dtm.x0 = gt[0] + 0.5 * gt[1];
+  dtm.y0 = gt[3] + 0.5 * gt[5];
+  dtm.z.resize(size_t(dtm.nx) * dtm.ny);
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  if (band->RasterIO(GF_Read, 0, 0, dtm.nx, dtm.ny, dtm.z.data(), dtm.nx, dtm.ny, GDT_Float32, 0,
+                     0) != CE_None)
+    throw InputError(path, "cannot read band 1: " + std::string(CPLGetLastErrorMsg()));
+  int has_nodata = 0;
+  double nodata = band->GetNoDataValue(&has_nodata);
+  const float nodata_f = float(nodata);
+  for (float& v : dtm.z)
+    if ((has_nodata && (v == nodata_f || (std::isnan(nodata) && std::isnan(v)))) ||
+        !std::isfinite(v))
+      v = std::nanf("");
+  fill_holes(dtm);
+  return dtm;
+}
+
+Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt, double cell_m,
+                    DtmCell stat, const std::string& source) {
+  register_gdal_drivers();
+  if (ground.empty()) throw InputError(source, "no ground points to build a DTM from");
+  if (!(cell_m > 0)) throw InputError(source, "DTM cell size must be positive");
+  double minx = ground[0].x(), maxx = minx, miny = ground[0].y(), maxy = miny;
+  for (const Vec3& p : ground) {
+    minx = std::min(minx, p.x()), maxx = std::max(maxx, p.x());
+    miny = std::min(miny, p.y()), maxy = std::max(maxy, p.y());
+  }
+  Dtm dtm;
+  dtm.source = source;
+  dtm.crs_wkt = crs_wkt;
+  dtm.dx = cell_m;
+  dtm.dy = -cell_m;  // north-up like a GeoTIFF
+  dtm.nx = int(std::floor((maxx - minx) / cell_m)) + 1;
+  dtm.ny = int(std::floor((maxy - miny) / cell_m)) + 1;
+  dtm.x0 = minx + 0.5 * cell_m;
+  dtm.y0 = maxy - 0.5 * cell_m;
+  const size_t cells = size_t(dtm.nx) * dtm.ny;
+  dtm.z.assign(cells, std::nanf(""));
+  std::vector<double> sum(stat == DtmCell::Mean ? cells : 0);
+  std::vector<int> count(stat == DtmCell::Mean ? cells : 0);
+  for (const Vec3& p : ground) {
+    int i = std::min(dtm.nx - 1, int((p.x() - minx) / cell_m));
+    int j = std::min(dtm.ny - 1, int((maxy - p.y()) / cell_m));
+    size_t k = size_t(j) * dtm.nx + i;
+    if (stat == DtmCell::Mean) {
+      sum[k] += p.z(), ++count[k];
+    } else if (std::isnan(dtm.z[k]) || p.z() < dtm.z[k]) {
+      dtm.z[k] = float(p.z());
+    }
+  }
+  if (stat == DtmCell::Mean)
+    for (size_t k = 0; k < cells; ++k)
+      if (count[k]) dtm.z[k] = float(sum[k] / count[k]);
+  fill_holes(dtm);
+  return dtm;
+}
+
+void check_dtm_covers(const Dtm& dtm, const ParcelLayer& parcels) {
+  auto check_ring = [&](const Parcel& parcel, const Ring2& ring) {
+    for (const Vec2& v : ring) {
+      if (dtm.covers(v.x(), v.y())) continue;
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << std::fixed << "does not cover parcel " << parcel.id << " (record " << parcel.index
+          << " of " << parcels.source << "): vertex (" << v.x() << ", " << v.y()
+          << ") lies outside the DTM extent x " << dtm.x0 - 0.5 * dtm.dx << ".."
+          << dtm.x0 + (dtm.nx - 0.5) * dtm.dx << ", y " << dtm.y0 + (dtm.ny - 0.5) * dtm.dy << ".."
+          << dtm.y0 - 0.5 * dtm.dy;
+      throw InputError(dtm.source, msg.str());
+    }
+  };
+  for (const Parcel& p : parcels.parcels)
+    for (const Polygon2& poly : p.shape) check_ring(p, poly.outer);
+}
+
+}  // namespace c3d

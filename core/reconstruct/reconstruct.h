@@ -1,0 +1,28 @@
+#pragma once
+// One parcel from points to buildings of elements: segment -> own -> outline ->
+// partition -> envelope -> measure -> evaluate. Everything in local coordinates.
+#include <functional>
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/types.h"
+
+namespace c3d {
+
+struct ParcelScene {
+  int parcel_index = 0;
+  std::string parcel_id;
+  MultiPolygon2 parcel;                    // this parcel, local coordinates
+  std::vector<MultiPolygon2> neighbours;   // parcels near it, local coordinates
+  std::vector<Vec3> roof_points;           // clipped with the overhang buffer + ownership context
+  std::vector<Vec3> wall_points;           // clipped with the overhang buffer, at least kWallPointReachM
+  std::function<double(double, double)> terrain;  // local terrain z, NaN outside
+  double overhang_buffer_m = 1.6;          // how far an overhang may reach across the boundary
+  double context_m = 3.1;                  // how far beyond the parcel roof_points reach
+  int roof_points_per_cell = 0;            // the whole scan's typical_roof_points_per_cell; 0: this scene's
+};
+
+// Never throws: a parcel that cannot be modelled comes back `failed` with a reason.
+ParcelResult reconstruct_parcel(const ParcelScene& scene, const ReconstructionParams& p);
+
+}  // namespace c3d

@@ -1,0 +1,615 @@
+#include "core/reconstruct/roof/roof.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/geometry/geometry.h"
+#include "core/geometry/label_grid.h"
+#include "core/geometry/polygon_ops.h"
+
+namespace c3d {
+namespace {
+
+struct Box {
+  Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+  bool near(const Box& o, double margin) const {
+    return lo.x() <= o.hi.x() + margin && o.lo.x() <= hi.x() + margin &&
+           lo.y() <= o.hi.y() + margin && o.lo.y() <= hi.y() + margin;
+  }
+};
+
+Box box_of(const MultiPolygon2& mp) {
+  Box b;
+  for (const auto& p : mp)
+    for (const auto& v : p.outer) b.lo = b.lo.cwiseMin(v), b.hi = b.hi.cwiseMax(v);
+  return b;
+}
+
+double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
+  double len = 0;
+  for (const auto& l : lines)
+    for (size_t i = 1; i < l.size(); ++i) len += (l[i] - l[i - 1]).norm();
+  return len;
+}
+
+// Label grid -> one region per component.
+std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
+  size_t k = in.components.size();
+  pcl::PointCloud<pcl::PointXY>::Ptr cloud(new pcl::PointCloud<pcl::PointXY>);
+  for (const auto& p : in.points) cloud->push_back(pcl::PointXY{float(p.x()), float(p.y())});
+  pcl::KdTreeFLANN<pcl::PointXY> tree;
+  tree.setInputCloud(cloud);
+  std::map<int, int> slot;
+  for (size_t i = 0; i < k; ++i) slot[in.components[i]] = int(i);
+
+  Vec2 lo = in.outline.outer[0], hi = lo;
+  for (const auto& p : in.outline.outer) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  lo -= Vec2(in.cell, in.cell);
+  hi += Vec2(in.cell, in.cell);
+  int nx = int(std::ceil((hi.x() - lo.x()) / in.cell)), ny = int(std::ceil((hi.y() - lo.y()) / in.cell));
+  // Label of every cell: the majority of its 3 nearest points.
+  std::vector<int> grid(size_t(nx) * ny, -1);
+  std::vector<int> nn(3);
+  std::vector<float> d2(3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      pcl::PointXY c{float(lo.x() + (i + 0.5) * in.cell), float(lo.y() + (j + 0.5) * in.cell)};
+      int found = tree.nearestKSearch(c, 3, nn, d2);
+      if (found == 0) continue;
+      int best = slot[in.labels[nn[0]]];
+      if (found == 3 && in.labels[nn[1]] == in.labels[nn[2]]) best = slot[in.labels[nn[1]]];
+      grid[size_t(j) * nx + i] = best;
+    }
+  // A 3x3 majority filter removes single-cell islands, which would otherwise
+  // become many tiny orphan polygons to reassign.
+  std::vector<int> smooth = grid;
+  for (int j = 1; j + 1 < ny; ++j)
+    for (int i = 1; i + 1 < nx; ++i) {
+      std::map<int, int> votes;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) ++votes[grid[size_t(j + dj) * nx + i + di]];
+      for (auto& [lab, v] : votes)
+        if (v >= 5) smooth[size_t(j) * nx + i] = lab;
+    }
+  std::vector<MultiPolygon2> regions = polygonize(LabelGrid{nx, ny, lo, in.cell, std::move(smooth)}, k);
+  const MultiPolygon2 outline{in.outline};
+  for (auto& r : regions) r = poly::intersect(r, outline);
+  return regions;
+}
+
+// Every piece of the outline belongs to exactly one region: small parts and
+// gaps go to the neighbour sharing the longest boundary with them.
+void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, double min_part) {
+  MultiPolygon2 orphans;
+  for (auto& r : regions) {
+    MultiPolygon2 keep;
+    for (auto& part : r) (area(part) < min_part ? orphans : keep).push_back(part);
+    r = keep;
+  }
+  MultiPolygon2 gaps = poly::subtract({outline}, poly::unite_all(regions));
+  for (auto& g : gaps) orphans.push_back(g);
+  for (const auto& o : orphans) {
+    if (area(o) < 1e-6) continue;
+    int best = -1;
+    double best_len = 0;
+    Box ob = box_of({o});
+    for (size_t i = 0; i < regions.size(); ++i) {
+      if (!ob.near(box_of(regions[i]), 1e-3)) continue;
+      double len = polyline_length(poly::shared_boundary({o}, regions[i], 1e-4));
+      if (len > best_len) best_len = len, best = int(i);
+    }
+    for (size_t i = 0; best < 0 && i < regions.size(); ++i)  // touching only at a corner
+      if (!poly::shared_boundary({o}, regions[i], 0.02).empty()) best = int(i);
+    if (best >= 0) regions[best] = poly::unite(regions[best], {o});
+  }
+}
+
+struct CutLine {
+  Vec2 point, dir;
+};
+
+// Ridge / hip / valley: where the two planes meet near their shared boundary.
+std::optional<CutLine> intersection_cut(const Plane& a, const Plane& b,
+                                        const std::vector<Vec2>& boundary) {
+  auto line = intersect(a, b, 8.0);
+  if (!line) return std::nullopt;
+  Vec2 dir = line->dir.head<2>();
+  if (dir.norm() < 0.2) return std::nullopt;
+  dir.normalize();
+  Vec2 p = line->point.head<2>();
+  Vec2 n(-dir.y(), dir.x());
+  double dist = 0, dz = 0;
+  for (const auto& v : boundary) {
+    dist += std::abs(n.dot(v - p));
+    dz += std::abs(a.z_at(v.x(), v.y()) - b.z_at(v.x(), v.y()));
+  }
+  dist /= boundary.size();
+  dz /= boundary.size();
+  if (dist > 1.2 || dz > 0.35) return std::nullopt;
+  return CutLine{p, dir};
+}
+
+// Least-squares line through points, with the RMS of their distances to it.
+std::pair<CutLine, double> fit_line(const std::vector<Vec2>& pts) {
+  Vec2 c = Vec2::Zero();
+  for (const auto& v : pts) c += v;
+  c /= double(pts.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& v : pts) cov += (v - c) * (v - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  return {CutLine{c, es.eigenvectors().col(1)}, std::sqrt(std::max(es.eigenvalues()(0), 0.0) / double(pts.size()))};
+}
+
+// Step between roof levels: the straight line through the boundary.
+std::optional<CutLine> step_cut(const std::vector<Vec2>& boundary) {
+  if (boundary.size() < 2) return std::nullopt;
+  auto [line, rms] = fit_line(boundary);
+  if (rms > 0.3) return std::nullopt;
+  return line;
+}
+
+// A staircase polyline as straight legs: its corners found by Douglas-Peucker,
+// each leg the least-squares line through the stretch between two corners,
+// neighbouring legs meeting where their lines cross.
+std::vector<Vec2> straight_legs(const std::vector<Vec2>& stairs, double tolerance) {
+  const std::vector<Vec2> corners = poly::simplify_line(stairs, tolerance);
+  std::vector<CutLine> legs;
+  size_t from = 0;
+  for (size_t c = 1; c < corners.size(); ++c) {
+    size_t to = from + 1;  // Douglas-Peucker keeps original vertices
+    while (to + 1 < stairs.size() && (stairs[to] - corners[c]).norm() > 1e-12) ++to;
+    legs.push_back(fit_line({stairs.begin() + long(from), stairs.begin() + long(to) + 1}).first);
+    from = to;
+  }
+  auto foot = [](const CutLine& l, const Vec2& p) { return Vec2(l.point + l.dir * l.dir.dot(p - l.point)); };
+  std::vector<Vec2> out{foot(legs.front(), stairs.front())};
+  for (size_t k = 1; k < legs.size(); ++k) {
+    auto x = intersect_lines(legs[k - 1].point, legs[k - 1].dir, legs[k].point, legs[k].dir);
+    if (x && (*x - corners[k]).norm() < 2 * tolerance) out.push_back(*x);
+    else out.push_back(corners[k]);  // legs nearly parallel: keep the corner
+  }
+  out.push_back(foot(legs.back(), stairs.back()));
+  return out;
+}
+
+// The shared boundary's pieces sampled by length (see points_along).
+std::vector<Vec2> boundary_samples(const std::vector<std::vector<Vec2>>& pieces, double step) {
+  std::vector<Vec2> out;
+  for (const auto& piece : pieces) {
+    const std::vector<Vec2> samples = points_along(piece, step);
+    out.insert(out.end(), samples.begin(), samples.end());
+  }
+  return out;
+}
+
+Vec2 local_side_point(const RoofPartitionInput& in, int slot, const MultiPolygon2& corridor,
+                      const Vec2& fallback) {
+  Vec2 sum = Vec2::Zero();
+  int n = 0;
+  for (size_t i = 0; i < in.points.size(); ++i)
+    if (in.labels[i] == in.components[slot] && poly::covers(corridor, in.points[i]))
+      sum += in.points[i], ++n;
+  return n > 0 ? Vec2(sum / n) : fallback;
+}
+
+constexpr double kCutOverrun = 0.25;  // m a cut may reach past the ends of the shared boundary
+
+// Pieces of a boundary as chains: a piece whose end lies within `gap` of a
+// chain's end carries that chain on (shared boundaries come back broken where
+// the regions do not quite touch).
+std::vector<std::vector<Vec2>> chain_pieces(std::vector<std::vector<Vec2>> pieces, double gap) {
+  std::vector<std::vector<Vec2>> chains;
+  while (!pieces.empty()) {
+    std::vector<Vec2> chain = std::move(pieces.back());
+    pieces.pop_back();
+    for (bool grown = true; grown;) {
+      grown = false;
+      for (size_t k = 0; k < pieces.size() && !grown; ++k) {
+        auto& p = pieces[k];
+        if ((p.front() - chain.back()).norm() < gap) chain.insert(chain.end(), p.begin(), p.end());
+        else if ((p.back() - chain.back()).norm() < gap) chain.insert(chain.end(), p.rbegin(), p.rend());
+        else if ((p.back() - chain.front()).norm() < gap) chain.insert(chain.begin(), p.begin(), p.end());
+        else if ((p.front() - chain.front()).norm() < gap) chain.insert(chain.begin(), p.rbegin(), p.rend());
+        else continue;
+        pieces.erase(pieces.begin() + long(k));
+        grown = true;
+      }
+    }
+    chains.push_back(std::move(chain));
+  }
+  return chains;
+}
+
+// Within `corridor`, region i takes what lies in `side_of_i` and region j the rest.
+void share_corridor(std::vector<MultiPolygon2>& regions, int i, int j, const MultiPolygon2& corridor,
+                    const MultiPolygon2& side_of_i) {
+  const MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
+  regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, side_of_i));
+  regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, side_of_i));
+}
+
+// A boundary no single line fits (an L-shaped step between roof levels): the
+// label grid's staircase along it is replaced by straight legs, each region
+// taking its side of them within a corridor.
+// Left as a staircase, a step at 45 degrees to the grid is 41 % longer, and so
+// is the step wall built on it.
+void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j,
+                  const std::vector<std::vector<Vec2>>& shared) {
+  const double tolerance = 2.0 * in.cell;  // the staircase's steps are one cell
+  for (const auto& piece : chain_pieces(shared, tolerance)) {
+    if (piece.size() < 2 || polyline_length({piece}) < 0.4) continue;
+    if ((piece.front() - piece.back()).norm() < tolerance) continue;  // a ring round an island level
+    std::vector<Vec2> line = straight_legs(piece, tolerance);
+    const Vec2 out0 = line[0] - line[1], out1 = line.back() - line[line.size() - 2];
+    if (out0.norm() < 1e-6 || out1.norm() < 1e-6) continue;
+    line.front() += kCutOverrun * out0.normalized();
+    line.back() += kCutOverrun * out1.normalized();
+    const MultiPolygon2 left = poly::side_strip(line, 1.0), right = poly::side_strip(line, -1.0);
+    long on_left = 0, on_right = 0;  // region i's points on either side
+    for (size_t k = 0; k < in.points.size(); ++k)
+      if (in.labels[k] == in.components[size_t(i)]) {
+        if (poly::covers(left, in.points[k])) ++on_left;
+        else if (poly::covers(right, in.points[k])) ++on_right;
+      }
+    if (on_left == on_right) continue;
+    share_corridor(regions, i, j, poly::unite(left, right), on_left > on_right ? left : right);
+  }
+}
+
+void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
+  auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
+  if (polyline_length(shared) < 0.4) return;
+  const auto samples = boundary_samples(shared, 0.5 * in.cell);
+  auto cut = intersection_cut(in.planes[i], in.planes[j], samples);
+  if (!cut) cut = step_cut(samples);
+  if (!cut) return polyline_cut(in, regions, i, j, shared);
+  MultiPolygon2 corridor;
+  for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, 1.0));
+  // Only along the shared stretch: carried past its end (where a third plane
+  // takes over, as at a valley reaching a ridge) the line would hand that
+  // plane's area to one of these two.
+  const Vec2 dir = cut->dir.normalized(), across(-dir.y(), dir.x());
+  double t0 = 1e18, t1 = -1e18;
+  for (const auto& v : samples) {
+    const double t = dir.dot(v - cut->point);
+    t0 = std::min(t0, t), t1 = std::max(t1, t);
+  }
+  const Vec2 start = cut->point + (t0 - kCutOverrun) * dir, end = cut->point + (t1 + kCutOverrun) * dir;
+  corridor = poly::intersect(corridor, poly::intersect(poly::halfplane_box(start, across, end, 1e4),
+                                                       poly::halfplane_box(end, across, start, 1e4)));
+  Vec2 side = local_side_point(in, i, corridor, samples.front());
+  if (std::abs(across.dot(side - cut->point)) < 1e-6) return;
+  share_corridor(regions, i, j, corridor, poly::halfplane_box(cut->point, cut->dir, side, 1e4));
+}
+
+
+// Whether v lies on an edge of the outline; that edge's ends in a and b.
+bool on_outline(const Polygon2& outline, const Vec2& v, Vec2& a, Vec2& b) {
+  const Ring2& r = outline.outer;
+  for (size_t i = 0; i < r.size(); ++i) {
+    Vec2 p = r[i], q = r[(i + 1) % r.size()];
+    Vec2 d = q - p;
+    double t = (v - p).dot(d) / d.squaredNorm();
+    if (t >= -1e-9 && t <= 1 + 1e-9 && (p + t * d - v).norm() < 1e-5) {
+      a = p, b = q;
+      return true;
+    }
+  }
+  return false;
+}
+
+// One region's corner at a vertex: where its ring comes from and goes to.
+struct Corner {
+  int region;
+  Ring2* ring;
+  size_t at;
+  Vec2 prev, next;
+  bool ends_at(const Vec2& p) const { return prev == p || next == p; }
+};
+
+std::map<std::pair<double, double>, std::vector<Corner>> corners_by_vertex(std::vector<MultiPolygon2>& regions) {
+  std::map<std::pair<double, double>, std::vector<Corner>> at;
+  for (size_t r = 0; r < regions.size(); ++r)
+    for (auto& p : regions[r]) {
+      std::vector<Ring2*> rings{&p.outer};
+      for (auto& h : p.holes) rings.push_back(&h);
+      for (Ring2* ring : rings)
+        for (size_t i = 0, n = ring->size(); i < n; ++i)
+          at[{(*ring)[i].x(), (*ring)[i].y()}].push_back(
+              Corner{int(r), ring, i, (*ring)[(i + n - 1) % n], (*ring)[(i + 1) % n]});
+    }
+  return at;
+}
+
+// The corners in their order round the vertex, each sharing an edge with the
+// next; empty when they do not close one cycle of distinct regions.
+std::vector<Corner> round_the_vertex(const std::vector<Corner>& corners) {
+  std::vector<Corner> round{corners[0]};
+  std::vector<bool> used(corners.size(), false);
+  used[0] = true;
+  Vec2 via = corners[0].next;
+  while (round.size() < corners.size()) {
+    size_t k = 1;
+    while (k < corners.size() && (used[k] || !corners[k].ends_at(via))) ++k;
+    if (k == corners.size()) return {};
+    for (const Corner& c : round)
+      if (c.region == corners[k].region) return {};
+    used[k] = true;
+    via = corners[k].prev == via ? corners[k].next : corners[k].prev;
+    round.push_back(corners[k]);
+  }
+  return corners[0].ends_at(via) ? round : std::vector<Corner>{};
+}
+
+// The short ridge that replaces a vertex of four regions round it: on the line
+// of the planes of corners `first` and first + 2, from the three-plane point
+// with corner first + 1 (end1) to that with first + 3 (end3).
+struct ShortRidge {
+  size_t first;
+  Vec2 end1, end3;
+};
+
+std::optional<ShortRidge> short_ridge(const std::vector<Corner>& round, const std::vector<Plane>& planes,
+                                      const Vec2& v) {
+  auto plane = [&](size_t k) { return planes[size_t(round[k % 4].region)]; };
+  double zmin = 1e18, zmax = -1e18;
+  for (size_t k = 0; k < 4; ++k) {
+    const double z = plane(k).z_at(v.x(), v.y());
+    zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+  }
+  if (zmax - zmin < 1e-3 || zmax - zmin > 0.3) return std::nullopt;  // one point, or a step
+  auto toward = [&](size_t k) {  // into corner k's region: the mean direction of its two edges
+    const Corner& c = round[k % 4];
+    return Vec2((c.prev - v).normalized() + (c.next - v).normalized());
+  };
+  std::optional<ShortRidge> best;
+  for (size_t s = 0; s < 2; ++s) {
+    const auto p1 = common_point({plane(s), plane(s + 2), plane(s + 1)});
+    const auto p3 = common_point({plane(s), plane(s + 2), plane(s + 3)});
+    if (!p1 || !p3) continue;
+    const ShortRidge r{s, p1->head<2>(), p3->head<2>()};
+    const Vec2 d = r.end1 - r.end3;
+    if (d.norm() < 2e-3 || (r.end1 - v).norm() > 0.35 || (r.end3 - v).norm() > 0.35) continue;
+    if (d.dot(toward(s + 1)) <= 0 || d.dot(toward(s + 3)) >= 0) continue;  // each end on its region's side
+    if (!best || d.norm() < (best->end1 - best->end3).norm()) best = r;
+  }
+  return best;
+}
+
+// Vertices shared by regions whose planes meet are moved onto the exact
+// intersection (ridge line, or the point where three or more planes meet, least
+// squares beyond three), so neighbouring faces agree in 3D, not just in plan.
+void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& regions,
+                           const std::vector<Plane>& planes) {
+  std::vector<Ring2*> rings;
+  for (auto& r : regions)
+    for (auto& p : r) {
+      rings.push_back(&p.outer);
+      for (auto& h : p.holes) rings.push_back(&h);
+    }
+  node_rings(rings, 1e-3);
+  std::map<std::pair<double, double>, std::vector<int>> users;
+  for (size_t i = 0; i < regions.size(); ++i)
+    for (auto& p : regions[i])
+      for (auto& v : p.outer) {
+        auto& u = users[{v.x(), v.y()}];
+        if (std::find(u.begin(), u.end(), int(i)) == u.end()) u.push_back(int(i));
+      }
+  std::map<std::pair<double, double>, Vec2> moved;
+  for (auto& [key, regs] : users) {
+    if (regs.size() < 2) continue;
+    Vec2 v(key.first, key.second), ea, eb;
+    bool edge = on_outline(outline, v, ea, eb);
+    double zmin = 1e18, zmax = -1e18;
+    std::vector<Plane> ps;
+    for (int r : regs) {
+      double z = planes[r].z_at(v.x(), v.y());
+      zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+      ps.push_back(planes[r]);
+    }
+    if (zmax - zmin > 0.3) continue;  // a step between roof levels: nothing to meet
+    Vec2 target = v;
+    if (ps.size() == 2) {
+      auto line = intersect(ps[0], ps[1], 8.0);
+      if (!line || line->dir.head<2>().norm() < 0.2) continue;
+      Vec2 p = line->point.head<2>(), d = line->dir.head<2>().normalized();
+      if (edge) {
+        auto x = intersect_lines(p, d, ea, (eb - ea).normalized());
+        if (!x) continue;
+        target = *x;
+      } else {
+        target = p + d * d.dot(v - p);
+      }
+    } else if (!edge) {
+      auto cp = common_point(ps);
+      if (!cp) continue;
+      target = cp->head<2>();
+    } else {
+      continue;
+    }
+    if ((target - v).norm() < 0.35) moved[key] = target;
+  }
+  for (auto* r : rings)
+    for (auto& v : *r) {
+      auto it = moved.find({v.x(), v.y()});
+      if (it != moved.end()) v = it->second;
+    }
+  // Where four or more planes meet, vertices snapped to different triples of
+  // them land millimetres apart; as separate vertices they would leave
+  // slivers whose triangles tilt. They are one junction.
+  node_rings(rings, 0.01);
+  split_four_plane_vertices(outline, regions, planes);
+}
+
+// A region that snapping folded over itself (a vertex moved past one of its
+// own edges) would come out of make_valid covering its neighbour, which then
+// loses its plane to it (a hip roof's face, once its points came in another
+// order): such a region keeps its shape from before the snap, and
+// remove_overlaps and fix_coverage settle the seams with its neighbours.
+void undo_folding_snaps(std::vector<MultiPolygon2>& regions, const std::vector<MultiPolygon2>& before) {
+  for (size_t i = 0; i < regions.size(); ++i)
+    if (std::abs(area(poly::make_valid(regions[i])) - area(regions[i])) > 0.01) regions[i] = before[i];
+}
+
+// Snapping may make neighbours overlap slightly; an area belongs to one region only.
+void remove_overlaps(std::vector<MultiPolygon2>& regions) {
+  MultiPolygon2 taken;
+  for (auto& r : regions) {
+    r = poly::drop_small(poly::subtract(poly::make_valid(r), taken), 1e-4);
+    taken = poly::unite(taken, r);
+  }
+}
+
+}  // namespace
+
+size_t add_points_by_height(RoofPartitionInput& in, const std::vector<Vec3>& points, double near, double gap) {
+  const MultiPolygon2 outline{in.outline};
+  size_t added = 0;
+  for (const Vec3& q : points) {
+    if (!poly::covers(outline, q.head<2>())) continue;
+    size_t best = in.planes.size();
+    double best_d = INFINITY, second_d = INFINITY;
+    for (size_t k = 0; k < in.planes.size(); ++k) {
+      const double d = std::abs(q.z() - in.planes[k].z_at(q.x(), q.y()));
+      if (d < best_d) second_d = best_d, best_d = d, best = k;
+      else second_d = std::min(second_d, d);
+    }
+    if (best_d >= near || second_d - best_d <= gap) continue;
+    in.points.push_back(q.head<2>());
+    in.labels.push_back(in.components[best]);
+    ++added;
+  }
+  return added;
+}
+
+std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
+  size_t k = in.components.size();
+  std::vector<MultiPolygon2> regions;
+  if (k == 1) {
+    regions = {{in.outline}};
+  } else {
+    regions = label_regions(in);
+    fix_coverage(in.outline, regions, 0.3);
+    // Longest shared boundaries first: they are the most reliable lines.
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (size_t i = 0; i < k; ++i)
+      for (size_t j = i + 1; j < k; ++j) {
+        if (!box_of(regions[i]).near(box_of(regions[j]), 1e-3)) continue;
+        double len = polyline_length(poly::shared_boundary(regions[i], regions[j], 1e-4));
+        if (len > 0.4) pairs.emplace_back(len, int(i), int(j));
+      }
+    std::sort(pairs.rbegin(), pairs.rend());
+    for (auto& [len, i, j] : pairs) cut_pair(in, regions, i, j);
+    fix_coverage(in.outline, regions, 0.3);
+    std::vector<int> region_of_point(in.labels.size(), -1);
+    for (size_t p = 0; p < in.labels.size(); ++p)
+      for (size_t r = 0; r < k; ++r)
+        if (in.components[r] == in.labels[p]) region_of_point[p] = int(r);
+    absorb_fragments(regions, in.points, region_of_point);
+    for (auto& r : regions) r = poly::simplify(r, 0.02);
+    fix_coverage(in.outline, regions, 0.05);
+    const std::vector<MultiPolygon2> unsnapped = regions;
+    snap_to_intersections(in.outline, regions, in.planes);
+    undo_folding_snaps(regions, unsnapped);
+    remove_overlaps(regions);
+    fix_coverage(in.outline, regions, 0.05);
+    absorb_fragments(regions, in.points, region_of_point);  // snapping can detach more
+  }
+  std::vector<RoofRegion> out;
+  for (size_t i = 0; i < k; ++i) {
+    if (regions[i].empty()) continue;
+    out.push_back(RoofRegion{in.components[i], in.planes[i], regions[i]});
+  }
+  return out;
+}
+
+void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec2>& points,
+                      const std::vector<int>& region_of_point) {
+  constexpr double kFragment = 1.5;  // m^2
+  for (size_t i = 0; i < regions.size(); ++i) {
+    if (regions[i].size() < 2) continue;
+    double biggest = 0;
+    for (const auto& part : regions[i]) biggest = std::max(biggest, area(part));
+    MultiPolygon2 keep;
+    for (const auto& part : regions[i]) {
+      const double a = area(part);
+      if (a >= kFragment || a >= biggest) {
+        keep.push_back(part);
+        continue;
+      }
+      std::vector<int> votes(regions.size(), 0);  // the fragment's points, by their region
+      const MultiPolygon2 piece{part};
+      for (size_t k = 0; k < points.size(); ++k)
+        if (region_of_point[k] >= 0 && poly::covers(piece, points[k])) ++votes[size_t(region_of_point[k])];
+      int best = -1;
+      double best_len = 0;
+      for (size_t j = 0; j < regions.size(); ++j) {
+        if (j == i) continue;
+        double len = polyline_length(poly::shared_boundary(piece, regions[j], 1e-4));
+        if (len <= 0) continue;  // not a neighbour
+        if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len))
+          best_len = len, best = int(j);
+      }
+      if (best < 0 || votes[i] > votes[size_t(best)]) {  // no neighbour, or its own points hold it
+        keep.push_back(part);
+        continue;
+      }
+      regions[size_t(best)] = poly::unite(regions[size_t(best)], piece);
+    }
+    regions[i] = keep;
+  }
+}
+
+void split_four_plane_vertices(const Polygon2& outline, std::vector<MultiPolygon2>& regions,
+                               const std::vector<Plane>& planes) {
+  std::map<Ring2*, std::map<size_t, std::vector<Vec2>>> replace;  // ring -> vertex -> what takes its place
+  for (const auto& [key, corners] : corners_by_vertex(regions)) {
+    const Vec2 v(key.first, key.second);
+    Vec2 ea, eb;
+    if (corners.size() != 4 || on_outline(outline, v, ea, eb)) continue;
+    const std::vector<Corner> round = round_the_vertex(corners);
+    const auto ridge = round.empty() ? std::nullopt : short_ridge(round, planes, v);
+    if (!ridge) continue;
+    const Corner& end1 = round[(ridge->first + 1) % 4];
+    for (size_t k = 0; k < 4; ++k) {
+      const Corner& c = round[k];
+      if (k == (ridge->first + 1) % 4) replace[c.ring][c.at] = {ridge->end1};
+      else if (k == (ridge->first + 3) % 4) replace[c.ring][c.at] = {ridge->end3};
+      else if (end1.ends_at(c.prev))  // along the ridge, coming from end 1's side
+        replace[c.ring][c.at] = {ridge->end1, ridge->end3};
+      else
+        replace[c.ring][c.at] = {ridge->end3, ridge->end1};
+    }
+  }
+  for (auto& [ring, at_index] : replace) {
+    Ring2 out;
+    for (size_t i = 0; i < ring->size(); ++i) {
+      auto it = at_index.find(i);
+      if (it == at_index.end()) out.push_back((*ring)[i]);
+      else out.insert(out.end(), it->second.begin(), it->second.end());
+    }
+    *ring = std::move(out);
+  }
+}
+
+void node_rings(std::vector<Ring2*>& rings, double tol) {
+  std::vector<Vec2> seen;
+  for (auto* r : rings)
+    for (auto& v : *r) weld_vertex(v, seen, tol);
+  for (auto* r : rings) {
+    Ring2 out = insert_on_edges(*r, seen, tol);
+    // Drop consecutive duplicates produced by welding.
+    Ring2 clean;
+    for (const auto& v : out)
+      if (clean.empty() || (v - clean.back()).norm() >= tol) clean.push_back(v);
+    while (clean.size() > 1 && (clean.front() - clean.back()).norm() < tol) clean.pop_back();
+    *r = clean;
+  }
+}
+
+}  // namespace c3d

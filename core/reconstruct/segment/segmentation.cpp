@@ -1,0 +1,319 @@
+#include "core/reconstruct/segment/segmentation.h"
+
+#include "core/reconstruct/segment/neighbours.h"
+
+#include <pcl/features/normal_3d_omp.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/region_growing.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace c3d {
+namespace {
+
+// A surface steeper than 60 degrees (a tank's side, a parapet's face) is not
+// roof: neither a loose point on it nor a plane the second pass grows there.
+// Corrugated sheet tilts its normals by up to ~45.
+constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
+constexpr int kNormalNeighbours = 16;    // normals, and the smoothing of the second pass
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using Tree = pcl::search::KdTree<pcl::PointXYZ>;
+
+// Region growing that hands back the neighbour lists it searched, so the
+// reassignment of points to planes does not search the same roof again.
+class RegionGrowingKeepingNeighbours : public pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> {
+ public:
+  std::vector<pcl::Indices> take_neighbours() { return std::move(point_neighbours_); }
+};
+
+Cloud::Ptr to_pcl(const std::vector<Vec3>& pts) {
+  Cloud::Ptr c(new Cloud);
+  c->reserve(pts.size());
+  for (const auto& p : pts) c->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  return c;
+}
+
+// Median plan distance to the nearest other point: the scan's point spacing.
+double median_spacing(const Cloud::Ptr& cloud, const NeighbourTable& table) {
+  std::vector<double> d;
+  pcl::Indices nn(2);
+  std::vector<float> dist(2);
+  size_t step = std::max<size_t>(1, cloud->size() / 2000);
+  for (size_t i = 0; i < cloud->size(); i += step)
+    if (table.nearestKSearch(int(i), 2, nn, dist) == 2) d.push_back(std::sqrt(dist[1]));
+  if (d.empty()) return 0.2;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return std::max(d[d.size() / 2], 0.02);
+}
+
+std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl::Indices& kept, double tolerance,
+                                             int min_points) {
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(tolerance);
+  ec.setMinClusterSize(min_points);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  // Its own tree (extract() re-indexes it), unsorted: the clusters come back
+  // sorted whatever order the radius search lists a point's neighbours in.
+  ec.setSearchMethod(Tree::Ptr(new Tree(false)));
+  ec.setInputCloud(cloud);
+  ec.setIndices(pcl::make_shared<pcl::Indices>(kept));
+  std::vector<pcl::PointIndices> clusters;
+  ec.extract(clusters);
+  return clusters;
+}
+
+// Planar regions of one roof, and each roof point's nearest roof points
+// (indexed by point, sorted by distance, the point itself first).
+std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
+                                               const pcl::PointCloud<pcl::Normal>::Ptr& normals,
+                                               const pcl::Indices& roof,
+                                               const ReconstructionParams& p,
+                                               std::vector<pcl::Indices>& neighbours) {
+  RegionGrowingKeepingNeighbours rg;
+  rg.setMinClusterSize(std::max(5, p.min_component_points / 3));
+  rg.setMaxClusterSize(std::numeric_limits<int>::max());
+  rg.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
+  rg.setNumberOfNeighbours(16);
+  rg.setInputCloud(cloud);
+  rg.setIndices(pcl::make_shared<pcl::Indices>(roof));
+  rg.setInputNormals(normals);
+  rg.setSmoothnessThreshold(float(p.component_smoothness_deg * M_PI / 180.0));
+  rg.setCurvatureThreshold(float(p.component_curvature));
+  rg.setSmoothModeFlag(false);  // compare with the seed normal: no drift across hips and ridges
+  std::vector<pcl::PointIndices> regions;
+  rg.extract(regions);
+  neighbours = rg.take_neighbours();
+  return regions;
+}
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  return std::acos(std::clamp(std::abs(a.dot(b)), 0.0, 1.0)) * 180.0 / M_PI;
+}
+
+// Merges coplanar regions (over-segmentation from noise) of one roof.
+void merge_coplanar(const std::vector<Vec3>& pts, std::vector<RoofComponent>& comps,
+                    double tol) {
+  bool merged = true;
+  while (merged) {
+    merged = false;
+    for (size_t i = 0; i < comps.size() && !merged; ++i) {
+      for (size_t j = i + 1; j < comps.size() && !merged; ++j) {
+        const auto& a = comps[i].fit;
+        const auto& b = comps[j].fit;
+        if (angle_deg(a.plane.n, b.plane.n) > 6.0) continue;
+        if (std::abs(a.plane.distance(b.centroid)) > tol ||
+            std::abs(b.plane.distance(a.centroid)) > tol)
+          continue;
+        auto& dst = comps[i].points;
+        dst.insert(dst.end(), comps[j].points.begin(), comps[j].points.end());
+        comps[i].fit = fit_plane_robust(pts, dst, tol);
+        comps.erase(comps.begin() + long(j));
+        merged = true;
+      }
+    }
+  }
+}
+
+// Gives every roof point to the component whose plane fits it best among the
+// components of its 12 nearest roof points; points no plane explains stay unlabelled.
+void reassign(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& neighbours,
+              const pcl::Indices& roof, const pcl::Indices& which, std::vector<RoofComponent>& comps,
+              std::vector<int>& label, double tol) {
+  std::vector<int> old = label;
+  static const pcl::Indices none;  // region growing gave up before searching
+  for (int i : which) {
+    const auto& nn = size_t(i) < neighbours.size() ? neighbours[size_t(i)] : none;
+    int best = -1;
+    double best_d = 1e9;
+    for (size_t n = 0; n < std::min<size_t>(12, nn.size()); ++n) {
+      int k = nn[n];
+      int c = old[k];
+      if (c < 0) continue;
+      double d = std::abs(comps[c].fit.plane.distance(pts[i]));
+      if (d < best_d) best_d = d, best = c;
+    }
+    double limit = best >= 0 ? std::max(3.0 * comps[best].fit.rmse, tol) : 0;
+    label[i] = (best >= 0 && best_d <= limit) ? best : -1;
+  }
+  for (auto& c : comps) c.points.clear();
+  for (int i : roof)
+    if (label[i] >= 0) comps[label[i]].points.push_back(i);
+}
+
+// Labels of one roof's points from its components' point lists.
+void relabel(const pcl::Indices& roof, const std::vector<RoofComponent>& comps, std::vector<int>& label) {
+  for (int i : roof) label[i] = -1;
+  for (size_t c = 0; c < comps.size(); ++c)
+    for (int i : comps[c].points) label[i] = int(c);
+}
+
+// Merges coplanar regions, then gives the points of `which` (the rest keep
+// their labels) to their best-fitting planes, twice, refitting in between.
+void settle_labels(const std::vector<Vec3>& pts, const std::vector<pcl::Indices>& neighbours,
+                   const pcl::Indices& roof, const pcl::Indices& which, double tol,
+                   std::vector<RoofComponent>& comps, std::vector<int>& label) {
+  merge_coplanar(pts, comps, tol);
+  relabel(roof, comps, label);
+  for (int round = 0; round < 2; ++round) {
+    reassign(pts, neighbours, roof, which, comps, label, tol);
+    for (auto& c : comps)
+      if (c.points.size() >= 3) c.fit = fit_plane_robust(pts, c.points, tol);
+  }
+}
+
+// Regions as components of one roof, those of `min_points` or more; with
+// `min_normal_z`, steeper planes (a tank's side, a parapet's face) are left out.
+void add_regions(const std::vector<Vec3>& pts, const std::vector<pcl::PointIndices>& regions,
+                 const ReconstructionParams& p, int roof, std::vector<RoofComponent>& comps,
+                 size_t min_points = 0, double min_normal_z = 0.0) {
+  for (const auto& region : regions) {
+    if (region.indices.size() < min_points) continue;
+    RoofComponent c;
+    c.points.assign(region.indices.begin(), region.indices.end());
+    c.fit = fit_plane_robust(pts, c.points, p.plane_inlier_m);
+    if (std::abs(c.fit.plane.n.z()) < min_normal_z) continue;
+    c.roof = roof;
+    comps.push_back(std::move(c));
+  }
+}
+
+// Kept as a roof plane: enough points, standing for enough plan area.
+bool big_enough(const RoofComponent& c, double spacing, const ReconstructionParams& p) {
+  return int(c.points.size()) >= p.min_component_points &&
+         double(c.points.size()) * spacing * spacing >= p.min_component_area_m2;
+}
+
+// Each point of `which` (on roof `roof`) gets into `out` the mean of the
+// (upward) normals of its nearest neighbours on that roof, itself included.
+// Curvature 0: any point may seed.
+void smooth_normals(const NeighbourTable& table, const pcl::PointCloud<pcl::Normal>& normals,
+                    const std::vector<int>& roof_of_point, int roof, const pcl::Indices& which,
+                    pcl::PointCloud<pcl::Normal>& out) {
+  pcl::Indices nn;
+  std::vector<float> d2;
+  for (int i : which) {
+    table.nearestKSearch(i, kNormalNeighbours, nn, d2);
+    Vec3 sum = Vec3::Zero();
+    for (int j : nn) {
+      const auto& q = normals[size_t(j)];
+      if (roof_of_point[size_t(j)] != roof || !std::isfinite(q.normal_z)) continue;
+      Vec3 v(q.normal_x, q.normal_y, q.normal_z);
+      sum += v.z() < 0 ? -v : v;
+    }
+    if (sum.norm() == 0) continue;
+    sum.normalize();
+    auto& o = out[size_t(i)];
+    o.normal_x = float(sum.x()), o.normal_y = float(sum.y()), o.normal_z = float(sum.z()), o.curvature = 0.f;
+  }
+}
+
+}  // namespace
+
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
+  Segmentation seg;
+  seg.label.assign(points.size(), -1);
+  seg.roof_of.assign(points.size(), -1);
+  if (points.size() < 10) return seg;
+  auto cloud = to_pcl(points);
+  auto table = std::make_shared<NeighbourTable>(cloud, std::max(kNormalNeighbours, p.outlier_neighbours + 1));
+  seg.spacing = median_spacing(cloud, *table);
+
+  pcl::Indices kept = remove_statistical_outliers(*table, p.outlier_neighbours, p.outlier_std);
+  pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
+  ne.setInputCloud(cloud);
+  ne.setSearchMethod(table);
+  ne.setKSearch(kNormalNeighbours);
+  ne.compute(*normals);
+
+  double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
+  auto roofs = cluster_roofs(cloud, kept, tolerance, p.min_component_points);
+  std::vector<int> cluster_of(points.size(), -1);
+  for (size_t r = 0; r < roofs.size(); ++r)
+    for (int i : roofs[r].indices) cluster_of[size_t(i)] = int(r);
+  // The second pass's normals: one copy for the scene, each roof smoothing
+  // only its own left-over points (region growing reads no others).
+  pcl::PointCloud<pcl::Normal>::Ptr smooth;
+  for (size_t r = 0; r < roofs.size(); ++r) {
+    const auto& roof = roofs[r];
+    std::vector<RoofComponent> comps;
+    std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
+    add_regions(points, grow_components(cloud, normals, roof.indices, p, roof_neighbours), p, seg.roof_count, comps);
+    std::vector<int> local_label(points.size(), -1);
+    settle_labels(points, roof_neighbours, roof.indices, roof.indices, p.plane_inlier_m, comps, local_label);
+    // Second pass over what the first left: textured sheet (corrugation, tiles)
+    // tilts the 16-point normals by 20-45 degrees, so region growing breaks such
+    // roofs into patches too small to keep. Averaged over the neighbours, the
+    // normals follow the sheet, and the patches grow into planes.
+    comps.erase(std::remove_if(comps.begin(), comps.end(),
+                               [&](const RoofComponent& c) { return !big_enough(c, seg.spacing, p); }),
+                comps.end());
+    relabel(roof.indices, comps, local_label);
+    pcl::Indices leftover;
+    for (int i : roof.indices)
+      if (local_label[i] < 0) leftover.push_back(i);
+    if (int(leftover.size()) >= p.min_component_points) {
+      if (!smooth) smooth.reset(new pcl::PointCloud<pcl::Normal>(*normals));
+      smooth_normals(*table, *normals, cluster_of, int(r), leftover, *smooth);
+      std::vector<pcl::Indices> unused;
+      size_t before = comps.size();
+      add_regions(points, grow_components(cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
+                  size_t(p.min_component_points), kMinRoofNormalZ);
+      if (comps.size() > before)
+        settle_labels(points, roof_neighbours, roof.indices, leftover, p.plane_inlier_m, comps, local_label);
+    }
+    int kept_here = 0;
+    for (auto& c : comps) {
+      if (!big_enough(c, seg.spacing, p)) continue;
+      int id = int(seg.components.size());
+      for (int i : c.points) seg.label[i] = id;
+      seg.components.push_back(std::move(c));
+      ++kept_here;
+    }
+    if (kept_here == 0) continue;
+    for (int i : roof.indices)  // a steep surface no plane took is not roof (kMinRoofNormalZ)
+      if (seg.label[i] >= 0 || std::abs((*normals)[size_t(i)].normal_z) >= kMinRoofNormalZ)
+        seg.roof_of[i] = seg.roof_count;
+    ++seg.roof_count;
+  }
+  return seg;
+}
+
+// Higher above the nearest plane than this, a loose point stands on the roof
+// (a tank's lid, an antenna) rather than being part of it: a textured eave
+// strip rises a few decimetres at most.
+constexpr double kMaxLooseRise = 0.5;  // m
+
+std::vector<std::vector<int>> loose_roof_points(const std::vector<Vec3>& points, const Segmentation& seg,
+                                                double reach) {
+  std::vector<std::vector<int>> taken(size_t(seg.roof_count)), loose(size_t(seg.roof_count));
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (seg.roof_of[i] < 0) continue;
+    (seg.label[i] >= 0 ? taken : loose)[size_t(seg.roof_of[i])].push_back(int(i));
+  }
+  std::vector<std::vector<int>> out(loose.size());
+  for (size_t r = 0; r < loose.size(); ++r) {
+    if (taken[r].empty() || loose[r].empty()) continue;
+    Cloud::Ptr plan(new Cloud);
+    for (int i : taken[r]) plan->push_back(pcl::PointXYZ(float(points[i].x()), float(points[i].y()), 0.f));
+    Tree tree;
+    tree.setInputCloud(plan);
+    pcl::Indices nn(1);
+    std::vector<float> d2(1);
+    for (int i : loose[r]) {
+      pcl::PointXYZ q(float(points[i].x()), float(points[i].y()), 0.f);
+      if (tree.nearestKSearch(q, 1, nn, d2) != 1 || d2[0] > reach * reach) continue;
+      const Plane& nearest = seg.components[size_t(seg.label[size_t(taken[r][size_t(nn[0])])])].fit.plane;
+      const double above = nearest.distance(points[i]) * (nearest.n.z() < 0 ? -1 : 1);
+      if (above <= kMaxLooseRise) out[r].push_back(i);
+    }
+  }
+  return out;
+}
+
+}  // namespace c3d

@@ -1,0 +1,38 @@
+#pragma once
+// Stage "segment": individual roofs (connected roof point clusters) and, within
+// each roof, planar roof components (PCL region growing; a second pass over the
+// points the first left, on smoothed normals, for textured sheet), cleaned so
+// clutter (antennas, tanks, vegetation) does not become roof planes.
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/reconstruct/planes/planes.h"
+#include "core/types.h"
+
+namespace c3d {
+
+struct RoofComponent {
+  std::vector<int> points;  // indices into the segmented point list
+  PlaneFit fit;
+  int roof = 0;             // individual roof it belongs to
+};
+
+struct Segmentation {
+  std::vector<RoofComponent> components;
+  int roof_count = 0;
+  std::vector<int> label;   // per point: component index or -1 (outlier / clutter)
+  std::vector<int> roof_of; // per point: individual roof, or -1 (outlier, a roof with no component,
+                            // a steep surface no plane took, a point ownership gave away)
+  double spacing = 0.2;     // median nearest-neighbour distance in plan, m
+};
+
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p);
+
+// Per individual roof, its loose points: points of the roof no plane took
+// (textured tiles, corrugation, gutters, small features) that lie within
+// `reach` (in plan) of a point some plane did take. They are roof all the same
+// and belong inside its outline; points further out are clutter beside it.
+std::vector<std::vector<int>> loose_roof_points(const std::vector<Vec3>& points, const Segmentation& seg,
+                                                double reach);
+
+}  // namespace c3d
