@@ -1,8 +1,85 @@
-// cadastre3d batch: the main job (see cli/batch.h).
-#include "cli/batch.h"
+// cadastre3d batch: the main job. The batch itself is the library's
+// run_batch (cadastre/batch); this file parses the options and prints.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <set>
+
+#include "cadastre/batch/batch.h"
+#include "cadastre/batch/outputs.h"
+#include "cadastre/batch/store_sink.h"
 #include "cli/commands.h"
+#include "cli/progress.h"
+#include "core/log.h"
+
+namespace fs = std::filesystem;
 
 namespace c3d::cli {
+namespace {
+
+struct BatchOptions {
+  BatchInputs inputs;
+  std::string out;
+  std::string config;  // empty: built-in defaults
+  std::vector<std::string> formats{"gml", "cityjson", "ifc", "obj"};
+  BatchSettings settings;
+  bool optimize = false;
+  std::string device;  // optimizer device: auto | cpu | vulkan
+  bool quiet = false;
+};
+
+// The configuration the batch runs with: the file's, then the command line's overrides.
+Config effective_config(const BatchOptions& opt) {
+  Config cfg = opt.config.empty() ? default_config() : load_config(opt.config);
+  cfg.reconstruction.optimize = cfg.reconstruction.optimize || opt.optimize;
+  if (!opt.device.empty()) cfg.reconstruction.optimize_device = opt.device;
+  return cfg;
+}
+
+void print_outputs(const WrittenOutputs& w, const std::string& store_path) {
+  std::cout << "summary: " << w.summary << "\n"
+            << "store:   " << store_path << "\n"
+            << "report:  " << w.report << "\n"
+            << "preview: " << w.preview_dir << "/<parcel>.svg\n";
+  std::set<std::string> dirs;  // OBJ and STEP: one line per folder, not per file
+  for (const auto& f : w.exports) {
+    std::string parent = fs::path(f).parent_path().filename().string();
+    if (parent == "obj" || parent == "step") dirs.insert(fs::path(f).parent_path().string());
+    else std::cout << "export:  " << f << "\n";
+  }
+  for (const auto& d : dirs) std::cout << "export:  " << d << "/\n";
+}
+
+void print_timings(const BatchReport& r, double total_s, const std::string& out) {
+  const BatchTimings& t = r.timings;
+  std::cout << "batch: " << r.parcels << " parcels in " << total_s << " s; outputs in " << out << "\n";
+  std::printf("timing: ingest+clip %.3f s, reconstruction %.3f s, store writes %.3f s, "
+              "summary+report+exports %.3f s, total %.3f s\n",
+              t.ingest_s, t.reconstruct_s - t.sink_s, t.sink_s, total_s - t.ingest_s - t.reconstruct_s,
+              total_s);
+}
+
+int run(BatchOptions opt) {
+  const auto t_start = std::chrono::steady_clock::now();
+  if (opt.quiet) log::set_level(log::Level::Warn);
+  const Config cfg = effective_config(opt);
+  fs::create_directories(opt.out);
+  const std::string store_path = (fs::path(opt.out) / "cadastre.gpkg").string();
+  StoreSink sink(store_path);
+  Progress progress("reconstruct", opt.quiet);
+  opt.settings.progress = [&](size_t done, size_t total) { progress.show(done, total); };
+  const BatchReport report = run_batch(opt.inputs, cfg, sink, opt.settings);
+  progress.done();
+  const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats);
+  if (!opt.quiet) {
+    print_outputs(written, store_path);
+    print_timings(report, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), opt.out);
+  }
+  return report.failed > 0 ? kExitPartial : kExitOk;
+}
+
+}  // namespace
 
 void register_batch(CLI::App& app) {
   auto opt = std::make_shared<BatchOptions>();
@@ -10,28 +87,28 @@ void register_batch(CLI::App& app) {
       "batch",
       "Parcel batch: point clouds + parcels + DTM -> LoD2 element models, cadastre.gpkg, "
       "summary.json, report.html/.csv, CityGML/CityJSON/IFC/OBJ");
-  cmd->add_option("--cloud", opt->clouds, "Classified point cloud(s): LAS, PLY, PCD, XYZ/CSV")
+  cmd->add_option("--cloud", opt->inputs.clouds, "Classified point cloud(s): LAS, PLY, PCD, XYZ/CSV")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--walls", opt->walls, "Wall-only point cloud(s) from a terrestrial scanner")
+  cmd->add_option("--walls", opt->inputs.walls, "Wall-only point cloud(s) from a terrestrial scanner")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--parcels", opt->parcels, "Parcel layer (any OGR vector source)")
+  cmd->add_option("--parcels", opt->inputs.parcels, "Parcel layer (any OGR vector source)")
       ->required()
       ->check(CLI::ExistingPath);
-  cmd->add_option("--dtm", opt->dtm, "Terrain model (any GDAL raster); default: from ground points")
+  cmd->add_option("--dtm", opt->inputs.dtm, "Terrain model (any GDAL raster); default: from ground points")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Output directory")->required();
   cmd->add_option("--config", opt->config, "TOML config (default: built-in, see config/)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--jobs", opt->jobs, "Parallel parcels (default: all cores)");
+  cmd->add_option("--jobs", opt->settings.jobs, "Parallel parcels (default: all cores)");
   cmd->add_option("--formats", opt->formats, "Exports: gml (CityGML 2.0) gml3 (CityGML 3.0) cityjson ifc obj step")
       ->delimiter(',');
-  cmd->add_flag("--resume", opt->resume, "Skip parcels already stored from the same inputs");
+  cmd->add_flag("--resume", opt->settings.resume, "Skip parcels already stored from the same inputs and settings");
   cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");
   cmd->add_option("--device", opt->device, "Optimizer device: auto, cpu or vulkan")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
-  cmd->add_flag("--quiet", opt->quiet, "Print nothing but errors");
-  cmd->callback([opt] { exit_code() = run_batch(*opt); });
+  cmd->add_flag("--quiet", opt->quiet, "Print nothing but warnings and errors");
+  cmd->callback([opt] { exit_code() = run(*opt); });
 }
 
 }  // namespace c3d::cli

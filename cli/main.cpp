@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "core/log.h"
 
 namespace c3d::cli {
 int& exit_code() {
@@ -17,10 +18,17 @@ int& exit_code() {
 int main(int argc, char** argv) {
   using namespace c3d::cli;
   GDALAllRegister();
+  c3d::log::set_sink([](c3d::log::Level level, const std::string& message) {
+    const char* kind = level == c3d::log::Level::Warn ? "warning: " : level == c3d::log::Level::Error ? "error: " : "";
+    std::cerr << "cadastre3d: " << kind << message << "\n";
+  });
   CLI::App app{"cadastre3d " C3D_VERSION
                " - element-based LoD2 building models for fiscal cadastre"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("cadastre3d ") + C3D_VERSION);
+  app.add_flag_callback("--debug", [] { c3d::log::set_level(c3d::log::Level::Debug); },
+                        "Log the reconstruction's debugging detail on stderr")
+      ->trigger_on_parse();
   register_info(app);
   register_sample(app);
   register_clip(app);

@@ -10,24 +10,22 @@ namespace c3d::cli {
 
 class Progress {
  public:
-  Progress(std::string label, size_t total, bool quiet)
-      : label_(std::move(label)), total_(total), show_(!quiet && isatty(2)) {}
-  void step() {
-    ++done_;
+  Progress(std::string label, bool quiet) : label_(std::move(label)), show_(!quiet && isatty(2)) {}
+  void show(size_t done, size_t total) {
     if (!show_) return;
-    int width = 30, filled = total_ ? int(width * done_ / total_) : width;
+    shown_ = true;
+    int width = 30, filled = total ? int(width * done / total) : width;
     std::fprintf(stderr, "\r%s [%.*s%*s] %zu/%zu", label_.c_str(), filled,
-                 "##############################", width - filled, "", done_, total_);
+                 "##############################", width - filled, "", done, total);
     std::fflush(stderr);
   }
   void done() {
-    if (show_) std::fprintf(stderr, "\n");
+    if (shown_) std::fprintf(stderr, "\n");
   }
 
  private:
   std::string label_;
-  size_t total_ = 0, done_ = 0;
-  bool show_ = false;
+  bool show_ = false, shown_ = false;
 };
 
 }  // namespace c3d::cli

@@ -1,14 +1,11 @@
-#include "cli/outputs.h"
+#include "cadastre/batch/outputs.h"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
-#include <set>
 
-#include "cadastre/store.h"
 #include "core/evaluate/evaluate.h"
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
@@ -17,7 +14,7 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace c3d::cli {
+namespace c3d {
 namespace {
 
 json to_json(const Deviation& d) {
@@ -54,13 +51,9 @@ json building_json(const Building& b) {
 
 }  // namespace
 
-void write_summary(const std::string& store_path, const std::string& path,
-                   const OutputTimings& timings) {
-  write_summary(load_batch_model(store_path), path, timings);
-}
-
-void write_summary(const BatchModel& model, const std::string& path,
-                   const OutputTimings& timings) {
+void write_summary(const BatchReport& report, const std::string& path) {
+  const BatchModel& model = report.model;
+  const BatchTimings& timings = report.timings;
   json parcels = json::array();
   std::vector<Deviation> roof_devs, wall_devs;
   int ok = 0, empty = 0, failed = 0;
@@ -91,8 +84,8 @@ void write_summary(const BatchModel& model, const std::string& path,
             {"parcels_failed", failed},
             {"pooled_roof_deviation", to_json(pool(roof_devs))},
             {"pooled_wall_deviation", to_json(pool(wall_devs))},
-            {"any_model_roof_deviation", to_json(timings.any_model_roof)},
-            {"any_model_wall_deviation", to_json(timings.any_model_wall)},
+            {"any_model_roof_deviation", to_json(report.any_model_roof)},
+            {"any_model_wall_deviation", to_json(report.any_model_wall)},
             {"timings_s",
              {{"ingest_and_clip", timings.ingest_s},
               {"reconstruct_and_store", timings.reconstruct_s},
@@ -103,36 +96,28 @@ void write_summary(const BatchModel& model, const std::string& path,
   if (!f) throw std::runtime_error(path + ": cannot write");
 }
 
-void write_outputs(const BatchModel& model, const std::string& store_path,
-                   const std::string& out_dir, const Config& cfg,
-                   const std::vector<std::string>& formats, const OutputTimings& timings,
-                   bool quiet) {
-  write_summary(model, (fs::path(out_dir) / "summary.json").string(), timings);
+WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_path,
+                             const std::string& out_dir, const Config& cfg,
+                             const std::vector<std::string>& formats) {
+  const BatchModel& model = report.model;
+  WrittenOutputs out;
+  out.summary = (fs::path(out_dir) / "summary.json").string();
+  write_summary(report, out.summary);
   write_report_from_store(model, store_path, out_dir, cfg);
-  auto files = export_formats(model, out_dir, formats);
+  out.report = (fs::path(out_dir) / "report.html").string();
+  out.exports = export_formats(model, out_dir, formats);
   // One picture per parcel with buildings, coloured by element type.
-  fs::create_directories(fs::path(out_dir) / "preview");
+  out.preview_dir = (fs::path(out_dir) / "preview").string();
+  fs::create_directories(out.preview_dir);
   for (size_t i = 0; i < model.parcels.size(); ++i) {
     if (model.results[i].buildings.empty()) continue;
-    std::ofstream svg(fs::path(out_dir) / "preview" / (model.parcels[i].id + ".svg"));
+    std::ofstream svg(fs::path(out.preview_dir) / (model.parcels[i].id + ".svg"));
     std::string pic = parcel_svg(model.parcels[i], model.results[i], model.frame, 720, 520);
     // Inline in the report it needs no namespace; a standalone file does.
     if (pic.rfind("<svg ", 0) == 0) pic.insert(5, "xmlns=\"http://www.w3.org/2000/svg\" ");
     svg << pic;
   }
-  if (!quiet) {
-    std::cout << "summary: " << (fs::path(out_dir) / "summary.json").string() << "\n"
-              << "store:   " << store_path << "\n"
-              << "report:  " << (fs::path(out_dir) / "report.html").string() << "\n"
-              << "preview: " << (fs::path(out_dir) / "preview").string() << "/<parcel>.svg\n";
-    std::set<std::string> dirs;  // OBJ and STEP: one line per folder, not per file
-    for (const auto& f : files) {
-      std::string parent = fs::path(f).parent_path().filename().string();
-      if (parent == "obj" || parent == "step") dirs.insert(fs::path(f).parent_path().string());
-      else std::cout << "export:  " << f << "\n";
-    }
-    for (const auto& d : dirs) std::cout << "export:  " << d << "/\n";
-  }
+  return out;
 }
 
-}  // namespace c3d::cli
+}  // namespace c3d

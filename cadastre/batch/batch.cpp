@@ -1,0 +1,139 @@
+#include "cadastre/batch/batch.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <thread>
+
+#include "cadastre/batch/batch_inputs.h"
+#include "cadastre/batch/resume_key.h"
+#include "cadastre/batch/scenes.h"
+#include "core/evaluate/evaluate.h"
+#include "core/log.h"
+#include "valuation/valuation.h"
+
+namespace c3d {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+BatchRun describe_run(const LoadedInputs& in, const BatchInputs& inputs, const Config& cfg,
+                      const LocalFrame& frame) {
+  BatchRun run;
+  run.crs_wkt = in.crs_wkt;
+  run.frame = frame;
+  run.parameters = run_parameters(cfg);
+  run.input_files = inputs.files();
+  run.parcels = &in.layer.parcels;
+  const std::string key = run_key(cfg, run.input_files);
+  for (const auto& p : in.layer.parcels) run.parcel_keys.push_back(parcel_key(key, p));
+  return run;
+}
+
+// The parcels to model: all, or with --resume those the sink lacks.
+std::vector<size_t> parcels_to_model(BatchSink& sink, const BatchRun& run, bool resume) {
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < run.parcel_keys.size(); ++i)
+    if (!resume || !sink.has_parcel(i, run.parcel_keys[i])) todo.push_back(i);
+  return todo;
+}
+
+// Models the parcels on `jobs` threads; the sink is written under one lock.
+void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, const Config& cfg,
+                   BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
+  const auto& parcels = scenes.inputs->layer.parcels;
+  std::atomic<size_t> next{0};
+  std::mutex sink_mutex;
+  auto worker = [&] {
+    for (size_t k = next++; k < todo.size(); k = next++) {
+      const size_t i = todo[k];
+      ParcelResult r = reconstruct_parcel(make_scene(scenes, i), cfg.reconstruction);
+      ParcelValuation v = value_parcel(parcels[i], r, cfg.valuation);
+      std::lock_guard<std::mutex> lock(sink_mutex);
+      const auto t_write = Clock::now();
+      sink.write_parcel(i, r, v);
+      report.timings.sink_s += seconds_since(t_write);
+      for (const auto& t : r.timings) report.timings.stages[t.stage] += t.seconds;
+      ++report.reconstructed;
+      if (r.status == ParcelStatus::Failed) {
+        ++report.failed;
+        log::error("parcel " + r.parcel_id + " failed: " + r.reason);
+      }
+      if (settings.progress) settings.progress(report.reconstructed, todo.size());
+    }
+  };
+  const int jobs = settings.jobs > 0 ? settings.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int k = 0; k < jobs; ++k) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+}
+
+std::vector<Face> world_faces(const BatchModel& model, const std::vector<ElementType>& types) {
+  std::vector<Face> out;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings)
+      for (Face f : faces_of(b, types)) {
+        for (auto& v : f.ring) v = model.frame.to_world(v);
+        for (auto& h : f.holes)
+          for (auto& v : h) v = model.frame.to_world(v);
+        out.push_back(std::move(f));
+      }
+  return out;
+}
+
+// Every roof point inside a parcel against the nearest roof of any model, and
+// every wall point within kWallPointReachM of a parcel against the nearest wall.
+void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
+                         const ParcelClipper::IndexLists& roof_lists, BatchReport& report) {
+  const std::vector<Face> roofs = world_faces(report.model, {ElementType::Roof});
+  const std::vector<Face> walls = world_faces(report.model, {ElementType::Wall, ElementType::PartyWall});
+  const ParcelClipper clipper(in.layer, clip);
+  std::vector<Vec3> roof_in;
+  std::vector<char> taken(in.roof.size(), 0);
+  for (size_t k = 0; k < roof_lists.size(); ++k)
+    for (size_t i : roof_lists[k])
+      if (!taken[i] && clipper.inside(k, in.roof[i].x(), in.roof[i].y())) {
+        taken[i] = 1;
+        roof_in.push_back(in.roof[i]);
+      }
+  ClipParams near = clip;
+  near.overhang_buffer_m = kWallPointReachM;
+  std::vector<Vec3> wall_near;
+  std::vector<char> seen(in.wall.size(), 0);
+  for (const auto& list : ParcelClipper(in.layer, near).clip(in.wall))
+    for (size_t k : list)
+      if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
+  if (!roofs.empty()) report.any_model_roof = deviation_to_faces(roof_in, roofs);
+  if (!walls.empty()) report.any_model_wall = deviation_to_faces(wall_near, walls);
+}
+
+}  // namespace
+
+BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& sink,
+                      const BatchSettings& settings) {
+  const auto t_start = Clock::now();
+  BatchReport report;
+  const LoadedInputs in = load_inputs(inputs, cfg);
+  report.warnings = in.warnings;
+  for (const auto& w : in.warnings) log::warn(w);
+  report.parcels = in.layer.parcels.size();
+  const LocalFrame frame = frame_of(in.layer);
+  const SceneSource scenes = prepare_scenes(in, cfg.clip, frame);
+  report.timings.ingest_s = seconds_since(t_start);
+
+  const BatchRun run = describe_run(in, inputs, cfg, frame);
+  sink.begin(run);
+  const std::vector<size_t> todo = parcels_to_model(sink, run, settings.resume);
+  model_parcels(todo, scenes, cfg, sink, settings, report);
+  report.model = sink.end();
+  report.timings.reconstruct_s = seconds_since(t_start) - report.timings.ingest_s;
+  any_model_deviation(in, cfg.clip, scenes.roof_lists, report);
+  return report;
+}
+
+}  // namespace c3d

@@ -1,0 +1,82 @@
+#pragma once
+// The parcel batch as a library call: inputs and a configuration in, one
+// result per parcel out to a sink. The CLI, the tests and a shard runner all
+// run a batch through run_batch; the GeoPackage store is one sink of many.
+//
+//   BatchInputs in{{"cloud.las"}, {}, "parcels.gpkg", "dtm.tif"};
+//   StoreSink sink("out/cadastre.gpkg");
+//   BatchReport r = run_batch(in, default_config(), sink);
+//   write_outputs(r, "out", cfg, {"cityjson"});
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/types.h"
+#include "valuation/valuation_types.h"
+
+namespace c3d {
+
+// The files a batch reads. Clouds hold classified points (config [classes]);
+// walls hold wall points only (a terrestrial scanner); no DTM: one is built
+// from the ground-class points.
+struct BatchInputs {
+  std::vector<std::string> clouds;
+  std::vector<std::string> walls;
+  std::string parcels;  // any OGR vector source
+  std::string dtm;      // any GDAL raster; may be empty
+  std::vector<std::string> files() const;  // every input file, in a fixed order
+};
+
+// How the batch runs; none of it changes a result.
+struct BatchSettings {
+  int jobs = 0;         // parallel parcels; 0: all cores
+  bool resume = false;  // skip parcels the sink already holds from the same key
+  std::function<void(size_t done, size_t total)> progress;  // after each parcel
+};
+
+// What a sink learns before the first parcel.
+struct BatchRun {
+  std::string crs_wkt;
+  LocalFrame frame;                       // local = world - frame.origin
+  std::string parameters;                 // the effective configuration, JSON text
+  std::vector<std::string> input_files;
+  const std::vector<Parcel>* parcels = nullptr;  // the layer, world coordinates
+  std::vector<std::string> parcel_keys;   // per parcel: what its result depends on (resume key)
+};
+
+// Where results go. Calls come from one thread at a time.
+class BatchSink {
+ public:
+  virtual ~BatchSink() = default;
+  virtual void begin(const BatchRun& run) = 0;
+  // True when the sink holds parcel i's result from the same key (--resume).
+  virtual bool has_parcel(size_t i, const std::string& key) = 0;
+  virtual void write_parcel(size_t i, const ParcelResult& result, const ParcelValuation& valuation) = 0;
+  // Every parcel's model as the sink now holds it, resumed ones included.
+  virtual BatchModel end() = 0;
+};
+
+struct BatchTimings {
+  double ingest_s = 0, reconstruct_s = 0, sink_s = 0;
+  std::map<std::string, double> stages;  // summed over parcels (CPU seconds)
+};
+
+struct BatchReport {
+  BatchModel model;  // as the sink holds it
+  BatchTimings timings;
+  std::vector<std::string> warnings;  // about the inputs (also logged)
+  size_t parcels = 0, reconstructed = 0, failed = 0;  // failed among the reconstructed
+  // Every roof point inside any parcel against the nearest roof of any model,
+  // and every wall point within kWallPointReachM of a parcel against the
+  // nearest wall: the models' fit, free of which parcel a point counted for.
+  Deviation any_model_roof, any_model_wall;
+};
+
+// Runs the batch. Bad inputs throw InputError naming the file; a parcel that
+// cannot be modelled is written `failed` with its reason and the batch goes on.
+BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& sink,
+                      const BatchSettings& settings = {});
+
+}  // namespace c3d

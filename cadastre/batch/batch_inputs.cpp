@@ -1,0 +1,83 @@
+#include "cadastre/batch/batch_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/io/crs.h"
+#include "core/io/point_io.h"
+
+namespace c3d {
+namespace {
+
+bool has_class(const std::vector<int>& set, int c) {
+  return std::find(set.begin(), set.end(), c) != set.end();
+}
+
+void split_classes(const PointCloud& cloud, const ClassMapping& m, LoadedInputs& in,
+                   std::vector<Vec3>& ground) {
+  if (cloud.classes.empty()) {  // an unclassified cloud is taken as roof points
+    in.roof.insert(in.roof.end(), cloud.points.begin(), cloud.points.end());
+    in.warnings.push_back(cloud.source + ": no classification, all points taken as roof");
+    return;
+  }
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    int c = cloud.classes[i];
+    if (has_class(m.roof, c)) in.roof.push_back(cloud.points[i]);
+    else if (has_class(m.wall, c)) in.wall.push_back(cloud.points[i]);
+    else if (has_class(m.ground, c)) ground.push_back(cloud.points[i]);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> BatchInputs::files() const {
+  std::vector<std::string> out = clouds;
+  out.insert(out.end(), walls.begin(), walls.end());
+  out.push_back(parcels);
+  if (!dtm.empty()) out.push_back(dtm);
+  return out;
+}
+
+LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
+  LoadedInputs in;
+  in.layer = read_parcels(inputs.parcels, cfg.fields, &in.warnings);
+  std::vector<PointCloud> clouds;
+  for (const auto& f : inputs.clouds) clouds.push_back(read_point_cloud(f));
+  const size_t n_class_clouds = clouds.size();
+  for (const auto& f : inputs.walls) clouds.push_back(read_point_cloud(f));
+  const bool have_dtm = !inputs.dtm.empty();
+  if (have_dtm) in.dtm = read_dtm(inputs.dtm);
+  auto rec = reconcile_crs(in.layer, clouds, have_dtm ? &in.dtm : nullptr);
+  in.crs_wkt = rec.crs_wkt;
+  in.warnings.insert(in.warnings.end(), rec.warnings.begin(), rec.warnings.end());
+  std::vector<Vec3> ground;
+  for (size_t i = 0; i < clouds.size(); ++i) {
+    if (i < n_class_clouds) split_classes(clouds[i], cfg.classes, in, ground);
+    else in.wall.insert(in.wall.end(), clouds[i].points.begin(), clouds[i].points.end());
+    clouds[i].points.clear();
+    clouds[i].points.shrink_to_fit();
+  }
+  if (!have_dtm) {
+    if (ground.empty())
+      throw InputError("--dtm", "no DTM given and no ground-class points to build one from");
+    in.dtm = dtm_from_points(ground, in.crs_wkt, 1.0, DtmCell::Min, "ground-class points");
+  }
+  check_dtm_covers(in.dtm, in.layer);
+  if (in.roof.empty() && in.wall.empty())
+    throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
+                     "no roof or wall points (check the class mapping)");
+  return in;
+}
+
+LocalFrame frame_of(const ParcelLayer& layer) {
+  Vec2 lo(1e300, 1e300);
+  for (const auto& p : layer.parcels)
+    for (const auto& poly : p.shape)
+      for (const auto& v : poly.outer) lo = lo.cwiseMin(v);
+  LocalFrame f;
+  f.origin = Vec3(std::floor(lo.x() / 10) * 10, std::floor(lo.y() / 10) * 10, 0.0);
+  return f;
+}
+
+}  // namespace c3d

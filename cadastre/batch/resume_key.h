@@ -1,0 +1,23 @@
+#pragma once
+// What a stored parcel result depends on, as one key: --resume keeps a
+// parcel only when its key is unchanged.
+#include <string>
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/types.h"
+
+namespace c3d {
+
+// The effective configuration as the run record stores it (JSON text): every
+// parameter, after the command line's overrides.
+std::string run_parameters(const Config& cfg);
+
+// The key of a whole run: the effective configuration and the SHA-256 of
+// every input file's content (not its name).
+std::string run_key(const Config& cfg, const std::vector<std::string>& input_files);
+
+// A parcel's key: the run key, its id and its own shape.
+std::string parcel_key(const std::string& run_key, const Parcel& p);
+
+}  // namespace c3d

@@ -1,0 +1,30 @@
+#pragma once
+// The batch's default sink: the LADM GeoPackage store (cadastre/store.h), one
+// transaction per parcel, so a killed batch leaves whole parcels and --resume
+// picks up where it stopped.
+#include <string>
+
+#include "cadastre/batch/batch.h"
+#include "cadastre/store.h"
+
+namespace c3d {
+
+class StoreSink : public BatchSink {
+ public:
+  explicit StoreSink(std::string path) : path_(std::move(path)) {}
+  const std::string& path() const { return path_; }
+
+  void begin(const BatchRun& run) override;
+  bool has_parcel(size_t i, const std::string& key) override;
+  void write_parcel(size_t i, const ParcelResult& result, const ParcelValuation& valuation) override;
+  BatchModel end() override;  // closes the store and reads every parcel back
+
+ private:
+  std::string path_;
+  Store store_;
+  const std::vector<Parcel>* parcels_ = nullptr;
+  std::vector<std::string> keys_;
+  LocalFrame frame_;
+};
+
+}  // namespace c3d
