@@ -310,6 +310,20 @@ struct VulkanCompute::Impl {
 
   void run(const std::string& kernel, const std::vector<GpuBuffer>& args, const void* push,
            uint32_t push_bytes, uint64_t threads);
+
+  // The steps of run(), sharing its buffers: host[i] is mapped memory,
+  // dev[i] the device-local copy when memory is not unified (staged).
+  struct Dispatch {
+    const std::vector<GpuBuffer>& args;
+    bool staged;
+    std::vector<Buffer> host, dev;
+    VkDescriptorPool dpool = VK_NULL_HANDLE;
+  };
+  void upload(Dispatch& d);
+  VkDescriptorSet bind_buffers(Dispatch& d, const Pipeline& p);
+  VkCommandBuffer record(const Dispatch& d, const Pipeline& p, VkDescriptorSet set,
+                         const void* push, uint32_t push_bytes, uint64_t threads);
+  void submit_and_read_back(const Dispatch& d, VkCommandBuffer cmd);
 };
 
 void VulkanCompute::Impl::run(const std::string& kernel, const std::vector<GpuBuffer>& args,
@@ -318,117 +332,138 @@ void VulkanCompute::Impl::run(const std::string& kernel, const std::vector<GpuBu
   if (push_bytes > 128 || push_bytes % 4) throw std::logic_error("bad push-constant size");
   std::lock_guard<std::mutex> lock(mutex);
   Pipeline& p = pipeline(kernel, args.size());
-  const bool staged = !unified_memory();
-  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  std::vector<Buffer> host(args.size()), dev(args.size());
-  VkDescriptorPool dpool = VK_NULL_HANDLE;
+  Dispatch d{args, !unified_memory(), std::vector<Buffer>(args.size()),
+             std::vector<Buffer>(args.size())};
   auto cleanup = [&] {
-    for (auto& b : host) free_buffer(b);
-    for (auto& b : dev) free_buffer(b);
-    if (dpool) vk.vkDestroyDescriptorPool(device, dpool, nullptr);
+    for (auto& b : d.host) free_buffer(b);
+    for (auto& b : d.dev) free_buffer(b);
+    if (d.dpool) vk.vkDestroyDescriptorPool(device, d.dpool, nullptr);
   };
   try {
-    for (size_t i = 0; i < args.size(); ++i) {
-      host[i] = make_buffer(args[i].bytes, usage, true);
-      if (staged) dev[i] = make_buffer(args[i].bytes, usage, false);
-      void* map = nullptr;
-      check(vk.vkMapMemory(device, host[i].memory, 0, VK_WHOLE_SIZE, 0, &map), "vkMapMemory");
-      if (args[i].bytes) std::memcpy(map, args[i].data, args[i].bytes);
-      vk.vkUnmapMemory(device, host[i].memory);
-    }
-    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, static_cast<uint32_t>(args.size())};
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 1;
-    dp.poolSizeCount = 1;
-    dp.pPoolSizes = &ps;
-    check(vk.vkCreateDescriptorPool(device, &dp, nullptr, &dpool), "vkCreateDescriptorPool");
-    VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    da.descriptorPool = dpool;
-    da.descriptorSetCount = 1;
-    da.pSetLayouts = &p.set_layout;
-    VkDescriptorSet set;
-    check(vk.vkAllocateDescriptorSets(device, &da, &set), "vkAllocateDescriptorSets");
-    std::vector<VkDescriptorBufferInfo> infos(args.size());
-    std::vector<VkWriteDescriptorSet> writes(args.size());
-    for (size_t i = 0; i < args.size(); ++i) {
-      infos[i] = {staged ? dev[i].buf : host[i].buf, 0, VK_WHOLE_SIZE};
-      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-      writes[i].dstSet = set;
-      writes[i].dstBinding = static_cast<uint32_t>(i);
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &infos[i];
-    }
-    vk.vkUpdateDescriptorSets(device, static_cast<uint32_t>(writes.size()), writes.data(), 0,
-                              nullptr);
-
-    check(vk.vkResetCommandPool(device, pool, 0), "vkResetCommandPool");
-    VkCommandBufferAllocateInfo ca{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    ca.commandPool = pool;
-    ca.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    ca.commandBufferCount = 1;
-    VkCommandBuffer cmd;
-    check(vk.vkAllocateCommandBuffers(device, &ca, &cmd), "vkAllocateCommandBuffers");
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    check(vk.vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    if (staged) {
-      for (size_t i = 0; i < args.size(); ++i) {
-        VkBufferCopy region{0, 0, host[i].size};
-        vk.vkCmdCopyBuffer(cmd, host[i].buf, dev[i].buf, 1, &region);
-      }
-      barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-      barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-      vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0,
-                              nullptr);
-    }
-    vk.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
-    vk.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &set, 0,
-                               nullptr);
-    if (push_bytes) vk.vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
-    // Kernels use 64 threads per group and a 2-D grid past 65535 groups.
-    const uint64_t groups = (threads + 63) / 64;
-    const uint32_t gx = static_cast<uint32_t>(groups < 65535 ? groups : 65535);
-    const uint32_t gy = static_cast<uint32_t>((groups + gx - 1) / gx);
-    vk.vkCmdDispatch(cmd, gx, gy, 1);
-    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    barrier.dstAccessMask = staged ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_HOST_READ_BIT;
-    vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            staged ? VK_PIPELINE_STAGE_TRANSFER_BIT : VK_PIPELINE_STAGE_HOST_BIT, 0,
-                            1, &barrier, 0, nullptr, 0, nullptr);
-    if (staged) {
-      for (size_t i = 0; i < args.size(); ++i) {
-        if (!args[i].read_back) continue;
-        VkBufferCopy region{0, 0, host[i].size};
-        vk.vkCmdCopyBuffer(cmd, dev[i].buf, host[i].buf, 1, &region);
-      }
-      barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-      barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-      vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
-                              1, &barrier, 0, nullptr, 0, nullptr);
-    }
-    check(vk.vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cmd;
-    check(vk.vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE), "vkQueueSubmit");
-    check(vk.vkQueueWaitIdle(queue), "vkQueueWaitIdle");
-    for (size_t i = 0; i < args.size(); ++i) {
-      if (!args[i].read_back || !args[i].bytes) continue;
-      void* map = nullptr;
-      check(vk.vkMapMemory(device, host[i].memory, 0, VK_WHOLE_SIZE, 0, &map), "vkMapMemory");
-      std::memcpy(args[i].data, map, args[i].bytes);
-      vk.vkUnmapMemory(device, host[i].memory);
-    }
+    upload(d);
+    VkDescriptorSet set = bind_buffers(d, p);
+    VkCommandBuffer cmd = record(d, p, set, push, push_bytes, threads);
+    submit_and_read_back(d, cmd);
   } catch (...) {
     cleanup();
     throw;
   }
   cleanup();
+}
+
+// Host-visible buffers filled with the arguments (and device buffers when staged).
+void VulkanCompute::Impl::upload(Dispatch& d) {
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  for (size_t i = 0; i < d.args.size(); ++i) {
+    d.host[i] = make_buffer(d.args[i].bytes, usage, true);
+    if (d.staged) d.dev[i] = make_buffer(d.args[i].bytes, usage, false);
+    void* map = nullptr;
+    check(vk.vkMapMemory(device, d.host[i].memory, 0, VK_WHOLE_SIZE, 0, &map), "vkMapMemory");
+    if (d.args[i].bytes) std::memcpy(map, d.args[i].data, d.args[i].bytes);
+    vk.vkUnmapMemory(device, d.host[i].memory);
+  }
+}
+
+// One descriptor set binding buffer i to binding i.
+VkDescriptorSet VulkanCompute::Impl::bind_buffers(Dispatch& d, const Pipeline& p) {
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, static_cast<uint32_t>(d.args.size())};
+  VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  dp.maxSets = 1;
+  dp.poolSizeCount = 1;
+  dp.pPoolSizes = &ps;
+  check(vk.vkCreateDescriptorPool(device, &dp, nullptr, &d.dpool), "vkCreateDescriptorPool");
+  VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  da.descriptorPool = d.dpool;
+  da.descriptorSetCount = 1;
+  da.pSetLayouts = &p.set_layout;
+  VkDescriptorSet set;
+  check(vk.vkAllocateDescriptorSets(device, &da, &set), "vkAllocateDescriptorSets");
+  std::vector<VkDescriptorBufferInfo> infos(d.args.size());
+  std::vector<VkWriteDescriptorSet> writes(d.args.size());
+  for (size_t i = 0; i < d.args.size(); ++i) {
+    infos[i] = {d.staged ? d.dev[i].buf : d.host[i].buf, 0, VK_WHOLE_SIZE};
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[i].dstSet = set;
+    writes[i].dstBinding = static_cast<uint32_t>(i);
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &infos[i];
+  }
+  vk.vkUpdateDescriptorSets(device, static_cast<uint32_t>(writes.size()), writes.data(), 0,
+                            nullptr);
+  return set;
+}
+
+// Copy in (when staged), dispatch, copy out of the buffers read back.
+VkCommandBuffer VulkanCompute::Impl::record(const Dispatch& d, const Pipeline& p,
+                                            VkDescriptorSet set, const void* push,
+                                            uint32_t push_bytes, uint64_t threads) {
+  check(vk.vkResetCommandPool(device, pool, 0), "vkResetCommandPool");
+  VkCommandBufferAllocateInfo ca{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ca.commandPool = pool;
+  ca.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ca.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  check(vk.vkAllocateCommandBuffers(device, &ca, &cmd), "vkAllocateCommandBuffers");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vk.vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  if (d.staged) {
+    for (size_t i = 0; i < d.args.size(); ++i) {
+      VkBufferCopy region{0, 0, d.host[i].size};
+      vk.vkCmdCopyBuffer(cmd, d.host[i].buf, d.dev[i].buf, 1, &region);
+    }
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                            nullptr);
+  }
+  vk.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vk.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &set, 0,
+                             nullptr);
+  if (push_bytes) vk.vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
+  // Kernels use 64 threads per group and a 2-D grid past 65535 groups.
+  const uint64_t groups = (threads + 63) / 64;
+  const uint32_t gx = static_cast<uint32_t>(groups < 65535 ? groups : 65535);
+  const uint32_t gy = static_cast<uint32_t>((groups + gx - 1) / gx);
+  vk.vkCmdDispatch(cmd, gx, gy, 1);
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  barrier.dstAccessMask = d.staged ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_HOST_READ_BIT;
+  vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          d.staged ? VK_PIPELINE_STAGE_TRANSFER_BIT : VK_PIPELINE_STAGE_HOST_BIT, 0,
+                          1, &barrier, 0, nullptr, 0, nullptr);
+  if (d.staged) {
+    for (size_t i = 0; i < d.args.size(); ++i) {
+      if (!d.args[i].read_back) continue;
+      VkBufferCopy region{0, 0, d.host[i].size};
+      vk.vkCmdCopyBuffer(cmd, d.dev[i].buf, d.host[i].buf, 1, &region);
+    }
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
+                            1, &barrier, 0, nullptr, 0, nullptr);
+  }
+  check(vk.vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  return cmd;
+}
+
+void VulkanCompute::Impl::submit_and_read_back(const Dispatch& d, VkCommandBuffer cmd) {
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  check(vk.vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE), "vkQueueSubmit");
+  check(vk.vkQueueWaitIdle(queue), "vkQueueWaitIdle");
+  for (size_t i = 0; i < d.args.size(); ++i) {
+    if (!d.args[i].read_back || !d.args[i].bytes) continue;
+    void* map = nullptr;
+    check(vk.vkMapMemory(device, d.host[i].memory, 0, VK_WHOLE_SIZE, 0, &map), "vkMapMemory");
+    std::memcpy(d.args[i].data, map, d.args[i].bytes);
+    vk.vkUnmapMemory(device, d.host[i].memory);
+  }
 }
 
 VulkanCompute::VulkanCompute(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

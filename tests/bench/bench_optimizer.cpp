@@ -8,6 +8,8 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
 
 #include "core/optimizer/mesh_distance.h"
 #include "core/optimizer/optimizer.h"
@@ -65,6 +67,43 @@ void print(const std::vector<Row>& rows, int threads, const std::string& vk_name
   std::printf("\nVulkan device: %s\n", vk_name.c_str());
 }
 
+// Kernel-only timings on a prepared state (upload + dispatch + read-back for
+// Vulkan): seconds for 10 energy and 10 refine passes.
+std::pair<double, double> time_kernels(const ConstrainedMesh& base, VulkanCompute* k, int thr) {
+  KernelState s;
+  s.v.resize(3 * base.mesh.vertices.size());
+  for (std::size_t i = 0; i < base.mesh.vertices.size(); ++i)
+    for (int c = 0; c < 3; ++c) s.v[3 * i + c] = static_cast<float>(base.mesh.vertices[i][c]);
+  s.vplane.assign(base.mesh.vertices.size(), 0);
+  s.vline.assign(base.mesh.vertices.size(), 0);
+  s.weight.assign(base.mesh.vertices.size(), 1.0f);
+  s.planes = {0.f, 0.f, 1.f, -8.f};
+  s.lines = {0.f, 0.f, 8.f, 0.f, 0.f, 1.f, 0.f, 0.f};
+  std::vector<float> terms;
+  kernel_energy(s, terms, k, thr);  // warm-up (pipeline creation)
+  double t0 = now();
+  for (int i = 0; i < 10; ++i) kernel_energy(s, terms, k, thr);
+  const double energy = now() - t0;
+  std::vector<std::uint32_t> tasks(base.mesh.vertices.size());
+  for (std::size_t i = 0; i < tasks.size(); ++i) tasks[i] = static_cast<std::uint32_t>(i);
+  kernel_refine(s, tasks, 1000, k, thr);
+  t0 = now();
+  for (int i = 0; i < 10; ++i) kernel_refine(s, tasks, 1000, k, thr);
+  return {energy, now() - t0};
+}
+
+// Points scattered within 0.3 m of the roof.
+std::vector<Vec3> roof_points(std::size_t npoints) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> ux(-20, 20), uy(0, 40), uz(-0.3, 0.3);
+  std::vector<Vec3> pts(npoints);
+  for (auto& p : pts) {
+    double x = ux(rng);
+    p = Vec3(x, uy(rng), 8 - 0.5 * std::fabs(x - 0.07) + uz(rng));
+  }
+  return pts;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -79,13 +118,7 @@ int main(int argc, char** argv) {
 
   const ConstrainedMesh base = roof(grid);
   const auto tris = base.mesh.soup();
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<double> ux(-20, 20), uy(0, 40), uz(-0.3, 0.3);
-  std::vector<Vec3> pts(npoints);
-  for (auto& p : pts) {
-    double x = ux(rng);
-    p = Vec3(x, uy(rng), 8 - 0.5 * std::fabs(x - 0.07) + uz(rng));
-  }
+  const std::vector<Vec3> pts = roof_points(npoints);
   std::printf("mesh: %zu triangles, %zu vertices; points: %zu; CPU threads: %d\n", tris.size(),
               base.mesh.vertices.size(), pts.size(), threads);
 
@@ -124,27 +157,7 @@ int main(int argc, char** argv) {
       std::printf("optimizer: energy %.4g -> %.4g, junction max %.2e m, %d clusters\n", r.energy.front(),
                   r.energy.back(), r.max_line_distance, r.clusters);
 
-    // Kernel-only timings on a prepared state (upload + dispatch + read-back for Vulkan).
-    KernelState s;
-    s.v.resize(3 * base.mesh.vertices.size());
-    for (std::size_t i = 0; i < base.mesh.vertices.size(); ++i)
-      for (int c = 0; c < 3; ++c) s.v[3 * i + c] = static_cast<float>(base.mesh.vertices[i][c]);
-    s.vplane.assign(base.mesh.vertices.size(), 0);
-    s.vline.assign(base.mesh.vertices.size(), 0);
-    s.weight.assign(base.mesh.vertices.size(), 1.0f);
-    s.planes = {0.f, 0.f, 1.f, -8.f};
-    s.lines = {0.f, 0.f, 8.f, 0.f, 0.f, 1.f, 0.f, 0.f};
-    std::vector<float> terms;
-    kernel_energy(s, terms, k, thr);  // warm-up (pipeline creation)
-    t0 = now();
-    for (int i = 0; i < 10; ++i) kernel_energy(s, terms, k, thr);
-    rows[2].t[col] = now() - t0;
-    std::vector<std::uint32_t> tasks(base.mesh.vertices.size());
-    for (std::size_t i = 0; i < tasks.size(); ++i) tasks[i] = static_cast<std::uint32_t>(i);
-    kernel_refine(s, tasks, 1000, k, thr);
-    t0 = now();
-    for (int i = 0; i < 10; ++i) kernel_refine(s, tasks, 1000, k, thr);
-    rows[3].t[col] = now() - t0;
+    std::tie(rows[2].t[col], rows[3].t[col]) = time_kernels(base, k, thr);
   }
   print(rows, threads, vk_name);
   std::printf("max |distance difference| vs the first column run: %.2e m\n", worst);

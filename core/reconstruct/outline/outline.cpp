@@ -10,6 +10,46 @@
 namespace c3d {
 namespace {
 
+// Internal thresholds, each with its reason. Lengths in m, areas in m^2.
+// Regularising edges (both outlines).
+constexpr double kMergeAngleDeg = 2.0;       // consecutive edges nearer parallel than this may be one line...
+constexpr double kMergeOffset = 0.3;         // ...when their lines are at most this far apart
+constexpr double kDiagonalTolShare = 0.5;    // a 45-degree snap takes half the axis tolerance: diagonals are rarer
+constexpr double kObliqueWeight = 0.5;       // an oblique edge counts as half its length: real corner cuts are square or 45
+constexpr double kParallelCos = 0.995;       // neighbours of a short edge this near parallel make a jog...
+constexpr double kMaxJog = 0.35;             // ...one straight edge when their offset is below this
+constexpr double kMinNotchEnd = 0.1;         // a notch's end this wide or wider stays
+constexpr double kCornerReachEdges = 2.0;    // neighbours meet at most this many min_len from a dropped edge
+constexpr double kMinOutlinePart = 0.5;      // parts of a rebuilt outline smaller than this are slivers
+constexpr double kMaxRegularizeChange = 0.05;  // a footprint changing area by more was regularised wrongly
+constexpr double kPeakWindowDeg = 10.0;      // edges this near the direction histogram's peak set the axes
+// Placing each edge where the point density ends (roof outline).
+constexpr size_t kMinOutlinePoints = 10;     // fewer points make no outline
+constexpr double kHullMinAlpha = 1.0;        // the concave hull bridges gaps of a metre at least...
+constexpr double kHullSpacings = 5.0;        // ...and of 5 point spacings, so a sparse roof holds together
+constexpr double kSimplifyMin = 0.15;        // the hull simplified by at least this...
+constexpr double kSimplifySpacings = 1.5;    // ...and by 1.5 point spacings: its teeth are a spacing deep
+constexpr double kRoofMinEdge = 1.5;         // shorter roof outline edges are hull chamfers at corners
+constexpr double kEdgeEndMargin = 0.5;       // an edge's ends belong to the corners: up to this much...
+constexpr double kEdgeEndShare = 0.2;        // ...or a fifth of the edge is left out at each end
+constexpr double kFallbackSpacings = 0.5;    // an edge too short to measure moves half a spacing out
+constexpr double kMaxRebuildChange = 0.3;    // an outline changing the hull's area by more went wrong
+constexpr double kDensityBeyond = 1.0;       // points further out than this are not the roof's
+constexpr long kMinBandPoints = 15;          // fewer points in the density band measure nothing
+// Maximum-likelihood edges (refine_edges).
+constexpr double kMinRefineArea = 4.0;       // smaller outlines are left as the density placed them
+constexpr double kTurnPadShare = 0.02;       // a degree's turn moves an edge's ends by under 2 % of its length...
+constexpr double kTurnPad = 0.1;             // ...plus this, the points it may see
+constexpr double kMinSigma = 0.005;          // the planimetric noise searched from 5 mm...
+constexpr double kMaxSigma = 0.15;           // ...to 15 cm
+constexpr double kMaxTurnDeg = 1.0;          // the building turned by at most a degree: the hull is good to 0.3
+constexpr double kMaxMleShift = 0.3;         // a larger shift means the edge saw another roof's points
+constexpr double kMinSampledEdge = 1.0;      // the middle of an edge shorter than this holds too few points
+constexpr double kMinEdgePoints = 10.0;      // expected points in the band inside an edge to place it
+constexpr double kTailSigmas = 8.0;          // points more than 8 sigma inside add nothing (Phi = 1)
+constexpr double kBoundSigmas = 3.0;         // the edge searched 3 sigma within the band's ends
+constexpr double kBracket = 0.1;             // the first pass leaves the edge within this: bracket there first
+
 struct EdgeLine {
   Vec2 origin;   // a point on the line
   Vec2 dir;      // unit direction, ring order
@@ -31,7 +71,7 @@ Vec2 snap_direction(const Vec2& dir, double dominant, double tol) {
   for (int k = -8; k <= 8; ++k) {
     double axis = dominant + k * M_PI / 4;
     double diff = std::remainder(a - axis, 2 * M_PI);
-    double lim = (k % 2 == 0) ? tol : tol * 0.5;  // 45 degree snaps are stricter
+    double lim = (k % 2 == 0) ? tol : tol * kDiagonalTolShare;  // 45 degree snaps are stricter
     if (std::abs(diff) < lim) return Vec2(std::cos(axis), std::sin(axis));
   }
   return dir;
@@ -49,9 +89,9 @@ std::vector<EdgeLine> merge_collinear(std::vector<EdgeLine> lines) {
     for (size_t i = 0; i < lines.size(); ++i) {
       EdgeLine& a = lines[i];
       EdgeLine& b = lines[(i + 1) % lines.size()];
-      if (a.dir.dot(b.dir) < std::cos(2.0 * M_PI / 180)) continue;
+      if (a.dir.dot(b.dir) < std::cos(kMergeAngleDeg * M_PI / 180)) continue;
       double off = std::abs(outward(a.dir).dot(b.origin - a.origin));
-      if (off > 0.3) continue;
+      if (off > kMergeOffset) continue;
       Vec2 start = a.origin + a.t0 * a.dir, end = b.origin + b.t1 * b.dir;
       double la = a.t1 - a.t0, lb = b.t1 - b.t0;
       EdgeLine m;
@@ -81,7 +121,7 @@ constexpr double kCos30 = 0.8660254037844386;
 
 std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_len,
                                        bool keep_notch_ends) {
-  auto weight = [](const EdgeLine& l) { return (l.t1 - l.t0) * (l.oblique ? 0.5 : 1.0); };
+  auto weight = [](const EdgeLine& l) { return (l.t1 - l.t0) * (l.oblique ? kObliqueWeight : 1.0); };
   while (lines.size() > 3) {
     size_t k = 0;
     double shortest = 1e18;
@@ -94,7 +134,7 @@ std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_l
     auto p = line_intersection(prev, next);
     Vec2 mid = lines[k].origin + 0.5 * (lines[k].t0 + lines[k].t1) * lines[k].dir;
     double jog = std::abs(outward(prev.dir).dot(next.origin - prev.origin));
-    if (prev.dir.dot(next.dir) > 0.995 && jog < 0.35) {
+    if (prev.dir.dot(next.dir) > kParallelCos && jog < kMaxJog) {
       // A small jog between two parallel edges: one straight edge.
       Vec2 start = prev.origin + prev.t0 * prev.dir, end = next.origin + next.t1 * next.dir;
       double lp = prev.t1 - prev.t0, ln = next.t1 - next.t0;
@@ -111,8 +151,8 @@ std::vector<EdgeLine> drop_short_edges(std::vector<EdgeLine> lines, double min_l
       continue;
     }
     const bool notch_end =
-        keep_notch_ends && prev.dir.dot(next.dir) < -kCos30 && lines[k].t1 - lines[k].t0 >= 0.1;
-    if (!p || (*p - mid).norm() > 2.0 * min_len || notch_end) {
+        keep_notch_ends && prev.dir.dot(next.dir) < -kCos30 && lines[k].t1 - lines[k].t0 >= kMinNotchEnd;
+    if (!p || (*p - mid).norm() > kCornerReachEdges * min_len || notch_end) {
       lines[k].keep = true;  // a real step of the outline, or a notch's end
       continue;
     }
@@ -163,7 +203,7 @@ double normal_pdf(double z) { return std::exp(-0.5 * z * z) / std::sqrt(2 * M_PI
 // es.s is sorted: points more than 8 sigma inside the edge add nothing to the
 // score or the likelihood (Phi = 1), so only the tail beyond is visited.
 std::pair<double, double> edge_mle(const EdgeSample& es, double sigma) {
-  auto near = [&](double e) { return std::lower_bound(es.s.begin(), es.s.end(), e - 8 * sigma); };
+  auto near = [&](double e) { return std::lower_bound(es.s.begin(), es.s.end(), e - kTailSigmas * sigma); };
   auto score = [&](double e) {
     double g = 0;
     for (auto it = near(e); it != es.s.end(); ++it) {
@@ -172,10 +212,10 @@ std::pair<double, double> edge_mle(const EdgeSample& es, double sigma) {
     }
     return g - es.expected;
   };
-  double lo = -kBand + 3 * sigma, hi = kBeyond - 3 * sigma;
+  double lo = -kBand + kBoundSigmas * sigma, hi = kBeyond - kBoundSigmas * sigma;
   if (lo >= hi) return {0.0, -1e300};
   // The first pass leaves the edge within centimetres: bracket there first.
-  const double a = std::max(lo, -0.1), b = std::min(hi, 0.1);
+  const double a = std::max(lo, -kBracket), b = std::min(hi, kBracket);
   const bool near_zero = score(a) > 0 && score(b) < 0;
   if (near_zero) lo = a, hi = b;
   for (int it = near_zero ? 11 : 14; it > 0; --it) {  // to 0.1 mm
@@ -194,9 +234,9 @@ std::pair<double, double> edge_mle(const EdgeSample& es, double sigma) {
 // corners belong to two edges); empty when too few to place it.
 EdgeSample sample_edge(const std::vector<Vec2>& points, const EdgeLine& l, double density) {
   EdgeSample es;
-  double margin = std::min(0.5, 0.2 * (l.t1 - l.t0));
+  double margin = std::min(kEdgeEndMargin, kEdgeEndShare * (l.t1 - l.t0));
   double t0 = l.t0 + margin, t1 = l.t1 - margin;
-  if (t1 - t0 < 1.0) return es;
+  if (t1 - t0 < kMinSampledEdge) return es;
   Vec2 n = outward(l.dir);
   for (const auto& p : points) {
     Vec2 q = p - l.origin;
@@ -205,7 +245,7 @@ EdgeSample sample_edge(const std::vector<Vec2>& points, const EdgeLine& l, doubl
   }
   std::sort(es.s.begin(), es.s.end());
   es.expected = density * (t1 - t0);
-  if (es.expected * kBand < 10) es.s.clear();  // too few to place it
+  if (es.expected * kBand < kMinEdgePoints) es.s.clear();  // too few to place it
   return es;
 }
 
@@ -241,14 +281,14 @@ std::vector<EdgeLine> turned(const std::vector<EdgeLine>& lines, double angle) {
 void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines, bool turn_axes) {
   Ring2 first = rebuild_ring(lines);
   double a = std::abs(signed_area(first));
-  if (a < 4.0) return;
+  if (a < kMinRefineArea) return;
   double density = double(points.size()) / a;
   // The points each edge can see while it turns (a degree moves its ends by
   // under 1 % of its length), gathered once.
   std::vector<std::vector<Vec2>> near(lines.size());
   for (size_t i = 0; i < lines.size(); ++i) {
     const EdgeLine& l = lines[i];
-    const double pad = 0.02 * (l.t1 - l.t0) + 0.1;
+    const double pad = kTurnPadShare * (l.t1 - l.t0) + kTurnPad;
     const Vec2 n = outward(l.dir);
     for (const auto& p : points) {
       Vec2 q = p - l.origin;
@@ -273,12 +313,12 @@ void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines,
                                std::log(hi), iterations));
   };
   std::vector<EdgeSample> samples = samples_of(lines);
-  double sigma = fit_sigma(samples, 0.005, 0.15, turn_axes ? 9 : 13);  // refined again once turned
+  double sigma = fit_sigma(samples, kMinSigma, kMaxSigma, turn_axes ? 9 : 13);  // refined again once turned
   // ... and the building's orientation: the hull's edge directions are good to
   // about 0.3 degrees, which at the ends of a 12 m edge is 3 cm, as much as
   // the noise. One turn for all axis edges, within a degree, to 0.02 degree.
   if (turn_axes) {
-    const double limit = M_PI / 180;
+    const double limit = kMaxTurnDeg * M_PI / 180;
     double turn = golden_max([&](double t) { return total(samples_of(turned(lines, t)), sigma); }, -limit,
                              limit, 9);
     lines = turned(lines, turn);
@@ -288,10 +328,9 @@ void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines,
   for (size_t i = 0; i < lines.size(); ++i) {
     if (samples[i].s.empty()) continue;
     double off = edge_mle(samples[i], sigma).first;
-    if (std::abs(off) < 0.3) lines[i].origin += outward(lines[i].dir) * off;
+    if (std::abs(off) < kMaxMleShift) lines[i].origin += outward(lines[i].dir) * off;
   }
 }
-
 
 }  // namespace
 
@@ -311,10 +350,10 @@ Polygon2 regularize_polygon(const Polygon2& poly, double min_edge) {
   lines = merge_collinear(drop_short_edges(merge_collinear(lines), min_edge, true));
   if (lines.size() < 3) return poly;
   Polygon2 out{rebuild_ring(lines), {}};
-  MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
+  MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), kMinOutlinePart);
   if (valid.empty()) return poly;
   Polygon2 best = poly::largest(valid);
-  if (std::abs(area(best) - area(poly)) > 0.05 * area(poly)) return poly;
+  if (std::abs(area(best) - area(poly)) > kMaxRegularizeChange * area(poly)) return poly;
   best.holes.clear();
   return best;
 }
@@ -334,7 +373,7 @@ double dominant_direction(const Ring2& ring) {
     Vec2 e = ring[(i + 1) % ring.size()] - ring[i];
     double a = wrap_quarter(std::atan2(e.y(), e.x()));
     double diff = std::remainder(a - (peak + 0.5) * M_PI / 180, M_PI / 2);
-    if (std::abs(diff) > 10 * M_PI / 180) continue;
+    if (std::abs(diff) > kPeakWindowDeg * M_PI / 180) continue;
     sx += e.norm() * std::cos(4 * a);
     sy += e.norm() * std::sin(4 * a);
   }
@@ -354,22 +393,22 @@ double density_edge_offset(const std::vector<Vec2>& points, const Vec2& origin, 
     double t = dir.dot(q);
     if (t < t0 || t > t1) continue;
     double s = n.dot(q);
-    if (s > 1.0) continue;
+    if (s > kDensityBeyond) continue;
     if (s >= inner0 && s < inner1) ++band;
     else if (s >= inner1) ++beyond;
   }
-  if (band < 15) return kNaN;
+  if (band < kMinBandPoints) return kNaN;
   double per_metre = band / (inner1 - inner0);
   return inner1 + beyond / per_metre;
 }
 
 Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt) {
-  if (points.size() < 10) return {};
-  MultiPolygon2 hull = poly::concave_hull(points, std::max(1.0, 5.0 * opt.spacing));
+  if (points.size() < kMinOutlinePoints) return {};
+  MultiPolygon2 hull = poly::concave_hull(points, std::max(kHullMinAlpha, kHullSpacings * opt.spacing));
   if (hull.empty()) return {};
   Polygon2 biggest = poly::largest(hull);
   biggest.holes.clear();
-  MultiPolygon2 simple = poly::simplify({biggest}, std::max(0.15, 1.5 * opt.spacing));
+  MultiPolygon2 simple = poly::simplify({biggest}, std::max(kSimplifyMin, kSimplifySpacings * opt.spacing));
   if (simple.empty() || simple[0].outer.size() < 3) return {};
   Ring2 ring = simple[0].outer;
   double dominant = dominant_direction(ring);
@@ -388,24 +427,24 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
     lines.push_back(l);
   }
   lines = merge_collinear(lines);
-  lines = drop_short_edges(lines, 1.5, false);
+  lines = drop_short_edges(lines, kRoofMinEdge, false);
   lines = merge_collinear(lines);
   if (lines.size() < 3) return {};
   // Move every edge to where the density says the roof ends.
   for (auto& l : lines) {
     double len = l.t1 - l.t0;
-    double margin = std::min(0.5, 0.2 * len);
+    double margin = std::min(kEdgeEndMargin, kEdgeEndShare * len);
     double off = density_edge_offset(points, l.origin, l.dir, l.t0 + margin, l.t1 - margin);
-    if (std::isnan(off)) off = 0.5 * opt.spacing;  // too short to measure: half a spacing
+    if (std::isnan(off)) off = kFallbackSpacings * opt.spacing;  // too short to measure
     l.origin += outward(l.dir) * off;
   }
   refine_edges(points, lines, opt.refine_orientation);
   Polygon2 out{rebuild_ring(lines), {}};
-  MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), 0.5);
+  MultiPolygon2 valid = poly::drop_small(poly::make_valid({out}), kMinOutlinePart);
   if (valid.empty()) return {};
   Polygon2 best = poly::largest(valid);
   // A rebuilt outline far from the hull means the regularisation went wrong.
-  if (std::abs(area(best) - area(biggest)) > 0.3 * area(biggest)) return biggest;
+  if (std::abs(area(best) - area(biggest)) > kMaxRebuildChange * area(biggest)) return biggest;
   best.holes.clear();
   return best;
 }

@@ -11,8 +11,13 @@
 #include "core/geometry/geometry.h"
 #include "core/geometry/label_grid.h"
 #include "core/geometry/polygon_ops.h"
+#include "core/reconstruct/roof/roof_constants.h"
+#include "core/reconstruct/roof/roof_snap.h"
 
 namespace c3d {
+
+using namespace roof;
+
 namespace {
 
 struct Box {
@@ -74,7 +79,7 @@ std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
       for (int dj = -1; dj <= 1; ++dj)
         for (int di = -1; di <= 1; ++di) ++votes[grid[size_t(j + dj) * nx + i + di]];
       for (auto& [lab, v] : votes)
-        if (v >= 5) smooth[size_t(j) * nx + i] = lab;
+        if (v >= kSmoothMajority) smooth[size_t(j) * nx + i] = lab;
     }
   std::vector<MultiPolygon2> regions = polygonize(LabelGrid{nx, ny, lo, in.cell, std::move(smooth)}, k);
   const MultiPolygon2 outline{in.outline};
@@ -94,17 +99,17 @@ void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, 
   MultiPolygon2 gaps = poly::subtract({outline}, poly::unite_all(regions));
   for (auto& g : gaps) orphans.push_back(g);
   for (const auto& o : orphans) {
-    if (area(o) < 1e-6) continue;
+    if (area(o) < kOrphanDust) continue;
     int best = -1;
     double best_len = 0;
     Box ob = box_of({o});
     for (size_t i = 0; i < regions.size(); ++i) {
-      if (!ob.near(box_of(regions[i]), 1e-3)) continue;
-      double len = polyline_length(poly::shared_boundary({o}, regions[i], 1e-4));
+      if (!ob.near(box_of(regions[i]), kBoxMargin)) continue;
+      double len = polyline_length(poly::shared_boundary({o}, regions[i], kSharedTol));
       if (len > best_len) best_len = len, best = int(i);
     }
     for (size_t i = 0; best < 0 && i < regions.size(); ++i)  // touching only at a corner
-      if (!poly::shared_boundary({o}, regions[i], 0.02).empty()) best = int(i);
+      if (!poly::shared_boundary({o}, regions[i], kCornerTouchTol).empty()) best = int(i);
     if (best >= 0) regions[best] = poly::unite(regions[best], {o});
   }
 }
@@ -116,10 +121,10 @@ struct CutLine {
 // Ridge / hip / valley: where the two planes meet near their shared boundary.
 std::optional<CutLine> intersection_cut(const Plane& a, const Plane& b,
                                         const std::vector<Vec2>& boundary) {
-  auto line = intersect(a, b, 8.0);
+  auto line = intersect(a, b, kMinPlaneAngleDeg);
   if (!line) return std::nullopt;
   Vec2 dir = line->dir.head<2>();
-  if (dir.norm() < 0.2) return std::nullopt;
+  if (dir.norm() < kMinPlanDir) return std::nullopt;
   dir.normalize();
   Vec2 p = line->point.head<2>();
   Vec2 n(-dir.y(), dir.x());
@@ -130,7 +135,7 @@ std::optional<CutLine> intersection_cut(const Plane& a, const Plane& b,
   }
   dist /= boundary.size();
   dz /= boundary.size();
-  if (dist > 1.2 || dz > 0.35) return std::nullopt;
+  if (dist > kMaxCutDistance || dz > kMaxCutHeightGap) return std::nullopt;
   return CutLine{p, dir};
 }
 
@@ -149,7 +154,7 @@ std::pair<CutLine, double> fit_line(const std::vector<Vec2>& pts) {
 std::optional<CutLine> step_cut(const std::vector<Vec2>& boundary) {
   if (boundary.size() < 2) return std::nullopt;
   auto [line, rms] = fit_line(boundary);
-  if (rms > 0.3) return std::nullopt;
+  if (rms > kMaxStepRms) return std::nullopt;
   return line;
 }
 
@@ -197,8 +202,6 @@ Vec2 local_side_point(const RoofPartitionInput& in, int slot, const MultiPolygon
   return n > 0 ? Vec2(sum / n) : fallback;
 }
 
-constexpr double kCutOverrun = 0.25;  // m a cut may reach past the ends of the shared boundary
-
 // Pieces of a boundary as chains: a piece whose end lies within `gap` of a
 // chain's end carries that chain on (shared boundaries come back broken where
 // the regions do not quite touch).
@@ -240,16 +243,16 @@ void share_corridor(std::vector<MultiPolygon2>& regions, int i, int j, const Mul
 // is the step wall built on it.
 void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j,
                   const std::vector<std::vector<Vec2>>& shared) {
-  const double tolerance = 2.0 * in.cell;  // the staircase's steps are one cell
+  const double tolerance = kStaircaseCells * in.cell;
   for (const auto& piece : chain_pieces(shared, tolerance)) {
-    if (piece.size() < 2 || polyline_length({piece}) < 0.4) continue;
+    if (piece.size() < 2 || polyline_length({piece}) < kMinSharedLength) continue;
     if ((piece.front() - piece.back()).norm() < tolerance) continue;  // a ring round an island level
     std::vector<Vec2> line = straight_legs(piece, tolerance);
     const Vec2 out0 = line[0] - line[1], out1 = line.back() - line[line.size() - 2];
     if (out0.norm() < 1e-6 || out1.norm() < 1e-6) continue;
     line.front() += kCutOverrun * out0.normalized();
     line.back() += kCutOverrun * out1.normalized();
-    const MultiPolygon2 left = poly::side_strip(line, 1.0), right = poly::side_strip(line, -1.0);
+    const MultiPolygon2 left = poly::side_strip(line, kCorridor), right = poly::side_strip(line, -kCorridor);
     long on_left = 0, on_right = 0;  // region i's points on either side
     for (size_t k = 0; k < in.points.size(); ++k)
       if (in.labels[k] == in.components[size_t(i)]) {
@@ -262,14 +265,14 @@ void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regi
 }
 
 void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
-  auto shared = poly::shared_boundary(regions[i], regions[j], 1e-4);
-  if (polyline_length(shared) < 0.4) return;
-  const auto samples = boundary_samples(shared, 0.5 * in.cell);
+  auto shared = poly::shared_boundary(regions[i], regions[j], kSharedTol);
+  if (polyline_length(shared) < kMinSharedLength) return;
+  const auto samples = boundary_samples(shared, kSampleCells * in.cell);
   auto cut = intersection_cut(in.planes[i], in.planes[j], samples);
   if (!cut) cut = step_cut(samples);
   if (!cut) return polyline_cut(in, regions, i, j, shared);
   MultiPolygon2 corridor;
-  for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, 1.0));
+  for (const auto& l : shared) corridor = poly::unite(corridor, poly::buffer_line(l, kCorridor));
   // Only along the shared stretch: carried past its end (where a third plane
   // takes over, as at a valley reaching a ridge) the line would hand that
   // plane's area to one of these two.
@@ -280,189 +283,11 @@ void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions,
     t0 = std::min(t0, t), t1 = std::max(t1, t);
   }
   const Vec2 start = cut->point + (t0 - kCutOverrun) * dir, end = cut->point + (t1 + kCutOverrun) * dir;
-  corridor = poly::intersect(corridor, poly::intersect(poly::halfplane_box(start, across, end, 1e4),
-                                                       poly::halfplane_box(end, across, start, 1e4)));
+  corridor = poly::intersect(corridor, poly::intersect(poly::halfplane_box(start, across, end, kFarBox),
+                                                       poly::halfplane_box(end, across, start, kFarBox)));
   Vec2 side = local_side_point(in, i, corridor, samples.front());
   if (std::abs(across.dot(side - cut->point)) < 1e-6) return;
-  share_corridor(regions, i, j, corridor, poly::halfplane_box(cut->point, cut->dir, side, 1e4));
-}
-
-
-// Whether v lies on an edge of the outline; that edge's ends in a and b.
-bool on_outline(const Polygon2& outline, const Vec2& v, Vec2& a, Vec2& b) {
-  const Ring2& r = outline.outer;
-  for (size_t i = 0; i < r.size(); ++i) {
-    Vec2 p = r[i], q = r[(i + 1) % r.size()];
-    Vec2 d = q - p;
-    double t = (v - p).dot(d) / d.squaredNorm();
-    if (t >= -1e-9 && t <= 1 + 1e-9 && (p + t * d - v).norm() < 1e-5) {
-      a = p, b = q;
-      return true;
-    }
-  }
-  return false;
-}
-
-// One region's corner at a vertex: where its ring comes from and goes to.
-struct Corner {
-  int region;
-  Ring2* ring;
-  size_t at;
-  Vec2 prev, next;
-  bool ends_at(const Vec2& p) const { return prev == p || next == p; }
-};
-
-std::map<std::pair<double, double>, std::vector<Corner>> corners_by_vertex(std::vector<MultiPolygon2>& regions) {
-  std::map<std::pair<double, double>, std::vector<Corner>> at;
-  for (size_t r = 0; r < regions.size(); ++r)
-    for (auto& p : regions[r]) {
-      std::vector<Ring2*> rings{&p.outer};
-      for (auto& h : p.holes) rings.push_back(&h);
-      for (Ring2* ring : rings)
-        for (size_t i = 0, n = ring->size(); i < n; ++i)
-          at[{(*ring)[i].x(), (*ring)[i].y()}].push_back(
-              Corner{int(r), ring, i, (*ring)[(i + n - 1) % n], (*ring)[(i + 1) % n]});
-    }
-  return at;
-}
-
-// The corners in their order round the vertex, each sharing an edge with the
-// next; empty when they do not close one cycle of distinct regions.
-std::vector<Corner> round_the_vertex(const std::vector<Corner>& corners) {
-  std::vector<Corner> round{corners[0]};
-  std::vector<bool> used(corners.size(), false);
-  used[0] = true;
-  Vec2 via = corners[0].next;
-  while (round.size() < corners.size()) {
-    size_t k = 1;
-    while (k < corners.size() && (used[k] || !corners[k].ends_at(via))) ++k;
-    if (k == corners.size()) return {};
-    for (const Corner& c : round)
-      if (c.region == corners[k].region) return {};
-    used[k] = true;
-    via = corners[k].prev == via ? corners[k].next : corners[k].prev;
-    round.push_back(corners[k]);
-  }
-  return corners[0].ends_at(via) ? round : std::vector<Corner>{};
-}
-
-// The short ridge that replaces a vertex of four regions round it: on the line
-// of the planes of corners `first` and first + 2, from the three-plane point
-// with corner first + 1 (end1) to that with first + 3 (end3).
-struct ShortRidge {
-  size_t first;
-  Vec2 end1, end3;
-};
-
-std::optional<ShortRidge> short_ridge(const std::vector<Corner>& round, const std::vector<Plane>& planes,
-                                      const Vec2& v) {
-  auto plane = [&](size_t k) { return planes[size_t(round[k % 4].region)]; };
-  double zmin = 1e18, zmax = -1e18;
-  for (size_t k = 0; k < 4; ++k) {
-    const double z = plane(k).z_at(v.x(), v.y());
-    zmin = std::min(zmin, z), zmax = std::max(zmax, z);
-  }
-  if (zmax - zmin < 1e-3 || zmax - zmin > 0.3) return std::nullopt;  // one point, or a step
-  auto toward = [&](size_t k) {  // into corner k's region: the mean direction of its two edges
-    const Corner& c = round[k % 4];
-    return Vec2((c.prev - v).normalized() + (c.next - v).normalized());
-  };
-  std::optional<ShortRidge> best;
-  for (size_t s = 0; s < 2; ++s) {
-    const auto p1 = common_point({plane(s), plane(s + 2), plane(s + 1)});
-    const auto p3 = common_point({plane(s), plane(s + 2), plane(s + 3)});
-    if (!p1 || !p3) continue;
-    const ShortRidge r{s, p1->head<2>(), p3->head<2>()};
-    const Vec2 d = r.end1 - r.end3;
-    if (d.norm() < 2e-3 || (r.end1 - v).norm() > 0.35 || (r.end3 - v).norm() > 0.35) continue;
-    if (d.dot(toward(s + 1)) <= 0 || d.dot(toward(s + 3)) >= 0) continue;  // each end on its region's side
-    if (!best || d.norm() < (best->end1 - best->end3).norm()) best = r;
-  }
-  return best;
-}
-
-// Vertices shared by regions whose planes meet are moved onto the exact
-// intersection (ridge line, or the point where three or more planes meet, least
-// squares beyond three), so neighbouring faces agree in 3D, not just in plan.
-void snap_to_intersections(const Polygon2& outline, std::vector<MultiPolygon2>& regions,
-                           const std::vector<Plane>& planes) {
-  std::vector<Ring2*> rings;
-  for (auto& r : regions)
-    for (auto& p : r) {
-      rings.push_back(&p.outer);
-      for (auto& h : p.holes) rings.push_back(&h);
-    }
-  node_rings(rings, 1e-3);
-  std::map<std::pair<double, double>, std::vector<int>> users;
-  for (size_t i = 0; i < regions.size(); ++i)
-    for (auto& p : regions[i])
-      for (auto& v : p.outer) {
-        auto& u = users[{v.x(), v.y()}];
-        if (std::find(u.begin(), u.end(), int(i)) == u.end()) u.push_back(int(i));
-      }
-  std::map<std::pair<double, double>, Vec2> moved;
-  for (auto& [key, regs] : users) {
-    if (regs.size() < 2) continue;
-    Vec2 v(key.first, key.second), ea, eb;
-    bool edge = on_outline(outline, v, ea, eb);
-    double zmin = 1e18, zmax = -1e18;
-    std::vector<Plane> ps;
-    for (int r : regs) {
-      double z = planes[r].z_at(v.x(), v.y());
-      zmin = std::min(zmin, z), zmax = std::max(zmax, z);
-      ps.push_back(planes[r]);
-    }
-    if (zmax - zmin > 0.3) continue;  // a step between roof levels: nothing to meet
-    Vec2 target = v;
-    if (ps.size() == 2) {
-      auto line = intersect(ps[0], ps[1], 8.0);
-      if (!line || line->dir.head<2>().norm() < 0.2) continue;
-      Vec2 p = line->point.head<2>(), d = line->dir.head<2>().normalized();
-      if (edge) {
-        auto x = intersect_lines(p, d, ea, (eb - ea).normalized());
-        if (!x) continue;
-        target = *x;
-      } else {
-        target = p + d * d.dot(v - p);
-      }
-    } else if (!edge) {
-      auto cp = common_point(ps);
-      if (!cp) continue;
-      target = cp->head<2>();
-    } else {
-      continue;
-    }
-    if ((target - v).norm() < 0.35) moved[key] = target;
-  }
-  for (auto* r : rings)
-    for (auto& v : *r) {
-      auto it = moved.find({v.x(), v.y()});
-      if (it != moved.end()) v = it->second;
-    }
-  // Where four or more planes meet, vertices snapped to different triples of
-  // them land millimetres apart; as separate vertices they would leave
-  // slivers whose triangles tilt. They are one junction.
-  node_rings(rings, 0.01);
-  split_four_plane_vertices(outline, regions, planes);
-}
-
-// A region that snapping folded over itself (a vertex moved past one of its
-// own edges) would come out of make_valid covering its neighbour, which then
-// loses its plane to it (a hip roof's face, once its points came in another
-// order): such a region keeps its shape from before the snap, and
-// remove_overlaps and fix_coverage settle the seams with its neighbours.
-void undo_folding_snaps(std::vector<MultiPolygon2>& regions, const std::vector<MultiPolygon2>& before) {
-  for (size_t i = 0; i < regions.size(); ++i)
-    if (std::abs(area(poly::make_valid(regions[i])) - area(regions[i])) > 0.01) regions[i] = before[i];
-}
-
-// Snapping may make neighbours overlap slightly; an area belongs to one region only.
-void remove_overlaps(std::vector<MultiPolygon2>& regions) {
-  MultiPolygon2 taken;
-  for (auto& r : regions) {
-    r = poly::drop_small(poly::subtract(poly::make_valid(r), taken), 1e-4);
-    taken = poly::unite(taken, r);
-  }
+  share_corridor(regions, i, j, corridor, poly::halfplane_box(cut->point, cut->dir, side, kFarBox));
 }
 
 }  // namespace
@@ -494,30 +319,30 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     regions = {{in.outline}};
   } else {
     regions = label_regions(in);
-    fix_coverage(in.outline, regions, 0.3);
+    fix_coverage(in.outline, regions, kMinCoverPart);
     // Longest shared boundaries first: they are the most reliable lines.
     std::vector<std::tuple<double, int, int>> pairs;
     for (size_t i = 0; i < k; ++i)
       for (size_t j = i + 1; j < k; ++j) {
-        if (!box_of(regions[i]).near(box_of(regions[j]), 1e-3)) continue;
-        double len = polyline_length(poly::shared_boundary(regions[i], regions[j], 1e-4));
-        if (len > 0.4) pairs.emplace_back(len, int(i), int(j));
+        if (!box_of(regions[i]).near(box_of(regions[j]), kBoxMargin)) continue;
+        double len = polyline_length(poly::shared_boundary(regions[i], regions[j], kSharedTol));
+        if (len > kMinSharedLength) pairs.emplace_back(len, int(i), int(j));
       }
     std::sort(pairs.rbegin(), pairs.rend());
     for (auto& [len, i, j] : pairs) cut_pair(in, regions, i, j);
-    fix_coverage(in.outline, regions, 0.3);
+    fix_coverage(in.outline, regions, kMinCoverPart);
     std::vector<int> region_of_point(in.labels.size(), -1);
     for (size_t p = 0; p < in.labels.size(); ++p)
       for (size_t r = 0; r < k; ++r)
         if (in.components[r] == in.labels[p]) region_of_point[p] = int(r);
     absorb_fragments(regions, in.points, region_of_point);
-    for (auto& r : regions) r = poly::simplify(r, 0.02);
-    fix_coverage(in.outline, regions, 0.05);
+    for (auto& r : regions) r = poly::simplify(r, kSimplifyTol);
+    fix_coverage(in.outline, regions, kMinCoverPartFine);
     const std::vector<MultiPolygon2> unsnapped = regions;
-    snap_to_intersections(in.outline, regions, in.planes);
-    undo_folding_snaps(regions, unsnapped);
-    remove_overlaps(regions);
-    fix_coverage(in.outline, regions, 0.05);
+    roof::snap_to_intersections(in.outline, regions, in.planes);
+    roof::undo_folding_snaps(regions, unsnapped);
+    roof::remove_overlaps(regions);
+    fix_coverage(in.outline, regions, kMinCoverPartFine);
     absorb_fragments(regions, in.points, region_of_point);  // snapping can detach more
   }
   std::vector<RoofRegion> out;
@@ -530,7 +355,6 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
 
 void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec2>& points,
                       const std::vector<int>& region_of_point) {
-  constexpr double kFragment = 1.5;  // m^2
   for (size_t i = 0; i < regions.size(); ++i) {
     if (regions[i].size() < 2) continue;
     double biggest = 0;
@@ -550,7 +374,7 @@ void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec
       double best_len = 0;
       for (size_t j = 0; j < regions.size(); ++j) {
         if (j == i) continue;
-        double len = polyline_length(poly::shared_boundary(piece, regions[j], 1e-4));
+        double len = polyline_length(poly::shared_boundary(piece, regions[j], kSharedTol));
         if (len <= 0) continue;  // not a neighbour
         if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len))
           best_len = len, best = int(j);
@@ -562,53 +386,6 @@ void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec
       regions[size_t(best)] = poly::unite(regions[size_t(best)], piece);
     }
     regions[i] = keep;
-  }
-}
-
-void split_four_plane_vertices(const Polygon2& outline, std::vector<MultiPolygon2>& regions,
-                               const std::vector<Plane>& planes) {
-  std::map<Ring2*, std::map<size_t, std::vector<Vec2>>> replace;  // ring -> vertex -> what takes its place
-  for (const auto& [key, corners] : corners_by_vertex(regions)) {
-    const Vec2 v(key.first, key.second);
-    Vec2 ea, eb;
-    if (corners.size() != 4 || on_outline(outline, v, ea, eb)) continue;
-    const std::vector<Corner> round = round_the_vertex(corners);
-    const auto ridge = round.empty() ? std::nullopt : short_ridge(round, planes, v);
-    if (!ridge) continue;
-    const Corner& end1 = round[(ridge->first + 1) % 4];
-    for (size_t k = 0; k < 4; ++k) {
-      const Corner& c = round[k];
-      if (k == (ridge->first + 1) % 4) replace[c.ring][c.at] = {ridge->end1};
-      else if (k == (ridge->first + 3) % 4) replace[c.ring][c.at] = {ridge->end3};
-      else if (end1.ends_at(c.prev))  // along the ridge, coming from end 1's side
-        replace[c.ring][c.at] = {ridge->end1, ridge->end3};
-      else
-        replace[c.ring][c.at] = {ridge->end3, ridge->end1};
-    }
-  }
-  for (auto& [ring, at_index] : replace) {
-    Ring2 out;
-    for (size_t i = 0; i < ring->size(); ++i) {
-      auto it = at_index.find(i);
-      if (it == at_index.end()) out.push_back((*ring)[i]);
-      else out.insert(out.end(), it->second.begin(), it->second.end());
-    }
-    *ring = std::move(out);
-  }
-}
-
-void node_rings(std::vector<Ring2*>& rings, double tol) {
-  std::vector<Vec2> seen;
-  for (auto* r : rings)
-    for (auto& v : *r) weld_vertex(v, seen, tol);
-  for (auto* r : rings) {
-    Ring2 out = insert_on_edges(*r, seen, tol);
-    // Drop consecutive duplicates produced by welding.
-    Ring2 clean;
-    for (const auto& v : out)
-      if (clean.empty() || (v - clean.back()).norm() >= tol) clean.push_back(v);
-    while (clean.size() > 1 && (clean.front() - clean.back()).norm() < tol) clean.pop_back();
-    *r = clean;
   }
 }
 

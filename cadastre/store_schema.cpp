@@ -1,0 +1,241 @@
+#include "cadastre/store_schema.h"
+
+#include <cpl_conv.h>
+#include <ogr_srs_api.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cadastre/gpkg_geometry.h"
+#include "core/error.h"
+
+namespace c3d::store_schema {
+
+namespace {
+
+constexpr int kCustomSrsId = 100000;
+
+const char* kWgs84Wkt =
+    "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563,"
+    "AUTHORITY[\"EPSG\",\"7030\"]],AUTHORITY[\"EPSG\",\"6326\"]],PRIMEM[\"Greenwich\",0,"
+    "AUTHORITY[\"EPSG\",\"8901\"]],UNIT[\"degree\",0.0174532925199433,AUTHORITY[\"EPSG\","
+    "\"9122\"]],AXIS[\"Latitude\",NORTH],AXIS[\"Longitude\",EAST],AUTHORITY[\"EPSG\",\"4326\"]]";
+
+// GeoPackage core tables, exactly as GDAL creates them (validate_gpkg.py
+// compares column types, defaults and keys).
+const char* kGpkgSchema = R"SQL(
+CREATE TABLE IF NOT EXISTS gpkg_spatial_ref_sys (srs_name TEXT NOT NULL, srs_id INTEGER NOT NULL PRIMARY KEY,
+  organization TEXT NOT NULL, organization_coordsys_id INTEGER NOT NULL, definition TEXT NOT NULL, description TEXT);
+CREATE TABLE IF NOT EXISTS gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY, data_type TEXT NOT NULL,
+  identifier TEXT UNIQUE, description TEXT DEFAULT '',
+  last_change DATETIME NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%fZ','now')),
+  min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE, srs_id INTEGER,
+  CONSTRAINT fk_gc_r_srs_id FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys(srs_id));
+CREATE TABLE IF NOT EXISTS gpkg_geometry_columns (table_name TEXT NOT NULL, column_name TEXT NOT NULL,
+  geometry_type_name TEXT NOT NULL, srs_id INTEGER NOT NULL, z TINYINT NOT NULL, m TINYINT NOT NULL,
+  CONSTRAINT pk_geom_cols PRIMARY KEY (table_name, column_name),
+  CONSTRAINT uk_gc_table_name UNIQUE (table_name),
+  CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) REFERENCES gpkg_contents(table_name),
+  CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys (srs_id));
+)SQL";
+
+// LADM / valuation tables. Only GeoPackage column types; every child key has
+// an index so the cascading delete of a parcel stays cheap.
+const char* kLadmSchema = R"SQL(
+CREATE TABLE IF NOT EXISTS run (fid INTEGER PRIMARY KEY, tool_version TEXT NOT NULL, parameters TEXT,
+  crs_epsg INTEGER, origin_x DOUBLE, origin_y DOUBLE, origin_z DOUBLE,
+  started DATETIME NOT NULL, finished DATETIME,
+  parcels_ok INTEGER, parcels_empty INTEGER, parcels_failed INTEGER);
+CREATE TABLE IF NOT EXISTS run_input (fid INTEGER PRIMARY KEY,
+  run_id INTEGER NOT NULL REFERENCES run(fid) ON DELETE CASCADE,
+  path TEXT NOT NULL, sha256 TEXT NOT NULL, bytes INTEGER);
+CREATE TABLE IF NOT EXISTS la_party (fid INTEGER PRIMARY KEY, party_key TEXT NOT NULL UNIQUE,
+  name TEXT, party_type TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS la_baunit (fid INTEGER PRIMARY KEY, parcel_id TEXT NOT NULL UNIQUE,
+  name TEXT, baunit_type TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS la_rrr (fid INTEGER PRIMARY KEY,
+  baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
+  party_id INTEGER NOT NULL REFERENCES la_party(fid) ON DELETE CASCADE,
+  rrr_class TEXT NOT NULL CHECK (rrr_class IN ('right','restriction','responsibility')),
+  rrr_type TEXT, share DOUBLE);
+CREATE TABLE IF NOT EXISTS la_spatialunit (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
+  parcel_id TEXT NOT NULL UNIQUE, layer_index INTEGER, official_area DOUBLE, computed_area DOUBLE,
+  repair_note TEXT);
+CREATE TABLE IF NOT EXISTS building (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
+  building_id TEXT NOT NULL UNIQUE, building_index INTEGER NOT NULL, geom_kind TEXT,
+  volume DOUBLE, eave_height DOUBLE, ridge_height DOUBLE, terrain_z DOUBLE, storeys INTEGER,
+  solid_valid BOOLEAN, solid_problem TEXT,
+  roof_area DOUBLE, roof_plan_area DOUBLE, wall_area DOUBLE, party_wall_area DOUBLE,
+  ground_area DOUBLE, outer_ceiling_area DOUBLE,
+  roof_dev_n INTEGER, roof_dev_max DOUBLE, roof_dev_mean DOUBLE, roof_dev_std DOUBLE, roof_dev_rmse DOUBLE,
+  wall_dev_n INTEGER, wall_dev_max DOUBLE, wall_dev_mean DOUBLE, wall_dev_std DOUBLE, wall_dev_rmse DOUBLE);
+CREATE TABLE IF NOT EXISTS building_element (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
+  element_index INTEGER NOT NULL,
+  element_type TEXT NOT NULL CHECK (element_type IN ('roof','wall','party_wall','ground','outer_ceiling')),
+  area DOUBLE, plan_area DOUBLE, slope_deg DOUBLE, azimuth_deg DOUBLE, sigma_area DOUBLE,
+  support_points INTEGER, rmse DOUBLE, wall_evidence TEXT,
+  UNIQUE (building_fid, element_index));
+CREATE TABLE IF NOT EXISTS vm_valuationunit (fid INTEGER PRIMARY KEY,
+  baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
+  spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
+  parcel_id TEXT NOT NULL UNIQUE, zone TEXT, quality TEXT, land_area DOUBLE, land_area_source TEXT);
+CREATE TABLE IF NOT EXISTS vm_valuation (fid INTEGER PRIMARY KEY,
+  valuationunit_id INTEGER NOT NULL REFERENCES vm_valuationunit(fid) ON DELETE CASCADE,
+  run_id INTEGER REFERENCES run(fid), approach TEXT NOT NULL, currency TEXT NOT NULL,
+  land_price_per_m2 DOUBLE, land_value DOUBLE, building_cost DOUBLE, sigma_building_cost DOUBLE,
+  age_years DOUBLE, depreciation_share DOUBLE, depreciation DOUBLE, building_value DOUBLE,
+  sigma_building_value DOUBLE, njop DOUBLE, sigma_njop DOUBLE, tax_rate DOUBLE, njoptkp DOUBLE,
+  taxable DOUBLE, tax DOUBLE, sigma_tax DOUBLE, note TEXT, valued DATETIME);
+CREATE TABLE IF NOT EXISTS vm_cost_item (fid INTEGER PRIMARY KEY,
+  valuation_id INTEGER NOT NULL REFERENCES vm_valuation(fid) ON DELETE CASCADE,
+  element_fid INTEGER REFERENCES building_element(fid) ON DELETE CASCADE,
+  building_id TEXT, element_index INTEGER, element_type TEXT NOT NULL, quality TEXT,
+  area DOUBLE, sigma_area DOUBLE, unit_cost DOUBLE, amount DOUBLE, sigma_amount DOUBLE,
+  support_points INTEGER, rmse DOUBLE);
+CREATE TABLE IF NOT EXISTS parcel_job (fid INTEGER PRIMARY KEY, parcel_id TEXT NOT NULL UNIQUE,
+  layer_index INTEGER,
+  status TEXT NOT NULL CHECK (status IN ('pending','ok','empty','failed')),
+  reason TEXT, inputs_key TEXT, run_id INTEGER REFERENCES run(fid),
+  roof_points INTEGER, wall_points INTEGER, timings TEXT, updated DATETIME);
+CREATE INDEX IF NOT EXISTS ix_run_input_run ON run_input(run_id);
+CREATE INDEX IF NOT EXISTS ix_rrr_baunit ON la_rrr(baunit_id);
+CREATE INDEX IF NOT EXISTS ix_rrr_party ON la_rrr(party_id);
+CREATE INDEX IF NOT EXISTS ix_su_baunit ON la_spatialunit(baunit_id);
+CREATE INDEX IF NOT EXISTS ix_building_su ON building(spatialunit_id);
+CREATE INDEX IF NOT EXISTS ix_vu_baunit ON vm_valuationunit(baunit_id);
+CREATE INDEX IF NOT EXISTS ix_vu_su ON vm_valuationunit(spatialunit_id);
+CREATE INDEX IF NOT EXISTS ix_val_vu ON vm_valuation(valuationunit_id);
+CREATE INDEX IF NOT EXISTS ix_val_run ON vm_valuation(run_id);
+CREATE INDEX IF NOT EXISTS ix_ci_val ON vm_cost_item(valuation_id);
+CREATE INDEX IF NOT EXISTS ix_ci_element ON vm_cost_item(element_fid);
+CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);
+)SQL";
+
+struct Layer {
+  const char* table;
+  const char* description;
+  bool features;
+  int z;  // gpkg_geometry_columns.z
+};
+
+const Layer kLayers[] = {
+    {"la_spatialunit", "LADM spatial units: cadastral parcels", true, 0},
+    {"building", "LoD2 buildings (closed solid, or footprint when none)", true, 1},
+    {"building_element", "Building elements: roof, wall, party wall, ground, outer ceiling", true, 1},
+    {"la_party", "LADM parties", false, 0},
+    {"la_baunit", "LADM basic administrative units", false, 0},
+    {"la_rrr", "LADM rights, restrictions, responsibilities", false, 0},
+    {"vm_valuationunit", "Valuation units (one per parcel)", false, 0},
+    {"vm_valuation", "Valuations: cost approach, NJOP, PBB tax", false, 0},
+    {"vm_cost_item", "Priced quantities behind each valuation", false, 0},
+    {"run", "Batch runs: tool version, parameters, times", false, 0},
+    {"run_input", "Input files of each run with SHA-256", false, 0},
+    {"parcel_job", "Per-parcel job status (resume, idempotent reruns)", false, 0},
+};
+
+// First quoted name of a WKT ("WGS 84 / UTM zone 48S").
+std::string wkt_name(const std::string& wkt) {
+  auto a = wkt.find('"');
+  auto b = a == std::string::npos ? a : wkt.find('"', a + 1);
+  return b == std::string::npos ? "unnamed" : wkt.substr(a + 1, b - a - 1);
+}
+
+std::string epsg_wkt(int epsg) {
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  std::string out;
+  char* wkt = nullptr;
+  if (OSRImportFromEPSG(srs, epsg) == OGRERR_NONE && OSRExportToWkt(srs, &wkt) == OGRERR_NONE)
+    out = wkt;
+  CPLFree(wkt);
+  OSRDestroySpatialReference(srs);
+  return out;
+}
+
+// Registers the standard SRSs and the inputs' CRS; returns the srs_id of the layers.
+int register_srs(sql::Db& db, const std::string& crs_wkt, int epsg) {
+  int srs = 0;
+  sql::Stmt ins(db,
+                "INSERT OR IGNORE INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, "
+                "organization_coordsys_id, definition, description) VALUES (?,?,?,?,?,?)");
+  ins.bind("Undefined cartesian SRS").bind(-1).bind("NONE").bind(-1).bind("undefined")
+      .bind("undefined cartesian coordinate reference system").run();
+  ins.bind("Undefined geographic SRS").bind(0).bind("NONE").bind(0).bind("undefined")
+      .bind("undefined geographic coordinate reference system").run();
+  ins.bind("WGS 84 geodetic").bind(4326).bind("EPSG").bind(4326).bind(kWgs84Wkt)
+      .bind("longitude/latitude coordinates in decimal degrees on the WGS 84 spheroid").run();
+  if (epsg > 0) {
+    srs = epsg;
+    std::string wkt = crs_wkt.empty() ? epsg_wkt(epsg) : crs_wkt;
+    if (wkt.empty()) wkt = "undefined";
+    ins.bind(wkt_name(wkt)).bind(epsg).bind("EPSG").bind(epsg).bind(wkt).bind("inputs' CRS").run();
+  } else if (!crs_wkt.empty()) {
+    srs = kCustomSrsId;
+    ins.bind(wkt_name(crs_wkt)).bind(srs).bind("NONE").bind(srs).bind(crs_wkt)
+        .bind("inputs' CRS (no EPSG code)").run();
+  } else {
+    srs = -1;  // undefined Cartesian: local metric coordinates
+  }
+  return srs;
+}
+
+}  // namespace
+
+int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
+  sql::Transaction tx(db);
+  db.exec(kGpkgSchema);
+  // An existing store keeps its CRS; mixing CRSs in one file would be silent garbage.
+  {
+    sql::Stmt q(db, "SELECT srs_id FROM gpkg_geometry_columns WHERE table_name='la_spatialunit'");
+    if (q.step()) {
+      int existing = int(q.get_int(0));
+      int wanted = epsg > 0 ? epsg : crs_wkt.empty() ? -1 : kCustomSrsId;
+      if (existing != wanted)
+        throw InputError(db.path(), "store uses srs_id " + std::to_string(existing) +
+                                        " but the inputs have " + std::to_string(wanted));
+    }
+  }
+  const int srs = register_srs(db, crs_wkt, epsg);
+  db.exec(kLadmSchema);
+  sql::Stmt contents(db,
+                     "INSERT OR IGNORE INTO gpkg_contents (table_name, data_type, identifier, "
+                     "description, srs_id) VALUES (?,?,?,?,?)");
+  sql::Stmt columns(db,
+                    "INSERT OR IGNORE INTO gpkg_geometry_columns (table_name, column_name, "
+                    "geometry_type_name, srs_id, z, m) VALUES (?,?,?,?,?,0)");
+  for (const Layer& l : kLayers) {
+    contents.bind(l.table).bind(l.features ? "features" : "attributes").bind(l.table)
+        .bind(l.description);
+    if (l.features) contents.bind(srs);
+    else contents.bind_null();
+    contents.run();
+    if (l.features) columns.bind(l.table).bind("geom").bind("MULTIPOLYGON").bind(srs).bind(l.z).run();
+  }
+  tx.commit();
+  return srs;
+}
+
+void update_extents(sql::Db& db) {
+  sql::Stmt upd(db, std::string("UPDATE gpkg_contents SET min_x=?, min_y=?, max_x=?, max_y=?, "
+                                "last_change=") + kNow + " WHERE table_name=?");
+  for (const Layer& l : kLayers) {
+    if (!l.features) continue;
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    sql::Stmt q(db, std::string("SELECT geom FROM ") + l.table + " WHERE geom IS NOT NULL");
+    while (q.step()) {
+      std::size_t n;
+      const std::uint8_t* b = q.blob(0, &n);
+      double env[4];
+      if (!gpkg_envelope_xy(b, n, env)) continue;
+      lo[0] = std::min(lo[0], env[0]); lo[1] = std::min(lo[1], env[1]);
+      hi[0] = std::max(hi[0], env[2]); hi[1] = std::max(hi[1], env[3]);
+    }
+    upd.bind(lo[0]).bind(lo[1]).bind(hi[0]).bind(hi[1]).bind(l.table).run();  // inf -> NULL
+  }
+  db.exec(std::string("UPDATE gpkg_contents SET last_change=") + kNow +
+          " WHERE data_type='attributes'");
+}
+
+}  // namespace c3d::store_schema

@@ -1,0 +1,20 @@
+#pragma once
+// The store's tables (internal to cadastre/store*.cpp): GeoPackage core
+// tables, the LADM / valuation tables, their layers in gpkg_contents and the
+// layer extents.
+#include <string>
+
+#include "cadastre/sqlite_util.h"
+
+namespace c3d::store_schema {
+
+// SQLite's current time in the form GeoPackage writes (ISO 8601, UTC).
+inline constexpr const char* kNow = "strftime('%Y-%m-%dT%H:%M:%fZ','now')";
+
+// Creates the tables in one transaction (an existing store must have the same
+// CRS) and returns the srs_id the geometry layers use.
+int create(sql::Db& db, const std::string& crs_wkt, int epsg);
+// Refreshes each feature layer's xy extent and every layer's change time.
+void update_extents(sql::Db& db);
+
+}  // namespace c3d::store_schema

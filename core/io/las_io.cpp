@@ -1,0 +1,282 @@
+// The LAS 1.0-1.4 reader (formats 0-10, CRS from WKT or GeoKeys VLRs) and the
+// LAS writer.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "core/error.h"
+#include "core/io/crs.h"
+#include "core/io/point_io.h"
+#include "core/io/point_io_detail.h"
+
+namespace c3d {
+
+using namespace point_io_detail;
+
+namespace {
+
+// ---------------------------------------------------------------- LAS ----
+
+// Point record sizes per format 0-10 (LAS 1.4 R15, table 7ff).
+constexpr std::array<int, 11> kLasRecordSize = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+
+struct LasHeader {
+  int major = 1, minor = 0, format = 0, record_length = 0;
+  uint16_t header_size = 0, global_encoding = 0;
+  uint32_t point_offset = 0, vlr_count = 0, evlr_count = 0;
+  uint64_t point_count = 0, evlr_offset = 0;
+  double scale[3], offset[3];
+};
+
+LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf) {
+  if (buf.size() < 4 || std::memcmp(buf.data(), "LASF", 4) != 0)
+    throw InputError(path, "not a LAS file (no LASF signature)");
+  if (buf.size() < 227)
+    throw InputError(path, "truncated LAS file: " + std::to_string(buf.size()) +
+                               " bytes, shorter than a LAS header (227 bytes)");
+  const char* p = buf.data();
+  LasHeader h;
+  h.global_encoding = get<uint16_t>(p + 6);
+  h.major = uint8_t(p[24]);
+  h.minor = uint8_t(p[25]);
+  h.header_size = get<uint16_t>(p + 94);
+  h.point_offset = get<uint32_t>(p + 96);
+  h.vlr_count = get<uint32_t>(p + 100);
+  int raw_format = uint8_t(p[104]);
+  h.record_length = get<uint16_t>(p + 105);
+  h.point_count = get<uint32_t>(p + 107);
+  for (int i = 0; i < 3; ++i) {
+    h.scale[i] = get<double>(p + 131 + 8 * i);
+    h.offset[i] = get<double>(p + 155 + 8 * i);
+  }
+  if (h.major != 1 || h.minor > 4)
+    throw InputError(path, "unsupported LAS version " + std::to_string(h.major) + "." +
+                               std::to_string(h.minor) + " (1.0-1.4 are read)");
+  if (raw_format & 0xC0)  // LASzip sets the two high bits of the format byte
+    throw InputError(path, "LAZ-compressed points are not supported; convert first, e.g. "
+                           "`pdal translate in.laz out.las` or `las2las -i in.laz -o out.las`");
+  if (raw_format > 10)
+    throw InputError(path, "unknown LAS point format " + std::to_string(raw_format) +
+                               " (0-10 are defined)");
+  h.format = raw_format;
+  if (h.header_size < 227 || h.header_size > buf.size())
+    throw InputError(path, "truncated LAS file: header size " + std::to_string(h.header_size) +
+                               " does not fit the file");
+  if (h.minor >= 4 && h.header_size >= 375) {
+    h.evlr_offset = get<uint64_t>(p + 235);
+    h.evlr_count = get<uint32_t>(p + 243);
+    uint64_t count64 = get<uint64_t>(p + 247);
+    if (count64 != 0 || h.point_count == 0) h.point_count = count64;
+  }
+  if (h.record_length < kLasRecordSize[h.format])
+    throw InputError(path, "point record length " + std::to_string(h.record_length) +
+                               " is too short for point format " + std::to_string(h.format));
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(h.scale[i]) || !std::isfinite(h.offset[i]) || h.scale[i] == 0)
+      throw InputError(path, "NaN/inf or zero scale/offset in the LAS header, coordinates would be "
+                             "NaN/inf");
+  if (h.point_offset < h.header_size || h.point_offset > buf.size())
+    throw InputError(path, "truncated LAS file: point data offset " +
+                               std::to_string(h.point_offset) + " lies beyond the end of the file (" +
+                               std::to_string(buf.size()) + " bytes)");
+  uint64_t available = (buf.size() - h.point_offset) / h.record_length;
+  if (h.point_count > available)
+    throw InputError(path, "truncated LAS file: header point count " +
+                               std::to_string(h.point_count) + " is larger than the file holds (" +
+                               std::to_string(available) + " complete points)");
+  return h;
+}
+
+// GeoKeyDirectory (record 34735): keys of 4 uint16 after a 4-uint16 header.
+int epsg_from_geokeys(const char* data, size_t size) {
+  size_t n = size / 2;
+  if (n < 4) return 0;
+  int keys = get<uint16_t>(data + 6);
+  int projected = 0, geographic = 0;
+  for (int k = 0; k < keys && 4 + 4 * k + 3 < int(n); ++k) {
+    const char* e = data + 8 + 8 * k;
+    int id = get<uint16_t>(e), location = get<uint16_t>(e + 2), value = get<uint16_t>(e + 6);
+    if (location != 0) continue;  // EPSG codes are stored inline
+    if (id == 3072) projected = value;
+    if (id == 2048) geographic = value;
+  }
+  return projected && projected != 32767 ? projected
+         : geographic && geographic != 32767 ? geographic : 0;
+}
+
+// CRS from the VLRs and EVLRs: OGC WKT (2112) wins over GeoKeys (34735).
+std::string las_crs(const std::string& path, const std::vector<char>& buf, const LasHeader& h) {
+  std::string wkt;
+  int epsg = 0;
+  auto visit = [&](const char* rec, uint64_t length, const char* where) {
+    std::string user(rec + 2, strnlen(rec + 2, 16));
+    int id = get<uint16_t>(rec + 18);
+    if (user != "LASF_Projection") return;
+    if (id == 2112) wkt.assign(where, strnlen(where, length));
+    if (id == 34735) epsg = epsg_from_geokeys(where, length);
+  };
+  size_t pos = h.header_size;
+  for (uint32_t i = 0; i < h.vlr_count; ++i) {
+    if (pos + 54 > h.point_offset)
+      throw InputError(path, "truncated LAS file: VLR " + std::to_string(i) +
+                                 " runs past the start of the point data");
+    uint16_t length = get<uint16_t>(buf.data() + pos + 20);
+    if (pos + 54 + length > buf.size())
+      throw InputError(path, "truncated LAS file: VLR " + std::to_string(i) + " runs past the end");
+    visit(buf.data() + pos, length, buf.data() + pos + 54);
+    pos += 54 + length;
+  }
+  pos = h.evlr_offset;
+  for (uint32_t i = 0; i < h.evlr_count && pos + 60 <= buf.size(); ++i) {
+    uint64_t length = get<uint64_t>(buf.data() + pos + 20);
+    if (length > buf.size() - pos - 60) break;  // a damaged EVLR does not spoil the points
+    visit(buf.data() + pos, length, buf.data() + pos + 60);
+    pos += 60 + length;
+  }
+  if (!wkt.empty()) return wkt;
+  if (epsg) {
+    try {
+      return wkt_from_epsg(epsg);
+    } catch (const std::exception&) {
+      throw InputError(path, "GeoKeys name EPSG:" + std::to_string(epsg) + ", unknown to PROJ");
+    }
+  }
+  return {};
+}
+
+// -------------------------------------------------------------- write ----
+
+int min_minor_for(int format) { return format >= 6 ? 4 : format >= 4 ? 3 : format >= 2 ? 2 : 0; }
+
+// VLR with the CRS: OGC WKT for formats 6-10 (mandatory there), GeoKeys for
+// 0-5 when the CRS has an EPSG code (what pre-1.4 readers understand).
+std::string crs_vlr(const std::string& wkt, int format, bool* is_wkt) {
+  if (wkt.empty()) return {};
+  int epsg = format < 6 ? epsg_of(wkt) : 0;
+  std::string vlr(54, '\0');
+  std::memcpy(&vlr[2], "LASF_Projection", 15);
+  std::string payload;
+  if (epsg) {
+    bool geographic = epsg >= 4000 && epsg < 5000;  // EPSG geographic 2D codes
+    uint16_t keys[] = {1, 1, 0, 3,
+                       1024, 0, 1, uint16_t(geographic ? 2 : 1),  // GTModelType
+                       1025, 0, 1, 1,                             // RasterPixelIsArea
+                       uint16_t(geographic ? 2048 : 3072), 0, 1, uint16_t(epsg)};
+    payload.assign(reinterpret_cast<const char*>(keys), sizeof(keys));
+    put<uint16_t>(vlr, 18, 34735);
+    *is_wkt = false;
+  } else {
+    payload = wkt + '\0';
+    put<uint16_t>(vlr, 18, 2112);
+    *is_wkt = true;
+  }
+  put<uint16_t>(vlr, 20, uint16_t(payload.size()));
+  std::memcpy(&vlr[22], "CRS", 3);
+  return vlr + payload;
+}
+
+}  // namespace
+
+PointCloud point_io_detail::read_las(const std::string& path) {
+  std::vector<char> buf = slurp(path);
+  LasHeader h = parse_las_header(path, buf);
+  PointCloud cloud;
+  cloud.source = path;
+  cloud.crs_wkt = las_crs(path, buf, h);
+  size_t n = h.point_count;
+  cloud.points.resize(n);
+  cloud.classes.resize(n);
+  // Formats 6-10 carry a full classification byte (classes >= 32 such as 64
+  // survive); 0-5 keep the class in the low 5 bits beside three flags.
+  const bool extended = h.format >= 6;
+  const int class_at = extended ? 16 : 15;
+  const uint8_t class_mask = extended ? 0xFF : 0x1F;
+  const char* rec = buf.data() + h.point_offset;
+  for (size_t i = 0; i < n; ++i, rec += h.record_length) {
+    cloud.points[i] = Vec3(get<int32_t>(rec) * h.scale[0] + h.offset[0],
+                           get<int32_t>(rec + 4) * h.scale[1] + h.offset[1],
+                           get<int32_t>(rec + 8) * h.scale[2] + h.offset[2]);
+    cloud.classes[i] = uint8_t(rec[class_at]) & class_mask;
+  }
+  return cloud;
+}
+
+void write_las(const std::string& path, const PointCloud& cloud, int point_format,
+               int minor_version) {
+  if (point_format < 0 || point_format > 10)
+    throw InputError(path, "unknown LAS point format " + std::to_string(point_format));
+  if (minor_version < min_minor_for(point_format) || minor_version > 4)
+    throw InputError(path, "point format " + std::to_string(point_format) + " needs LAS 1." +
+                               std::to_string(min_minor_for(point_format)) + " or later");
+  const size_t n = cloud.points.size();
+  const bool extended = point_format >= 6;
+  if (!extended && n > 0xFFFFFFFFull)
+    throw InputError(path, "more than 2^32 points need point format 6-10");
+  Vec3 lo = Vec3::Constant(0), hi = Vec3::Constant(0);
+  if (n) {
+    lo = hi = cloud.points[0];
+    for (const Vec3& p : cloud.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  // Millimetre resolution around a rounded offset; coarser only for huge extents.
+  double scale[3], offset[3];
+  for (int i = 0; i < 3; ++i) {
+    offset[i] = std::round((lo[i] + hi[i]) / 2);
+    scale[i] = 0.001;
+    while ((hi[i] - lo[i]) / 2 / scale[i] > 2.0e9) scale[i] *= 10;
+  }
+  const int header_size = minor_version >= 4 ? 375 : minor_version == 3 ? 235 : 227;
+  bool is_wkt = false;
+  const std::string vlr = crs_vlr(cloud.crs_wkt, point_format, &is_wkt);
+  const int record = kLasRecordSize[point_format];
+  const size_t point_offset = header_size + vlr.size();
+
+  std::string out(point_offset + n * record, '\0');
+  std::memcpy(&out[0], "LASF", 4);
+  put<uint16_t>(out, 6, uint16_t(is_wkt && minor_version >= 4 ? 16 : 0));  // WKT bit
+  out[24] = 1;
+  out[25] = char(minor_version);
+  std::memcpy(&out[26], "cadastre3d", 10);
+  std::memcpy(&out[58], "cadastre3d write_las", 20);
+  put<uint16_t>(out, 94, uint16_t(header_size));
+  put<uint32_t>(out, 96, uint32_t(point_offset));
+  put<uint32_t>(out, 100, vlr.empty() ? 0u : 1u);
+  out[104] = char(point_format);
+  put<uint16_t>(out, 105, uint16_t(record));
+  uint32_t legacy = extended ? 0 : uint32_t(n);
+  put<uint32_t>(out, 107, legacy);
+  put<uint32_t>(out, 111, legacy);  // all points are first returns
+  for (int i = 0; i < 3; ++i) {
+    put<double>(out, 131 + 8 * i, scale[i]);
+    put<double>(out, 155 + 8 * i, offset[i]);
+    put<double>(out, 179 + 16 * i, hi[i]);
+    put<double>(out, 187 + 16 * i, lo[i]);
+  }
+  if (minor_version >= 4) {
+    put<uint64_t>(out, 247, n);
+    put<uint64_t>(out, 255, n);
+  }
+  std::memcpy(&out[header_size], vlr.data(), vlr.size());
+
+  const bool has_classes = cloud.classes.size() == n;
+  for (size_t i = 0; i < n; ++i) {
+    size_t r = point_offset + i * record;
+    const Vec3& p = cloud.points[i];
+    for (int k = 0; k < 3; ++k)
+      put<int32_t>(out, r + 4 * k, int32_t(std::llround((p[k] - offset[k]) / scale[k])));
+    uint8_t cls = has_classes ? cloud.classes[i] : 1;  // 1 = unclassified
+    if (extended) {
+      out[r + 14] = char(0x11);  // return 1 of 1
+      out[r + 16] = char(cls);
+    } else {
+      out[r + 14] = char(0x09);  // return 1 of 1
+      out[r + 15] = char(cls & 0x1F);
+    }
+  }
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
+  if (!f || std::fwrite(out.data(), 1, out.size(), f.get()) != out.size())
+    throw InputError(path, "cannot write LAS file");
+}
+
+}  // namespace c3d

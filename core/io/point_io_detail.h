@@ -1,0 +1,35 @@
+#pragma once
+// Pieces shared by the point-cloud readers and the LAS writer (internal to
+// core/io/point_io.cpp, las_io.cpp and ply_reader.cpp).
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d::point_io_detail {
+
+std::string lower(std::string s);
+// The whole file in memory: one fread is the fastest way through the page cache.
+std::vector<char> slurp(const std::string& path);
+
+template <typename T>
+T get(const char* p) {  // unaligned little-endian load (x86 and ARM are little-endian)
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+
+template <typename T>
+void put(std::string& out, size_t pos, T v) {
+  std::memcpy(&out[pos], &v, sizeof(T));
+}
+
+void check_finite(const std::string& path, double x, double y, double z, size_t index);
+// A column or property that holds the point class.
+bool is_class_name(const std::string& name);
+
+PointCloud read_las(const std::string& path);
+PointCloud read_ply(const std::string& path);
+
+}  // namespace c3d::point_io_detail
