@@ -8,6 +8,10 @@
 
 namespace c3d::envelope {
 
+// A roof region's boundary is placed to within this fraction of the roof
+// point spacing (a hull edge lies between its points and the next ones).
+constexpr double kBoundarySigmaPerSpacing = 0.25;
+
 Element make_element(ElementType type, std::vector<Face> faces) {
   Element e;
   e.type = type;
@@ -51,7 +55,7 @@ std::vector<Element> roof_elements(const std::vector<RoofRegion>& roof, const st
     double per = 0;
     for (const auto& part : roof[r].plan) per += perimeter(part.outer);
     double tilt = e.area * std::tan(pl.slope_deg() * M_PI / 180) * fit.sigma_normal;
-    double edge = 0.5 * per * 0.25 * spacing;
+    double edge = 0.5 * per * kBoundarySigmaPerSpacing * spacing;
     e.sigma_area = std::sqrt(tilt * tilt + edge * edge);
     out.push_back(std::move(e));
   }
@@ -67,7 +71,7 @@ Element ground_element(const Face& ground, double sigma_ground2) {
 Element outer_ceiling(const std::vector<Face>& soffits, const Polygon2& outline, double spacing,
                       double sigma_ground2) {
   Element oc = make_element(ElementType::OuterCeiling, soffits);
-  double edge = perimeter(outline.outer) * 0.25 * spacing;
+  double edge = perimeter(outline.outer) * kBoundarySigmaPerSpacing * spacing;
   oc.sigma_area = std::sqrt(sigma_ground2 + edge * edge);
   return oc;
 }

@@ -26,6 +26,9 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   const RoofFaces roof = lift_roof(simple_pieces(roof_pieces(in.roof, fp), fp), in.roof);
   b.elements = roof_elements(in.roof, in.fits, in.spacing, roof.by_region);
 
+  // The shell: the walls along the footprint, the step walls between roof
+  // levels, the ground floor and the roof inside the walls, in this order
+  // (the weld keeps the first of close vertices).
   Facades facades = facade_walls(fp, edges, b.terrain_z, roof.inside);
   std::vector<Face> solid = std::move(facades.faces);
   for (Element& e : facades.elements) b.elements.push_back(std::move(e));

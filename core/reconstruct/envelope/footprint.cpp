@@ -26,6 +26,19 @@ constexpr double kMinStepM = 0.05;
 // triangle a few millimetres wide between them that their heights tilt. Of
 // its two ends the one whose removal moves the footprint least goes.
 constexpr double kSpeckM = 0.005;
+// Parts of the moved-edge ring smaller than this are where moved lines cross
+// each other (a short edge's line overtaken by its neighbours'), not floor.
+constexpr double kMinMovedPart = 0.5;  // m^2
+// The footprint is regularised (regularize_polygon) dropping edges shorter
+// than this: chamfers and jogs the moved outline edges leave, which no wall makes.
+constexpr double kRegularizeEdge = 1.0;  // m
+// A lobe split off a pinched ring with less area than this is a spike of no
+// width, not a part.
+constexpr double kMinLobeArea = 1e-6;  // m^2
+// The terrain under the footprint is averaged on a grid of this cell (and at
+// its corners): fine enough for a house's ground, few look-ups.
+constexpr double kTerrainCell = 0.5;  // m
+
 namespace {
 
 // The first vertex of r lying within the weld tolerance of an edge of r but
@@ -89,7 +102,7 @@ std::vector<Polygon2> split_pinched(const Polygon2& p, double tolerance) {
           todo.push_back(b);
           split = true;
         }
-    if (!split && r.size() >= 3 && std::abs(signed_area(r)) > 1e-6) done.push_back(r);
+    if (!split && r.size() >= 3 && std::abs(signed_area(r)) > kMinLobeArea) done.push_back(r);
   }
   std::vector<Polygon2> out;
   for (auto& r : done) out.push_back({r, {}});
@@ -127,6 +140,8 @@ MultiPolygon2 separate_pinched(const MultiPolygon2& parts) {
   return out;
 }
 
+// Edges shorter than kSpeckM go, each by the end whose removal moves the
+// footprint least.
 Polygon2 without_specks(const Polygon2& fp) {
   Ring2 r = fp.outer;
   auto bend = [&](size_t k) {  // twice the area dropping vertex k takes or gives
@@ -167,7 +182,7 @@ Polygon2 footprint_from_edges(const std::vector<OutlineEdge>& edges, const Polyg
       ring.push_back(intersect_lines(op, dp, oc, dc).value_or(oc));
     }
   }
-  MultiPolygon2 valid = poly::drop_small(poly::make_valid({Polygon2{ring, {}}}), 0.5);
+  MultiPolygon2 valid = poly::drop_small(poly::make_valid({Polygon2{ring, {}}}), kMinMovedPart);
   valid = separate_pinched(poly::intersect(valid, {outline}));
   if (valid.empty()) valid = poly::buffer({outline}, -default_overhang);
   if (valid.empty()) throw std::runtime_error("roof outline too small for a footprint");
@@ -186,7 +201,7 @@ Polygon2 footprint_from_edges(const std::vector<OutlineEdge>& edges, const Polyg
   if (stepped && !pinched(best.outer)) return best;
   // Regularising may push a corner past the roof outline; the walls must stay
   // under the roof, or the roof would not close the solid there.
-  MultiPolygon2 under = separate_pinched(poly::intersect({regularize_polygon(best, 1.0)}, {outline}));
+  MultiPolygon2 under = separate_pinched(poly::intersect({regularize_polygon(best, kRegularizeEdge)}, {outline}));
   if (under.empty()) return best;
   Polygon2 fp = poly::largest(under);
   fp.holes.clear();
@@ -199,8 +214,8 @@ double mean_terrain(const Polygon2& fp, const std::function<double(double, doubl
   double sum = 0;
   int n = 0;
   MultiPolygon2 mp{fp};
-  for (double x = lo.x() + 0.25; x < hi.x(); x += 0.5)
-    for (double y = lo.y() + 0.25; y < hi.y(); y += 0.5) {
+  for (double x = lo.x() + 0.5 * kTerrainCell; x < hi.x(); x += kTerrainCell)
+    for (double y = lo.y() + 0.5 * kTerrainCell; y < hi.y(); y += kTerrainCell) {
       if (!poly::covers(mp, {x, y})) continue;
       double z = terrain(x, y);
       if (!std::isnan(z)) sum += z, ++n;

@@ -7,6 +7,33 @@
 
 namespace c3d::envelope {
 
+// Heights at one vertex closer than this are one line numerically (welded).
+constexpr double kHeightWeld = 0.002;  // m
+// Pieces at a step fan meet at their mean where their heights there lie
+// within this: farther apart they are real steps.
+constexpr double kStepFanSpread = 0.01;  // m
+// A vertex with this many vertical step-wall edges on it is a step fan: one
+// step wall passing a vertex puts two there.
+constexpr int kStepFanEdges = 4;
+
+double Heights::get(const Vec2& v, double z) const {
+  auto it = at_.find(key(v));
+  if (it == at_.end()) return z;
+  const bool all = at_mean_.count(key(v)) > 0;
+  double sum = 0;
+  int n = 0;
+  for (double o : it->second)
+    if (all || std::abs(o - z) < kHeightWeld) sum += o, ++n;
+  return n ? sum / n : z;
+}
+
+void Heights::meet_at_mean(const Vec2& v) {
+  auto it = at_.find(key(v));
+  if (it == at_.end()) return;
+  const auto [lo, hi] = std::minmax_element(it->second.begin(), it->second.end());
+  if (*hi - *lo < kStepFanSpread) at_mean_.insert(key(v));
+}
+
 Ring3 lift(const Ring2& r, const Plane& plane, const Heights& h) {
   Ring3 out;
   for (const auto& v : r) out.emplace_back(v.x(), v.y(), h.get(v, plane.z_at(v.x(), v.y())));
@@ -45,7 +72,7 @@ void meet_at_step_fans(Heights& heights, const std::vector<Piece>& pieces, const
         if (a.head<2>() == f.ring[(i + 1) % f.ring.size()].head<2>()) ++vertical_edges[{a.x(), a.y()}];
       }
   for (const auto& [xy, n] : vertical_edges)
-    if (n >= 4) heights.meet_at_mean(Vec2(xy.first, xy.second));
+    if (n >= kStepFanEdges) heights.meet_at_mean(Vec2(xy.first, xy.second));
 }
 
 RoofFaces lift_roof(const std::vector<Piece>& pieces, const std::vector<RoofRegion>& roof) {

@@ -18,23 +18,10 @@ namespace c3d::envelope {
 class Heights {
  public:
   void add(const Vec2& v, double z) { at_[key(v)].push_back(z); }
-  double get(const Vec2& v, double z) const {
-    auto it = at_.find(key(v));
-    if (it == at_.end()) return z;
-    const bool all = at_mean_.count(key(v)) > 0;
-    double sum = 0;
-    int n = 0;
-    for (double o : it->second)
-      if (all || std::abs(o - z) < 0.002) sum += o, ++n;
-    return n ? sum / n : z;
-  }
+  // The height at v of a piece whose plane gives z there.
+  double get(const Vec2& v, double z) const;
   // Every piece at v takes the mean of their heights, if they lie within 1 cm.
-  void meet_at_mean(const Vec2& v) {
-    auto it = at_.find(key(v));
-    if (it == at_.end()) return;
-    const auto [lo, hi] = std::minmax_element(it->second.begin(), it->second.end());
-    if (*hi - *lo < 0.01) at_mean_.insert(key(v));
-  }
+  void meet_at_mean(const Vec2& v);
 
  private:
   static std::pair<double, double> key(const Vec2& v) { return {v.x(), v.y()}; }

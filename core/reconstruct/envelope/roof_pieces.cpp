@@ -18,6 +18,22 @@ constexpr double kThin = 0.05;
 // A separate fragment of a region smaller than this, beside a larger part of
 // the same region, is an artefact too (label-grid teeth touching at corners).
 constexpr double kFragment = 0.5;
+// A face of the subdivision smaller than kSliver is a noding sliver; a face
+// under no region smaller than kGap is a gap the partition left between two.
+constexpr double kSliver = 1e-3;  // m^2
+constexpr double kGap = 0.05;     // m^2
+// Thin parts (narrower than 2 kThin) smaller than this are noding dust.
+constexpr double kMinThinPart = 1e-4;  // m^2
+// A face to merge goes to a neighbour on its own side of the walls before any
+// across them, whatever the lengths shared (far more than any edge length).
+constexpr double kSameSideFirst = 1e6;
+// Fragments merged into their region's larger part, then looked for again:
+// merging may leave new fragments, three rounds settle what the partition gives.
+constexpr int kFragmentRounds = 3;
+// After noding, an overhang frame's hole touches its outline exactly: pinch
+// points are vertices closer than this (numerically one).
+constexpr double kPinchTol = 1e-9;  // m
+
 namespace {
 
 // Faces of one planar subdivision -> for each face, the length of edge it
@@ -80,7 +96,7 @@ void merge_marked(std::vector<FaceOwner>& owner, const std::vector<std::map<int,
       int best = -1;
       double best_score = 0;
       for (const auto& [g, len] : shared[f]) {
-        double score = len + (owner[g].inside == owner[f].inside ? 1e6 : 0.0);
+        double score = len + (owner[g].inside == owner[f].inside ? kSameSideFirst : 0.0);
         if (!owner[g].merge && owner[g].region >= 0 && score > best_score) best = g, best_score = score;
       }
       if (best < 0) continue;
@@ -151,7 +167,7 @@ std::vector<Piece> roof_pieces(const std::vector<RoofRegion>& roof, const Polygo
   for (const auto& r : roof) {
     plans.push_back(onto_edges(r.plan, fp.outer));
     MultiPolygon2 opened = poly::buffer(poly::buffer(plans.back(), -kThin), kThin);
-    for (auto& t : poly::drop_small(poly::subtract(plans.back(), opened), 1e-4)) thin.push_back(t);
+    for (auto& t : poly::drop_small(poly::subtract(plans.back(), opened), kMinThinPart)) thin.push_back(t);
   }
   Polygon2 footprint = fp;
   std::vector<Ring2*> rings{&footprint.outer};
@@ -169,7 +185,6 @@ std::vector<Piece> roof_pieces(const std::vector<RoofRegion>& roof, const Polygo
   all.insert(all.end(), thin.begin(), thin.end());
   MultiPolygon2 faces = poly::planar_faces(all);
 
-  constexpr double kSliver = 1e-3, kGap = 0.05;  // m^2
   std::vector<FaceOwner> owner(faces.size());
   for (size_t f = 0; f < faces.size(); ++f) {
     Vec2 p = poly::interior_point(faces[f]);
@@ -181,7 +196,7 @@ std::vector<Piece> roof_pieces(const std::vector<RoofRegion>& roof, const Polygo
   }
   auto shared = face_neighbours(faces);
   merge_marked(owner, shared);
-  for (int round = 0; round < 3 && mark_fragments(faces, owner, shared); ++round)
+  for (int round = 0; round < kFragmentRounds && mark_fragments(faces, owner, shared); ++round)
     merge_marked(owner, shared);
 
   std::map<std::pair<int, bool>, MultiPolygon2> groups;
@@ -203,7 +218,7 @@ std::vector<Piece> simple_pieces(std::vector<Piece> pieces, const Polygon2& fp) 
   node_rings(rings, kWeldTol);
   std::vector<Piece> simple;
   for (const auto& p : pieces)
-    for (auto& part : split_pinched(p.plan, 1e-9))  // an overhang frame's hole touching its outline
+    for (auto& part : split_pinched(p.plan, kPinchTol))  // an overhang frame's hole touching its outline
       simple.push_back({p.region, p.inside, part});
   return simple;
 }

@@ -12,6 +12,11 @@
 
 namespace c3d::envelope {
 
+// A shell face the weld left with less area than this is a line, no face.
+constexpr double kMinShellFaceArea = 1e-6;  // m^2
+// debug_open_edges matches edge ends on keys of this many per metre (0.1 mm).
+constexpr double kOpenEdgeKeys = 1e4;
+
 namespace {
 
 void set_height(Face& f, double z) {
@@ -39,7 +44,7 @@ void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, b
   }
   if (drop_degenerate)
     shell.erase(std::remove_if(shell.begin(), shell.end(),
-                               [](const Face& f) { return f.ring.size() < 3 || area(f) < 1e-6; }),
+                               [](const Face& f) { return f.ring.size() < 3 || area(f) < kMinShellFaceArea; }),
                 shell.end());
 }
 
@@ -88,7 +93,8 @@ void weld_shell(std::vector<Face>& solid, std::vector<Element>& elements) {
 // Developer aid: logs the shell edges not used by exactly two faces (debug level).
 void debug_open_edges(const Building& b) {
   auto key = [](const Vec3& p) {
-    return std::make_tuple(std::llround(p.x() * 1e4), std::llround(p.y() * 1e4), std::llround(p.z() * 1e4));
+    return std::make_tuple(std::llround(p.x() * kOpenEdgeKeys), std::llround(p.y() * kOpenEdgeKeys),
+                           std::llround(p.z() * kOpenEdgeKeys));
   };
   std::map<std::pair<decltype(key(Vec3())), decltype(key(Vec3()))>, int> use;
   auto count = [&](const Ring3& r) {
@@ -104,8 +110,9 @@ void debug_open_edges(const Building& b) {
   for (auto& [e, n] : use)
     if (n != 2)
       log::debug(log::format("%s open edge x%d (%.3f %.3f %.3f)-(%.3f %.3f %.3f)", b.id.c_str(), n,
-                             std::get<0>(e.first) * 1e-4, std::get<1>(e.first) * 1e-4, std::get<2>(e.first) * 1e-4,
-                             std::get<0>(e.second) * 1e-4, std::get<1>(e.second) * 1e-4, std::get<2>(e.second) * 1e-4));
+                             std::get<0>(e.first) / kOpenEdgeKeys, std::get<1>(e.first) / kOpenEdgeKeys,
+                             std::get<2>(e.first) / kOpenEdgeKeys, std::get<0>(e.second) / kOpenEdgeKeys,
+                             std::get<1>(e.second) / kOpenEdgeKeys, std::get<2>(e.second) / kOpenEdgeKeys));
 }
 
 }  // namespace c3d::envelope

@@ -29,6 +29,59 @@ constexpr double kMaxOutside = 0.6;
 // Wall points more than this above the roof along an edge belong to a taller
 // neighbour's wall behind it (a parapet rises less).
 constexpr double kAboveRoof = 0.5;
+// The building's typical overhang pools the seen walls within this of their
+// weighted median (typical_overhang): flush jogs and step walls stay out.
+constexpr double kOverhangInlier = 0.1;  // m
+// A facade (walls parallel to each other, facade_overhang): within 20 degrees,
+// at least kMinFacade of seen wall (a porch's flush sides are no facade), its
+// own overhang where it differs from the building's by more than a
+// measurement's scatter.
+constexpr double kParallelCos = 0.94;
+constexpr double kMinFacade = 3.0;      // m of seen wall
+constexpr double kFacadeDiffers = 0.3;  // m
+// A short edge continues a step between roof levels (continues_step) where
+// the roof on either side of its line differs by more than kStepHeight; a
+// longer edge than kStepJog is a wall of its own. The roof is read at
+// kStepProbesAlong past each end, kStepProbeAcross to either side of the line.
+constexpr double kStepHeight = 0.5;  // m between the levels beside the line
+constexpr double kStepJog = 2.0;     // m, longest edge taken for a continuation
+constexpr double kStepProbesAlong[] = {0.3, 0.6, 1.0};  // m: a step's line runs on for a metre at least
+constexpr double kStepProbeAcross = 0.1;                // m: clear of the line, still on the step's two sides
+// The roof over an edge's wall band (wall_top) is read near its ends and
+// middle, just inside the edge and at the deepest overhang.
+constexpr double kTopProbesAlong[] = {0.05, 0.5, 0.95};  // fractions of the edge
+constexpr double kTopProbeNear = 0.2;                    // m inside the edge
+// Wall points lower than this above the terrain are cars, hedges and garden
+// walls standing before the facade, not the facade.
+constexpr double kWallFootClearance = 0.3;  // m
+// An edge lies on a wall the outline was grown onto when it runs along its
+// line: parallel to within 2.6 degrees, its middle within a centimetre.
+constexpr double kOnWallCos = 0.999;
+constexpr double kOnWallDist = 0.01;  // m
+// How well each kind of wall position is known (sigma, m).
+constexpr double kPartySigma = 0.05;      // a party edge: the parcel boundary, surveyed to centimetres
+constexpr double kMeasuredSigma = 0.02;   // floor of a measured wall: more than its fit's rms/sqrt(n) says
+constexpr double kContinuedSigma = 0.05;  // floor of a facade seen only on the neighbours
+constexpr double kStepSigma = 0.05;       // an unseen wall carried on under a roof step
+constexpr double kMinSpread = 0.05;       // floor of the seen overhangs' scatter (a few alike walls)
+constexpr double kMadToSigma = 1.4826;    // median absolute deviation -> sigma of a normal distribution
+// fit_wall: a wall is a peak of the wall points' offsets from the edge.
+constexpr double kMinWallEdge = 0.8;   // m: a shorter edge holds too few points to show a wall
+constexpr double kOffsetBin = 0.04;    // m: offset histogram bin, a wall's points scatter a few cm
+constexpr double kFitFrom = 0.1;       // fraction of the edge: its ends hold the crossing walls' points
+constexpr double kFitTo = 0.9;
+constexpr int kMinWallPoints = 25;     // fewer points are a pole, a gate or noise, not a wall
+constexpr double kWallHalfWidth = 0.08;  // m: points this close to a peak's offset are that wall
+constexpr double kCoverageCell = 0.5;  // m: cells along the edge counted for coverage
+constexpr double kMinCoverage = 0.3;   // fraction of cells with wall points: less is a patch, not a wall
+// A wall this little outside the outline is within the outline's own error
+// (a hull edge is placed to about a centimetre, a wall fit to millimetres).
+constexpr double kMinOutside = 0.05;
+// A strip of land to grow onto, and a grown outline's gain, smaller than
+// this is no growth (numerical slivers along the edge).
+constexpr double kMinGrowth = 0.05;        // m^2
+constexpr double kGrowSimplify = 0.005;    // m: vertex tolerance of the grown outline
+
 namespace {
 
 // Roof height at p from the region over it (NaN where no region is).
@@ -44,8 +97,8 @@ double roof_z(const std::vector<RoofRegion>& roof, const Vec2& p) {
 double wall_top(const OutlineEdge& e, const std::vector<RoofRegion>& roof) {
   const Vec2 in = -outward((e.b - e.a).normalized());
   double top = -INFINITY;
-  for (double t : {0.05, 0.5, 0.95})
-    for (double depth : {0.2, kMaxOverhang}) {
+  for (double t : kTopProbesAlong)
+    for (double depth : {kTopProbeNear, kMaxOverhang}) {
       const double z = roof_z(roof, e.a + t * (e.b - e.a) + depth * in);
       if (std::isfinite(z)) top = std::max(top, z);
     }
@@ -62,7 +115,7 @@ WallFit wall_on_outline(const EnvelopeInput& in, const OutlineEdge& e) {
   for (const auto& w : in.walls_on_outline) {
     const Vec2 d = (w.b - w.a).normalized();
     const double t = d.dot(mid - w.a);
-    if (std::abs(d.dot(direction(e))) > 0.999 && std::abs(outward(d).dot(mid - w.a)) < 0.01 && t > 0 &&
+    if (std::abs(d.dot(direction(e))) > kOnWallCos && std::abs(outward(d).dot(mid - w.a)) < kOnWallDist && t > 0 &&
         t < (w.b - w.a).norm()) {
       WallFit flush = w.fit;
       flush.offset = 0;
@@ -72,26 +125,26 @@ WallFit wall_on_outline(const EnvelopeInput& in, const OutlineEdge& e) {
   return fit_edge_wall(in, e);
 }
 
-// The wall at offset `centre` (points within 0.08 m of it), or found=false
+// The wall at offset `centre` (points within kWallHalfWidth of it), or found=false
 // when too few points show it or they cover too little of the edge.
 WallFit wall_at(const std::vector<std::pair<double, double>>& st, double centre, double len,
                 bool beyond_ends) {
   WallFit fit;
   double sum = 0, sum2 = 0;
   int count = 0;
-  std::vector<bool> covered(size_t(len / 0.5) + 1, false);
+  std::vector<bool> covered(size_t(len / kCoverageCell) + 1, false);
   for (auto& [s, t] : st)
-    if (std::abs(s - centre) < 0.08) {
+    if (std::abs(s - centre) < kWallHalfWidth) {
       sum += s;
       ++count;
-      if (!beyond_ends) covered[size_t(t / 0.5)] = true;
+      if (!beyond_ends) covered[size_t(t / kCoverageCell)] = true;
     }
-  if (count < 25) return fit;
+  if (count < kMinWallPoints) return fit;
   double mean = sum / count;
   for (auto& [s, t] : st)
-    if (std::abs(s - centre) < 0.08) sum2 += (s - mean) * (s - mean);
+    if (std::abs(s - centre) < kWallHalfWidth) sum2 += (s - mean) * (s - mean);
   double coverage = double(std::count(covered.begin(), covered.end(), true)) / covered.size();
-  if (!beyond_ends && coverage < 0.3) return fit;
+  if (!beyond_ends && coverage < kMinCoverage) return fit;
   fit.found = true;
   fit.offset = mean;
   fit.support = count;
@@ -115,7 +168,6 @@ double weighted_median(std::vector<Weighted> v) {
 // known to within σ² ∝ 1/length, so weighting by length is the least-variance
 // estimate (the median alone throws a third of that information away); the
 // median's window keeps flush jogs and step walls (overhang 0) out of it.
-constexpr double kOverhangInlier = 0.1;  // m
 double typical_overhang(const std::vector<Weighted>& measured) {
   double median = weighted_median(measured), sum = 0, weight = 0;
   for (const auto& m : measured)
@@ -129,10 +181,8 @@ double typical_overhang(const std::vector<Weighted>& measured) {
 // street). Where the seen walls parallel to a wall, a facade's length of them
 // (a porch's flush sides are no facade), show an overhang clearly apart from
 // the building's (more than a measurement's scatter), an unseen wall takes
-// that facade's overhang, and a seen one is no misread for matching it.
-constexpr double kParallelCos = 0.94;  // within 20 degrees
-constexpr double kMinFacade = 3.0;     // m of seen wall
-constexpr double kFacadeDiffers = 0.3; // m
+// that facade's overhang, and a seen one is no misread for matching it
+// (kParallelCos, kMinFacade, kFacadeDiffers).
 double facade_overhang(const std::vector<SeenWall>& seen, const Vec2& dir, double building) {
   std::vector<Weighted> parallel;
   double length = 0;
@@ -147,26 +197,26 @@ double facade_overhang(const std::vector<SeenWall>& seen, const Vec2& dir, doubl
 // (the gable of a higher part beside a lower annex). The step wall stands
 // right under the step, so an unseen wall under such an edge is that same wall
 // carried on: no overhang, where the building's typical one would cut a notch
-// of that depth into the footprint. A longer edge is a wall of its own.
-constexpr double kStepHeight = 0.5;  // m between the levels beside the line
-constexpr double kStepJog = 2.0;     // m, longest edge taken for a continuation
+// of that depth into the footprint. A longer edge is a wall of its own
+// (kStepJog); the levels differ by more than kStepHeight.
 bool continues_step(const OutlineEdge& e, const std::vector<RoofRegion>& roof) {
   if ((e.b - e.a).norm() > kStepJog) return false;
   const Vec2 d = (e.b - e.a).normalized(), n = outward(d);
   for (const auto& [end, sign] : {std::pair{e.a, -1.0}, std::pair{e.b, 1.0}})
-    for (double t : {0.3, 0.6, 1.0}) {
+    for (double t : kStepProbesAlong) {
       const Vec2 p = end + sign * t * d;
-      const double z1 = roof_z(roof, p - 0.1 * n), z2 = roof_z(roof, p + 0.1 * n);
+      const double z1 = roof_z(roof, p - kStepProbeAcross * n), z2 = roof_z(roof, p + kStepProbeAcross * n);
       if (std::abs(z1 - z2) > kStepHeight) return true;  // false while either is NaN
     }
   return false;
 }
 
-// The wall seen under edge e, between 0.3 m above the terrain and wall_top.
+// The wall seen under edge e, between kWallFootClearance above the terrain and wall_top.
 WallFit fit_edge_wall(const EnvelopeInput& in, const OutlineEdge& e, bool beyond_ends) {
   const Vec2 mid = 0.5 * (e.a + e.b);
   const double tz = in.terrain(mid.x(), mid.y());
-  return fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + 0.3, wall_top(e, in.roof), beyond_ends);
+  return fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + kWallFootClearance, wall_top(e, in.roof),
+                  beyond_ends);
 }
 
 std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
@@ -180,7 +230,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
     e.party = i < in.party_edge.size() && in.party_edge[i];
     if (e.party) {  // on the parcel boundary, shared with the neighbour
       e.evidence = WallEvidence::ParcelBoundary;
-      e.sigma = 0.05;
+      e.sigma = kPartySigma;
       continue;
     }
     const WallFit fit = wall_on_outline(in, e);
@@ -190,7 +240,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
       e.support = fit.support;
       // A wall seen outside the outline stays under the roof at the outline:
       // its distance to the points it stands for is part of its error.
-      e.sigma = 0.02 + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
+      e.sigma = kMeasuredSigma + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
       seen.push_back({i, direction(e), {e.overhang, (e.b - e.a).norm()}});
     }
   }
@@ -204,10 +254,10 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
       e.overhang = std::max(0.0, -fit.offset);
       e.evidence = WallEvidence::Propagated;
       e.support = fit.support;
-      e.sigma = 0.05 + fit.rms / std::sqrt(double(fit.support));
+      e.sigma = kContinuedSigma + fit.rms / std::sqrt(double(fit.support));
     }
   }
-  double spread = 0.3;
+  double spread = kUnseenSpread;
   double typical = in.default_overhang;
   WallEvidence fill = WallEvidence::Default;
   std::vector<double> facade(edges.size(), typical);
@@ -225,7 +275,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
     }
     std::vector<Weighted> dev;
     for (const auto& w : seen) dev.push_back({std::abs(w.overhang.value - facade[w.edge]), w.overhang.weight});
-    spread = std::max(0.05, 1.4826 * weighted_median(dev));
+    spread = std::max(kMinSpread, kMadToSigma * weighted_median(dev));
     fill = WallEvidence::Propagated;
   }
   for (size_t i = 0; i < edges.size(); ++i) {
@@ -234,7 +284,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
       const bool step = continues_step(e, in.roof);
       e.overhang = step ? 0.0 : facade[i];
       e.evidence = step ? WallEvidence::Propagated : fill;
-      e.sigma = step ? 0.05 : spread;
+      e.sigma = step ? kStepSigma : spread;
     }
   }
   if (log::enabled(log::Level::Debug))
@@ -254,10 +304,10 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
                  bool beyond_ends) {
   Vec2 d = b - a;
   double len = d.norm();
-  if (len < 0.8) return {};
+  if (len < kMinWallEdge) return {};
   d /= len;
   Vec2 n = outward(d);
-  const double lo = -kMaxOverhang, hi = kMaxOutside, bin = 0.04;
+  const double lo = -kMaxOverhang, hi = kMaxOutside, bin = kOffsetBin;
   std::vector<int> hist(int((hi - lo) / bin) + 1, 0);
   std::vector<std::pair<double, double>> st;  // (s, t)
   for (const auto& p : pts) {
@@ -265,12 +315,12 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
     Vec2 q = p.head<2>() - a;
     double t = d.dot(q), s = n.dot(q);
     bool along = beyond_ends ? ((t < 0 && t > -kMaxOverhang) || (t > len && t < len + kMaxOverhang))
-                             : (t >= 0.1 * len && t <= 0.9 * len);
+                             : (t >= kFitFrom * len && t <= kFitTo * len);
     if (!along || s < lo || s > hi) continue;
     ++hist[int((s - lo) / bin)];
     st.emplace_back(s, t);
   }
-  if (st.size() < 25) return {};
+  if (st.size() < size_t(kMinWallPoints)) return {};
   // Peaks of the offset histogram (3 bins wide), most points first: a short
   // bright patch (a pole, a gate) must not hide the wall behind it.
   const size_t bins = hist.size();
@@ -288,10 +338,6 @@ WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, dou
   }
   return {};
 }
-
-// A wall this little outside the outline is within the outline's own error
-// (a hull edge is placed to about a centimetre, a wall fit to millimetres).
-constexpr double kMinOutside = 0.05;
 
 GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2& room) {
   const Ring2& ring = in.outline.outer;
@@ -315,13 +361,13 @@ GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2&
     // on lies inside the outline already).
     const Vec2 a0 = a - d * out(i + n - 1), b0 = b + d * out(i + 1);
     const MultiPolygon2 strip = poly::intersect({Polygon2{{a0, b0, b0 + o, a0 + o}, {}}}, room);
-    if (area(strip) < 0.05) continue;  // no land to grow on
+    if (area(strip) < kMinGrowth) continue;  // no land to grow on
     grown = poly::unite(grown, strip);
     g.walls.push_back({a0 + o, b0 + o, fits[i]});
   }
-  Polygon2 best = poly::largest(poly::simplify(grown, 0.005));
+  Polygon2 best = poly::largest(poly::simplify(grown, kGrowSimplify));
   best.holes.clear();
-  if (area(best) > area(in.outline) + 0.05)
+  if (area(best) > area(in.outline) + kMinGrowth)
     g.outline = best;
   else
     g.walls.clear();

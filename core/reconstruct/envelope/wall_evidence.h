@@ -10,12 +10,16 @@
 
 namespace c3d::envelope {
 
+// Where no wall of the building is seen, an unseen wall's position is known
+// only to the scatter of overhangs in general.
+constexpr double kUnseenSpread = 0.3;  // m
+
 // One roof-outline edge (outer[i] -> outer[i+1]) with the wall under it: the
 // wall stands `overhang` inside the edge, known to within `sigma`.
 struct OutlineEdge {
   Vec2 a, b;
   double overhang = 0;
-  double sigma = 0.3;   // of the wall position, m (an unseen wall's spread)
+  double sigma = kUnseenSpread;  // of the wall position, m
   int support = 0;
   bool party = false;
   WallEvidence evidence = WallEvidence::Default;

@@ -15,6 +15,25 @@ constexpr double kAlongSlope = 0.1;  // a piece's edge within 6 degrees of the f
 // stay in the shell but join the nearest wall element. The other step walls
 // are appended to `elements` after the facades.
 constexpr double kMinStepWallArea = 0.01;  // m^2
+// Positions along an edge, and points, closer than this coincide (numerical
+// duplicates, far below the weld).
+constexpr double kSamePoint = 1e-7;  // m
+// A wall stands at least this high: a roof below the terrain (bad data) must
+// not fold the wall over itself.
+constexpr double kMinWallHeight = 0.01;  // m
+// Two roof pieces closer than this in height along a shared edge are level
+// there: no step wall.
+constexpr double kLevelTol = 1e-6;  // m
+// A footprint edge comes from an outline edge parallel to it within about 11
+// degrees; any other is a worse source than one that far away.
+constexpr double kSourceParallelCos = 0.98;
+constexpr double kNotParallel = 100.0;  // m added to a non-parallel edge's distance
+// A wall's area is known to its top (the roof's eave line) within this.
+constexpr double kWallTopSigma = 0.05;  // m
+// A step wall's area is known to this times its square root (its two roof
+// planes' heights along the step).
+constexpr double kStepWallSigma = 0.05;  // m
+
 namespace {
 
 // Nearest distance between two elements' vertices.
@@ -43,13 +62,14 @@ std::vector<ProfileSegment> roof_profile(const Vec2& a, const Vec2& b,
       const Vec3& p = r[i];
       const Vec3& q = r[(i + 1) % r.size()];
       Vec2 p2 = p.head<2>() - a, q2 = q.head<2>() - a;
-      if (std::abs(n.dot(p2)) > 2 * kWeldTol || std::abs(n.dot(q2)) > 2 * kWeldTol) continue;  // welded ends may sit off the line
+      // welded ends may sit off the line
+      if (std::abs(n.dot(p2)) > 2 * kWeldTol || std::abs(n.dot(q2)) > 2 * kWeldTol) continue;
       double tp = d.dot(p2), tq = d.dot(q2);
       if (std::min(tp, tq) < -2 * kWeldTol || std::max(tp, tq) > len + 2 * kWeldTol) continue;
-      if (std::abs(tp - tq) < 1e-7) continue;
+      if (std::abs(tp - tq) < kSamePoint) continue;
       tp = std::clamp(tp, 0.0, len);  // welding may put an end past the corner, as it may off the line
       tq = std::clamp(tq, 0.0, len);
-      if (std::abs(tp - tq) < 1e-7) continue;
+      if (std::abs(tp - tq) < kSamePoint) continue;
       const bool along = std::abs(n.dot(q2 - p2)) < kAlongSlope * std::abs(tq - tp);
       if (tp < tq) segs.push_back({tp, p.z(), tq, q.z(), p.head<2>(), q.head<2>(), along});
       else segs.push_back({tq, q.z(), tp, p.z(), q.head<2>(), p.head<2>(), along});
@@ -90,8 +110,8 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
     else if (s.along && std::abs(t - s.t0) < kWeldTol) at = s.at0;
     else if (s.along && std::abs(t - s.t1) < kWeldTol) at = s.at1;
     // A roof below the terrain (bad data) must not fold the wall over itself.
-    Vec3 v(at.x(), at.y(), std::max(z_on(s, t), ground_z + 0.01));
-    if ((f.ring.back() - v).norm() > 1e-7) f.ring.push_back(v);
+    Vec3 v(at.x(), at.y(), std::max(z_on(s, t), ground_z + kMinWallHeight));
+    if ((f.ring.back() - v).norm() > kSamePoint) f.ring.push_back(v);
   };
   for (size_t k = ts.size(); k-- > 1;) {  // from b back to a
     double hi = ts[k], lo = ts[k - 1], mid = 0.5 * (hi + lo);
@@ -102,7 +122,7 @@ Face wall_face(const Vec2& a, const Vec2& b, double ground_z,
     push(*best, hi);
     push(*best, lo);
   }
-  if ((f.ring.back() - f.ring.front()).norm() < 1e-7) f.ring.pop_back();
+  if ((f.ring.back() - f.ring.front()).norm() < kSamePoint) f.ring.pop_back();
   return f;
 }
 
@@ -137,7 +157,7 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
       const Vec3& oq = o[it->second.second];
       const Vec3& op = o[(it->second.second + 1) % o.size()];
       double dp = p.z() - op.z(), dq = q.z() - oq.z();
-      if ((dp > 1e-6 && dq < -1e-6) || (dp < -1e-6 && dq > 1e-6)) {
+      if ((dp > kLevelTol && dq < -kLevelTol) || (dp < -kLevelTol && dq > kLevelTol)) {
         // The two roofs cross along the edge (an outer ring or a hole's): each
         // walls the part where it is the higher, a triangle up to the crossing
         // point, which lies on both roofs; noding the shell puts it into their edges.
@@ -145,12 +165,12 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
         out[region_of[piece_of[k]]].push_back(dp > 0 ? Face{{op, c, p}, {}} : Face{{c, oq, q}, {}});
         continue;
       }
-      if (dp < -1e-6 || dq < -1e-6 || (dp < 1e-6 && dq < 1e-6)) continue;  // we are not the higher side
+      if (dp < -kLevelTol || dq < -kLevelTol || (dp < kLevelTol && dq < kLevelTol)) continue;  // not the higher side
       Face w;
       w.ring.push_back(op);
       w.ring.push_back(oq);
-      if (dq > 1e-6) w.ring.push_back(q);
-      if (dp > 1e-6) w.ring.push_back(p);
+      if (dq > kLevelTol) w.ring.push_back(q);
+      if (dp > kLevelTol) w.ring.push_back(p);
       if (w.ring.size() >= 3) out[region_of[piece_of[k]]].push_back(std::move(w));
     }
   }
@@ -167,7 +187,7 @@ const OutlineEdge& source_edge(const std::vector<OutlineEdge>& edges, const Vec2
     Vec2 em = 0.5 * (e.a + e.b);
     double off = std::abs(outward(ed).dot(mid - e.a));
     double along = std::max(0.0, std::abs(ed.dot(mid - em)) - 0.5 * (e.b - e.a).norm());
-    double score = off + along + (ed.dot(d) < 0.98 ? 100.0 : 0.0);
+    double score = off + along + (ed.dot(d) < kSourceParallelCos ? kNotParallel : 0.0);
     if (score < best_score) best_score = score, best = &e;
   }
   return *best;
@@ -204,7 +224,7 @@ Facades facade_walls(const Polygon2& fp, const std::vector<OutlineEdge>& edges, 
     e.azimuth_deg = azimuth_of(widest_face(e));
     e.slope_deg = 90.0;
     double height = e.area / std::max(len, 1e-9);
-    double s_top = 0.05, s_len = src->sigma;
+    double s_top = kWallTopSigma, s_len = src->sigma;
     e.sigma_area = std::sqrt(std::pow(len * s_top, 2) + std::pow(height * s_len, 2));
     out.elements.push_back(std::move(e));
   }
@@ -218,7 +238,7 @@ StepWalls step_wall_elements(const std::vector<Face>& inside, const std::vector<
     Element e = make_element(ElementType::Wall, std::move(faces));
     e.evidence = WallEvidence::RoofStep;
     e.slope_deg = 90.0;
-    e.sigma_area = 0.05 * std::sqrt(e.area);
+    e.sigma_area = kStepWallSigma * std::sqrt(e.area);
     e.azimuth_deg = azimuth_of(widest_face(e));
     out.elements.push_back(std::move(e));
   }
