@@ -9,6 +9,12 @@
 // footprint at terrain level; the roof beyond the walls is the hanging roof,
 // whose underside is the outer ceiling (a horizontal soffit at the lowest
 // roof height of that piece, so its area is its plan area as DESIGN.md defines).
+//
+// Sub-stages, each with its header in this folder, run by build_building
+// (envelope.cpp) in this order: wall_evidence (the wall under each outline
+// edge) -> footprint -> roof_pieces (inside / hanging, in plan) -> roof_faces
+// (lifted onto their planes; soffits) -> wall_faces and elements -> shell
+// (welded and noded). Their internals live in namespace c3d::envelope.
 #include <functional>
 #include <vector>
 
@@ -79,6 +85,9 @@ struct GrownOutline {
 };
 GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2& room);
 
+// The wall along edge a -> b seen in the wall points between min_z and max_z:
+// the fullest peak of their offsets from the edge (negative: inside) that
+// enough points show along enough of the edge; found=false where none does.
 // beyond_ends: look only just past the edge's ends (the facade of attached
 // neighbours continuing the same line), without the coverage check.
 WallFit fit_wall(const std::vector<Vec3>& wall_points, const Vec2& a, const Vec2& b,

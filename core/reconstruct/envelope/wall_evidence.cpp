@@ -1,0 +1,377 @@
+#include "core/reconstruct/envelope/wall_evidence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "core/geometry/geometry.h"
+#include "core/geometry/polygon_ops.h"
+#include "core/log.h"
+#include "core/reconstruct/envelope/common.h"
+
+namespace c3d::envelope {
+
+// Wall points further inside a roof edge than this belong to another wall
+// (an inner facade, a neighbour): hanging roofs reach about 1.5 m.
+constexpr double kMaxOverhang = 1.8;
+// A measured overhang this much larger than the building's typical one, and
+// than its facade's (facade_overhang), is taken as a misread (another wall
+// behind the edge) and replaced by the facade's. A wall
+// found closer to the edge is believed: gable ends and walls under a lower
+// roof often have little or no overhang.
+constexpr double kOverhangOutlier = 0.6;
+// A wall seen up to this far outside the roof outline is the wall under that
+// edge, flush with the eave: the outline (a hull of roof points) stops short of
+// the true eave where the eave's points are missing. Farther out stands
+// something else (a fence, a neighbour across a gap).
+constexpr double kMaxOutside = 0.6;
+// Wall points more than this above the roof along an edge belong to a taller
+// neighbour's wall behind it (a parapet rises less).
+constexpr double kAboveRoof = 0.5;
+// The building's typical overhang pools the seen walls within this of their
+// weighted median (typical_overhang): flush jogs and step walls stay out.
+constexpr double kOverhangInlier = 0.1;  // m
+// A facade (walls parallel to each other, facade_overhang): within 20 degrees,
+// at least kMinFacade of seen wall (a porch's flush sides are no facade), its
+// own overhang where it differs from the building's by more than a
+// measurement's scatter.
+constexpr double kParallelCos = 0.94;
+constexpr double kMinFacade = 3.0;      // m of seen wall
+constexpr double kFacadeDiffers = 0.3;  // m
+// A short edge continues a step between roof levels (continues_step) where
+// the roof on either side of its line differs by more than kStepHeight; a
+// longer edge than kStepJog is a wall of its own. The roof is read at
+// kStepProbesAlong past each end, kStepProbeAcross to either side of the line.
+constexpr double kStepHeight = 0.5;  // m between the levels beside the line
+constexpr double kStepJog = 2.0;     // m, longest edge taken for a continuation
+constexpr double kStepProbesAlong[] = {0.3, 0.6, 1.0};  // m: a step's line runs on for a metre at least
+constexpr double kStepProbeAcross = 0.1;                // m: clear of the line, still on the step's two sides
+// The roof over an edge's wall band (wall_top) is read near its ends and
+// middle, just inside the edge and at the deepest overhang.
+constexpr double kTopProbesAlong[] = {0.05, 0.5, 0.95};  // fractions of the edge
+constexpr double kTopProbeNear = 0.2;                    // m inside the edge
+// Wall points lower than this above the terrain are cars, hedges and garden
+// walls standing before the facade, not the facade.
+constexpr double kWallFootClearance = 0.3;  // m
+// An edge lies on a wall the outline was grown onto when it runs along its
+// line: parallel to within 2.6 degrees, its middle within a centimetre.
+constexpr double kOnWallCos = 0.999;
+constexpr double kOnWallDist = 0.01;  // m
+// How well each kind of wall position is known (sigma, m).
+constexpr double kPartySigma = 0.05;      // a party edge: the parcel boundary, surveyed to centimetres
+constexpr double kMeasuredSigma = 0.02;   // floor of a measured wall: more than its fit's rms/sqrt(n) says
+constexpr double kContinuedSigma = 0.05;  // floor of a facade seen only on the neighbours
+constexpr double kStepSigma = 0.05;       // an unseen wall carried on under a roof step
+constexpr double kMinSpread = 0.05;       // floor of the seen overhangs' scatter (a few alike walls)
+constexpr double kMadToSigma = 1.4826;    // median absolute deviation -> sigma of a normal distribution
+// fit_wall: a wall is a peak of the wall points' offsets from the edge.
+constexpr double kMinWallEdge = 0.8;   // m: a shorter edge holds too few points to show a wall
+constexpr double kOffsetBin = 0.04;    // m: offset histogram bin, a wall's points scatter a few cm
+constexpr double kFitFrom = 0.1;       // fraction of the edge: its ends hold the crossing walls' points
+constexpr double kFitTo = 0.9;
+constexpr int kMinWallPoints = 25;     // fewer points are a pole, a gate or noise, not a wall
+constexpr double kWallHalfWidth = 0.08;  // m: points this close to a peak's offset are that wall
+constexpr double kCoverageCell = 0.5;  // m: cells along the edge counted for coverage
+constexpr double kMinCoverage = 0.3;   // fraction of cells with wall points: less is a patch, not a wall
+// A wall this little outside the outline is within the outline's own error
+// (a hull edge is placed to about a centimetre, a wall fit to millimetres).
+constexpr double kMinOutside = 0.05;
+// A strip of land to grow onto, and a grown outline's gain, smaller than
+// this is no growth (numerical slivers along the edge).
+constexpr double kMinGrowth = 0.05;        // m^2
+constexpr double kGrowSimplify = 0.005;    // m: vertex tolerance of the grown outline
+
+namespace {
+
+// Roof height at p from the region over it (NaN where no region is).
+double roof_z(const std::vector<RoofRegion>& roof, const Vec2& p) {
+  for (const auto& r : roof)
+    if (poly::covers(r.plan, p)) return r.plane.z_at(p.x(), p.y());
+  return kNaN;
+}
+
+// Highest point of the roof over the band where this edge's wall may stand
+// (+inf where no roof region covers it): wall points above it plus kAboveRoof
+// are not this edge's wall.
+double wall_top(const OutlineEdge& e, const std::vector<RoofRegion>& roof) {
+  const Vec2 in = -outward((e.b - e.a).normalized());
+  double top = -INFINITY;
+  for (double t : kTopProbesAlong)
+    for (double depth : {kTopProbeNear, kMaxOverhang}) {
+      const double z = roof_z(roof, e.a + t * (e.b - e.a) + depth * in);
+      if (std::isfinite(z)) top = std::max(top, z);
+    }
+  return std::isfinite(top) ? top + kAboveRoof : INFINITY;
+}
+
+Vec2 direction(const OutlineEdge& e) { return (e.b - e.a).normalized(); }
+
+// The wall under edge e: a wall the outline was grown onto, where e lies on
+// its line (flush: offset 0), else the one fit_edge_wall finds. Fitting again
+// after growing could pick another peak of a thick wall's points.
+WallFit wall_on_outline(const EnvelopeInput& in, const OutlineEdge& e) {
+  const Vec2 mid = 0.5 * (e.a + e.b);
+  for (const auto& w : in.walls_on_outline) {
+    const Vec2 d = (w.b - w.a).normalized();
+    const double t = d.dot(mid - w.a);
+    if (std::abs(d.dot(direction(e))) > kOnWallCos && std::abs(outward(d).dot(mid - w.a)) < kOnWallDist && t > 0 &&
+        t < (w.b - w.a).norm()) {
+      WallFit flush = w.fit;
+      flush.offset = 0;
+      return flush;
+    }
+  }
+  return fit_edge_wall(in, e);
+}
+
+// The wall at offset `centre` (points within kWallHalfWidth of it), or found=false
+// when too few points show it or they cover too little of the edge.
+WallFit wall_at(const std::vector<std::pair<double, double>>& st, double centre, double len,
+                bool beyond_ends) {
+  WallFit fit;
+  double sum = 0, sum2 = 0;
+  int count = 0;
+  std::vector<bool> covered(size_t(len / kCoverageCell) + 1, false);
+  for (auto& [s, t] : st)
+    if (std::abs(s - centre) < kWallHalfWidth) {
+      sum += s;
+      ++count;
+      if (!beyond_ends) covered[size_t(t / kCoverageCell)] = true;
+    }
+  if (count < kMinWallPoints) return fit;
+  double mean = sum / count;
+  for (auto& [s, t] : st)
+    if (std::abs(s - centre) < kWallHalfWidth) sum2 += (s - mean) * (s - mean);
+  double coverage = double(std::count(covered.begin(), covered.end(), true)) / covered.size();
+  if (!beyond_ends && coverage < kMinCoverage) return fit;
+  fit.found = true;
+  fit.offset = mean;
+  fit.support = count;
+  fit.rms = std::sqrt(sum2 / count);
+  return fit;
+}
+
+}  // namespace
+
+double weighted_median(std::vector<Weighted> v) {
+  std::sort(v.begin(), v.end(), [](const Weighted& a, const Weighted& b) { return a.value < b.value; });
+  double total = 0, run = 0;
+  for (const auto& w : v) total += w.weight;
+  for (const auto& w : v)
+    if ((run += w.weight) >= 0.5 * total) return w.value;
+  return v.back().value;
+}
+
+// The building's overhang from its seen walls: the length-weighted mean of
+// those within kOverhangInlier of the weighted median. An edge's position is
+// known to within σ² ∝ 1/length, so weighting by length is the least-variance
+// estimate (the median alone throws a third of that information away); the
+// median's window keeps flush jogs and step walls (overhang 0) out of it.
+double typical_overhang(const std::vector<Weighted>& measured) {
+  double median = weighted_median(measured), sum = 0, weight = 0;
+  for (const auto& m : measured)
+    if (std::abs(m.value - median) <= kOverhangInlier) sum += m.value * m.weight, weight += m.weight;
+  return sum / weight;  // the median itself is always within the window
+}
+
+// Facades parallel to each other overhang alike: on a pitched roof the eaves
+// along the ridge share an overhang, and so do the verges across it, but the
+// two often differ (a gable wall flush with the verge, a deep eave over the
+// street). Where the seen walls parallel to a wall, a facade's length of them
+// (a porch's flush sides are no facade), show an overhang clearly apart from
+// the building's (more than a measurement's scatter), an unseen wall takes
+// that facade's overhang, and a seen one is no misread for matching it
+// (kParallelCos, kMinFacade, kFacadeDiffers).
+double facade_overhang(const std::vector<SeenWall>& seen, const Vec2& dir, double building) {
+  std::vector<Weighted> parallel;
+  double length = 0;
+  for (const auto& w : seen)
+    if (std::abs(w.dir.dot(dir)) >= kParallelCos) parallel.push_back(w.overhang), length += w.overhang.weight;
+  if (length < kMinFacade) return building;
+  const double facade = typical_overhang(parallel);
+  return std::abs(facade - building) > kFacadeDiffers ? facade : building;
+}
+
+// Whether a short edge's line runs on into the roof as a step between levels
+// (the gable of a higher part beside a lower annex). The step wall stands
+// right under the step, so an unseen wall under such an edge is that same wall
+// carried on: no overhang, where the building's typical one would cut a notch
+// of that depth into the footprint. A longer edge is a wall of its own
+// (kStepJog); the levels differ by more than kStepHeight.
+bool continues_step(const OutlineEdge& e, const std::vector<RoofRegion>& roof) {
+  if ((e.b - e.a).norm() > kStepJog) return false;
+  const Vec2 d = (e.b - e.a).normalized(), n = outward(d);
+  for (const auto& [end, sign] : {std::pair{e.a, -1.0}, std::pair{e.b, 1.0}})
+    for (double t : kStepProbesAlong) {
+      const Vec2 p = end + sign * t * d;
+      const double z1 = roof_z(roof, p - kStepProbeAcross * n), z2 = roof_z(roof, p + kStepProbeAcross * n);
+      if (std::abs(z1 - z2) > kStepHeight) return true;  // false while either is NaN
+    }
+  return false;
+}
+
+// The wall seen under edge e, between kWallFootClearance above the terrain and wall_top.
+WallFit fit_edge_wall(const EnvelopeInput& in, const OutlineEdge& e, bool beyond_ends) {
+  const Vec2 mid = 0.5 * (e.a + e.b);
+  const double tz = in.terrain(mid.x(), mid.y());
+  return fit_wall(in.wall_points, e.a, e.b, std::isnan(tz) ? -1e9 : tz + kWallFootClearance, wall_top(e, in.roof),
+                  beyond_ends);
+}
+
+std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
+  const Ring2& ring = in.outline.outer;
+  std::vector<OutlineEdge> edges(ring.size());
+  std::vector<SeenWall> seen;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    OutlineEdge& e = edges[i];
+    e.a = ring[i];
+    e.b = ring[(i + 1) % ring.size()];
+    e.party = i < in.party_edge.size() && in.party_edge[i];
+    if (e.party) {  // on the parcel boundary, shared with the neighbour
+      e.evidence = WallEvidence::ParcelBoundary;
+      e.sigma = kPartySigma;
+      continue;
+    }
+    const WallFit fit = wall_on_outline(in, e);
+    if (fit.found && -fit.offset < kMaxOverhang) {
+      e.overhang = std::max(0.0, -fit.offset);
+      e.evidence = WallEvidence::Measured;
+      e.support = fit.support;
+      // A wall seen outside the outline stays under the roof at the outline:
+      // its distance to the points it stands for is part of its error.
+      e.sigma = kMeasuredSigma + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
+      seen.push_back({i, direction(e), {e.overhang, (e.b - e.a).norm()}});
+    }
+  }
+  if (seen.empty()) {
+    // No wall of this building seen (a row house between its neighbours): the
+    // facade line may continue on the neighbours just past the edge's ends.
+    for (auto& e : edges) {
+      if (e.party) continue;
+      const WallFit fit = fit_edge_wall(in, e, true);
+      if (!fit.found) continue;
+      e.overhang = std::max(0.0, -fit.offset);
+      e.evidence = WallEvidence::Propagated;
+      e.support = fit.support;
+      e.sigma = kContinuedSigma + fit.rms / std::sqrt(double(fit.support));
+    }
+  }
+  double spread = kUnseenSpread;
+  double typical = in.default_overhang;
+  WallEvidence fill = WallEvidence::Default;
+  std::vector<double> facade(edges.size(), typical);
+  if (!seen.empty()) {
+    std::vector<Weighted> measured;
+    for (const auto& w : seen) measured.push_back(w.overhang);
+    typical = typical_overhang(measured);
+    for (size_t i = 0; i < edges.size(); ++i) facade[i] = facade_overhang(seen, direction(edges[i]), typical);
+    for (size_t i = 0; i < edges.size(); ++i) {
+      OutlineEdge& e = edges[i];
+      if (e.evidence == WallEvidence::Measured && e.overhang - std::max(typical, facade[i]) > kOverhangOutlier) {
+        e.evidence = WallEvidence::Default;  // re-filled below as propagated
+        e.support = 0;
+      }
+    }
+    std::vector<Weighted> dev;
+    for (const auto& w : seen) dev.push_back({std::abs(w.overhang.value - facade[w.edge]), w.overhang.weight});
+    spread = std::max(kMinSpread, kMadToSigma * weighted_median(dev));
+    fill = WallEvidence::Propagated;
+  }
+  for (size_t i = 0; i < edges.size(); ++i) {
+    OutlineEdge& e = edges[i];
+    if (!e.party && e.evidence != WallEvidence::Measured && e.support == 0) {
+      const bool step = continues_step(e, in.roof);
+      e.overhang = step ? 0.0 : facade[i];
+      e.evidence = step ? WallEvidence::Propagated : fill;
+      e.sigma = step ? kStepSigma : spread;
+    }
+  }
+  if (log::enabled(log::Level::Debug))
+    for (auto& e : edges)
+      log::debug(log::format("%s edge len %.2f ev %s overhang %.3f support %d", in.building_id.c_str(),
+                             (e.b - e.a).norm(), to_string(e.evidence), e.overhang, e.support));
+  return edges;
+}
+
+}  // namespace c3d::envelope
+
+namespace c3d {
+
+using namespace envelope;
+
+WallFit fit_wall(const std::vector<Vec3>& pts, const Vec2& a, const Vec2& b, double min_z, double max_z,
+                 bool beyond_ends) {
+  Vec2 d = b - a;
+  double len = d.norm();
+  if (len < kMinWallEdge) return {};
+  d /= len;
+  Vec2 n = outward(d);
+  const double lo = -kMaxOverhang, hi = kMaxOutside, bin = kOffsetBin;
+  std::vector<int> hist(int((hi - lo) / bin) + 1, 0);
+  std::vector<std::pair<double, double>> st;  // (s, t)
+  for (const auto& p : pts) {
+    if (p.z() < min_z || p.z() > max_z) continue;
+    Vec2 q = p.head<2>() - a;
+    double t = d.dot(q), s = n.dot(q);
+    bool along = beyond_ends ? ((t < 0 && t > -kMaxOverhang) || (t > len && t < len + kMaxOverhang))
+                             : (t >= kFitFrom * len && t <= kFitTo * len);
+    if (!along || s < lo || s > hi) continue;
+    ++hist[int((s - lo) / bin)];
+    st.emplace_back(s, t);
+  }
+  if (st.size() < size_t(kMinWallPoints)) return {};
+  // Peaks of the offset histogram (3 bins wide), most points first: a short
+  // bright patch (a pole, a gate) must not hide the wall behind it.
+  const size_t bins = hist.size();
+  std::vector<int> smooth(bins);
+  for (size_t i = 0; i < bins; ++i)
+    smooth[i] = hist[i] + (i > 0 ? hist[i - 1] : 0) + (i + 1 < bins ? hist[i + 1] : 0);
+  std::vector<std::pair<int, int>> peaks;  // (count, bin)
+  for (size_t i = 0; i < bins; ++i)
+    if ((i == 0 || smooth[i] > smooth[i - 1]) && (i + 1 == bins || smooth[i] >= smooth[i + 1]))
+      peaks.emplace_back(smooth[i], int(i));
+  std::sort(peaks.rbegin(), peaks.rend());
+  for (const auto& [count, i] : peaks) {
+    const WallFit fit = wall_at(st, lo + (i + 0.5) * bin, len, beyond_ends);
+    if (fit.found) return fit;
+  }
+  return {};
+}
+
+GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2& room) {
+  const Ring2& ring = in.outline.outer;
+  const size_t n = ring.size();
+  std::vector<WallFit> fits(n);  // the walls standing outside their edges
+  for (size_t i = 0; i < n; ++i) {
+    if (i < in.party_edge.size() && in.party_edge[i]) continue;
+    OutlineEdge e;
+    e.a = ring[i], e.b = ring[(i + 1) % n];
+    const WallFit fit = fit_edge_wall(in, e);
+    if (fit.found && fit.offset > kMinOutside) fits[i] = fit;
+  }
+  auto out = [&](size_t i) { return fits[i % n].found ? fits[i % n].offset : 0.0; };
+  GrownOutline g{in.outline, {}};
+  MultiPolygon2 grown{in.outline};
+  for (size_t i = 0; i < n; ++i) {
+    if (!fits[i].found) continue;
+    const Vec2 a = ring[i], b = ring[(i + 1) % n], d = (b - a).normalized(), o = outward(d) * out(i);
+    // Run on past each end by the next edge's growth, so that two grown edges
+    // meet in a corner rather than leave a notch (at a reflex corner the run
+    // on lies inside the outline already).
+    const Vec2 a0 = a - d * out(i + n - 1), b0 = b + d * out(i + 1);
+    const MultiPolygon2 strip = poly::intersect({Polygon2{{a0, b0, b0 + o, a0 + o}, {}}}, room);
+    if (area(strip) < kMinGrowth) continue;  // no land to grow on
+    grown = poly::unite(grown, strip);
+    g.walls.push_back({a0 + o, b0 + o, fits[i]});
+  }
+  Polygon2 best = poly::largest(poly::simplify(grown, kGrowSimplify));
+  best.holes.clear();
+  if (area(best) > area(in.outline) + kMinGrowth)
+    g.outline = best;
+  else
+    g.walls.clear();
+  return g;
+}
+
+}  // namespace c3d

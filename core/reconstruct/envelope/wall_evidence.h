@@ -1,0 +1,62 @@
+#pragma once
+// Envelope sub-stage "wall evidence": the wall under each roof-outline edge,
+// from the wall points (measured), from the building's other walls or the
+// facade continuing on the neighbours (propagated), or the configured
+// default overhang (default). fit_wall and grow_to_walls_outside, in
+// envelope.h, are this sub-stage's public face.
+#include <vector>
+
+#include "core/reconstruct/envelope/envelope.h"
+
+namespace c3d::envelope {
+
+// Where no wall of the building is seen, an unseen wall's position is known
+// only to the scatter of overhangs in general.
+constexpr double kUnseenSpread = 0.3;  // m
+
+// One roof-outline edge (outer[i] -> outer[i+1]) with the wall under it: the
+// wall stands `overhang` inside the edge, known to within `sigma`.
+struct OutlineEdge {
+  Vec2 a, b;
+  double overhang = 0;
+  double sigma = kUnseenSpread;  // of the wall position, m
+  int support = 0;
+  bool party = false;
+  WallEvidence evidence = WallEvidence::Default;
+};
+
+// Every outline edge of `in` with its wall: measured, propagated or default;
+// party edges (on the parcel boundary) have no overhang.
+std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in);
+
+
+// Median of values weighted by length: a building's overhang is what most of
+// its eave length shows, not what most of its (often short) wall pieces show.
+struct Weighted {
+  double value, weight;
+};
+double weighted_median(std::vector<Weighted> v);
+
+// The building's overhang from its seen walls: the length-weighted mean of
+// those within kOverhangInlier (0.1 m) of the weighted median.
+double typical_overhang(const std::vector<Weighted>& measured);
+
+// A wall seen under outline edge `edge`, with its direction.
+struct SeenWall {
+  size_t edge;        // index into the outline's edges
+  Vec2 dir;
+  Weighted overhang;  // weighted by length
+};
+// The overhang of the facade parallel to `dir`, where the seen walls along it
+// show one clearly apart from the building's; else `building`.
+double facade_overhang(const std::vector<SeenWall>& seen, const Vec2& dir, double building);
+
+// Whether a short edge's line runs on into the roof as a step between levels
+// (an unseen wall under it is the step wall carried on: no overhang).
+bool continues_step(const OutlineEdge& e, const std::vector<RoofRegion>& roof);
+
+// The wall seen under edge e, from just above the terrain up to the roof over
+// it; beyond_ends as for fit_wall.
+WallFit fit_edge_wall(const EnvelopeInput& in, const OutlineEdge& e, bool beyond_ends = false);
+
+}  // namespace c3d::envelope
