@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cadastre/gpkg_geometry.h"
-#include "cadastre/sha256.h"
 #include "cadastre/sqlite_util.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
+#include "core/io/sha256.h"
 
 namespace c3d {
 

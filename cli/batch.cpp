@@ -17,7 +17,7 @@
 
 #include "cadastre/clip.h"
 #include "cadastre/parcels.h"
-#include "cadastre/sha256.h"
+#include "core/io/sha256.h"
 #include "cadastre/store.h"
 #include "cli/commands.h"
 #include "cli/outputs.h"
