@@ -5,11 +5,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cadastre/gpkg_geometry.h"
-#include "cadastre/sha256.h"
 #include "cadastre/sqlite_util.h"
 #include "cadastre/store_schema.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
+#include "core/io/sha256.h"
 
 namespace c3d {
 

@@ -119,3 +119,53 @@ TEST(Config, UnknownZoneAndTypo) {
                "unknown key");
   expect_error(variant("rate", "rate = 0.001", "rate = 1.5"), "valuation.tax.rate", "must be in");
 }
+
+TEST(Config, RangesAndChoices) {
+  expect_error(variant("neighbours", "outlier_neighbours = 12", "outlier_neighbours = 0"),
+               "reconstruction.outlier_neighbours", "must be >= 1, got 0");
+  expect_error(variant("points", "min_component_points = 30", "min_component_points = 30.5"),
+               "reconstruction.min_component_points", "must be an integer");
+  expect_error(variant("device", "optimize_device = \"auto\"", "optimize_device = \"gpu\""),
+               "reconstruction.optimize_device", "must be auto, cpu or vulkan");
+  expect_error(variant("optimize", "optimize = false", "optimize = 1"), "reconstruction.optimize",
+               "true or false");
+  expect_error(variant("class", "roof = \\[6\\]", "roof = [6, 300]"), "classes.roof", "0..255");
+  expect_error(variant("currency", "currency = \"IDR\"", "currency = \"\""), "valuation.currency",
+               "must not be empty");
+}
+
+TEST(Config, UnknownSectionAndSectionThatIsNotATable) {
+  expect_error(variant("section", "\n\\[clip\\]", "\n[clipping]"), "clipping", "unknown key");
+  std::string path = test::temp_dir("config_not_table") + "/c.toml";
+  std::ofstream(path) << "reconstruction = 3\n";
+  expect_error(path, "reconstruction", "must be a table");
+}
+
+TEST(Config, PerParcelOverrideErrorsNameTheParcel) {
+  std::string dir = test::temp_dir("config_override_errors");
+  std::ofstream(dir + "/zone.toml") << read(default_file())
+                                    << "\n[valuation.parcels.\"P-7\"]\nzone = \"ZNT-X\"\n";
+  expect_error(dir + "/zone.toml", "valuation.parcels.P-7.zone", "ZNT-X");
+  std::ofstream(dir + "/key.toml") << read(default_file())
+                                   << "\n[valuation.parcels.\"P-7\"]\nfloors = 2\n";
+  expect_error(dir + "/key.toml", "valuation.parcels.P-7.floors", "unknown key");
+  std::ofstream(dir + "/age.toml") << read(default_file())
+                                   << "\n[valuation.parcels.\"P-7\"]\nage_years = -1\n";
+  expect_error(dir + "/age.toml", "valuation.parcels.P-7.age_years", "must be >= 0");
+}
+
+// A fiscal setting a file leaves out is off, never inherited from the built-in
+// defaults; reconstruction settings left out keep theirs.
+TEST(Config, KeysLeftOut) {
+  std::string text = read(default_file());
+  text = std::regex_replace(text, std::regex("\ndefault_quality = [^\n]*"), "");
+  text = std::regex_replace(text, std::regex("\n\\[valuation.quality_factor\\][^\\[]*"), "\n");
+  text = std::regex_replace(text, std::regex("\nstorey_height_m = [^\n]*"), "");
+  std::string path = test::temp_dir("config_left_out") + "/c.toml";
+  std::ofstream(path) << text;
+  Config c = load_config(path);
+  EXPECT_TRUE(c.valuation.quality_factor.empty());
+  EXPECT_TRUE(c.valuation.default_quality.empty());
+  EXPECT_DOUBLE_EQ(c.reconstruction.storey_height_m, default_config().reconstruction.storey_height_m);
+  expect_error(variant("no_currency", "\ncurrency = [^\n]*", ""), "valuation.currency", "missing");
+}

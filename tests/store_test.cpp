@@ -7,10 +7,10 @@
 #include <set>
 
 #include "cadastre/gpkg_geometry.h"
-#include "cadastre/sha256.h"
 #include "cadastre/store.h"
 #include "core/config/config.h"
 #include "core/error.h"
+#include "core/io/sha256.h"
 #include "tests/store_fixtures.h"
 #include "tests/test_support.h"
 #include "valuation/valuation.h"

@@ -2,32 +2,18 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cadastre/sha256.h"
+#include "core/io/sha256.h"
 
 namespace c3d {
 
 std::string run_parameters(const Config& cfg) {
-  const auto& r = cfg.reconstruction;
-  nlohmann::json j = {{"config", cfg.source},
-                      {"overhang_buffer_m", cfg.clip.overhang_buffer_m},
-                      {"optimize", r.optimize},
-                      {"reconstruction",
-                       {{"component_smoothness_deg", r.component_smoothness_deg},
-                        {"component_curvature", r.component_curvature},
-                        {"min_component_points", r.min_component_points},
-                        {"min_component_area_m2", r.min_component_area_m2},
-                        {"plane_inlier_m", r.plane_inlier_m},
-                        {"loose_point_reach_m", r.loose_point_reach_m},
-                        {"default_overhang_m", r.default_overhang_m},
-                        {"storey_height_m", r.storey_height_m},
-                        {"shared_roof_depth_m", r.shared_roof_depth_m},
-                        {"roof_cluster_m", r.roof_cluster_m},
-                        {"partition_cell_m", r.partition_cell_m}}}};
+  nlohmann::json j = effective_config_json(cfg);
+  j["config_file"] = cfg.source;  // for the reader of the run record; not part of the key
   return j.dump();
 }
 
 std::string run_key(const Config& cfg, const std::vector<std::string>& input_files) {
-  std::string s = run_parameters(cfg);
+  std::string s = config_fingerprint(cfg);
   for (const auto& f : input_files) s += "|" + sha256_file(f);
   return sha256_hex(s);
 }

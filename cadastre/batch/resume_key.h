@@ -10,11 +10,11 @@
 namespace c3d {
 
 // The effective configuration as the run record stores it (JSON text): every
-// parameter, after the command line's overrides.
+// parameter after the command line's overrides, and the file it came from.
 std::string run_parameters(const Config& cfg);
 
-// The key of a whole run: the effective configuration and the SHA-256 of
-// every input file's content (not its name).
+// The key of a whole run: config_fingerprint (every parameter, not the file's
+// name) and the SHA-256 of every input file's content (not its name).
 std::string run_key(const Config& cfg, const std::vector<std::string>& input_files);
 
 // A parcel's key: the run key, its id and its own shape.

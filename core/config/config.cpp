@@ -6,220 +6,199 @@
 #include <set>
 #include <sstream>
 
+#include "core/config/parameters.h"
 #include "core/error.h"
 
 namespace c3d {
 
 namespace {
 
-const char* const kElementTypes[] = {"roof", "wall", "party_wall", "ground", "outer_ceiling"};
+using nlohmann::json;
 
-// Walks one TOML table; every message names the file and the dotted key.
-class Section {
- public:
-  Section(const std::string& file, const toml::table* table, std::string path)
-      : file_(file), table_(table), path_(std::move(path)) {}
-
-  bool present() const { return table_ != nullptr; }
-  std::string key(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
-  [[noreturn]] void fail(const std::string& k, const std::string& problem) const {
-    throw InputError(file_, "key '" + key(k) + "': " + problem);
+// Every message names the file and the dotted key, on one line.
+struct Where {
+  const std::string& file;
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    throw InputError(file, "key '" + key + "': " + problem);
   }
-
-  // Rejects keys the reader does not know: a typo must not fall back silently.
-  void allow_only(const std::set<std::string>& known) const {
-    if (!table_) return;
-    for (const auto& [k, v] : *table_) {
-      std::string name(k.str());
-      if (!known.count(name)) fail(name, "unknown key");
-    }
-  }
-
-  Section sub(const std::string& k, bool required) const {
-    const toml::node* n = table_ ? table_->get(k) : nullptr;
-    if (!n) {
-      if (required) fail(k, "missing");
-      return Section(file_, nullptr, key(k));
-    }
-    if (!n->is_table()) fail(k, "must be a table");
-    return Section(file_, n->as_table(), key(k));
-  }
-
-  const toml::node* node(const std::string& k, bool required) const {
-    const toml::node* n = table_ ? table_->get(k) : nullptr;
-    if (!n && required) fail(k, "missing");
-    return n;
-  }
-
-  void number(const std::string& k, double& out, bool required, double min = 0.0,
-              double max = HUGE_VAL) const {
-    const toml::node* n = node(k, required);
-    if (!n) return;
-    double v;
-    if (auto i = n->as_integer()) v = double(i->get());
-    else if (auto f = n->as_floating_point()) v = f->get();
-    else fail(k, "must be a number");
-    if (!std::isfinite(v) || v < min || v > max) {
-      std::ostringstream s;
-      if (max == HUGE_VAL) s << "must be >= " << min << ", got " << v;
-      else s << "must be in [" << min << ", " << max << "], got " << v;
-      fail(k, s.str());
-    }
-    out = v;
-  }
-
-  void integer(const std::string& k, int& out, bool required, int min = 0) const {
-    const toml::node* n = node(k, required);
-    if (!n) return;
-    auto i = n->as_integer();
-    if (!i) fail(k, "must be an integer");
-    if (i->get() < min) fail(k, "must be >= " + std::to_string(min));
-    out = int(i->get());
-  }
-
-  void boolean(const std::string& k, bool& out, bool required) const {
-    const toml::node* n = node(k, required);
-    if (!n) return;
-    auto b = n->as_boolean();
-    if (!b) fail(k, "must be true or false");
-    out = b->get();
-  }
-
-  void text(const std::string& k, std::string& out, bool required) const {
-    const toml::node* n = node(k, required);
-    if (!n) return;
-    auto s = n->as_string();
-    if (!s) fail(k, "must be a string");
-    out = s->get();
-  }
-
-  void int_list(const std::string& k, std::vector<int>& out, bool required) const {
-    const toml::node* n = node(k, required);
-    if (!n) return;
-    auto a = n->as_array();
-    if (!a) fail(k, "must be an array of integers");
-    std::vector<int> v;
-    for (const auto& e : *a) {
-      auto i = e.as_integer();
-      if (!i || i->get() < 0 || i->get() > 255) fail(k, "must hold class codes 0..255");
-      v.push_back(int(i->get()));
-    }
-    out = v;
-  }
-
-  // A table of name -> non-negative number (zones, quality classes, unit costs).
-  std::map<std::string, double> number_map() const {
-    std::map<std::string, double> m;
-    if (!table_) return m;
-    for (const auto& [k, v] : *table_) {
-      double x = 0;
-      number(std::string(k.str()), x, true);
-      m[std::string(k.str())] = x;
-    }
-    return m;
-  }
-
-  template <class F>
-  void each_table(F&& f) const {
-    if (!table_) return;
-    for (const auto& [k, v] : *table_) f(std::string(k.str()), sub(std::string(k.str()), true));
-  }
-
- private:
-  std::string file_;
-  const toml::table* table_;
-  std::string path_;
 };
 
-void read_classes(const Section& s, ClassMapping& c) {
-  s.allow_only({"roof", "wall", "ground"});
-  s.int_list("roof", c.roof, false);
-  s.int_list("wall", c.wall, false);
-  s.int_list("ground", c.ground, false);
+toml::table parse_file(const std::string& path) {
+  try {
+    return toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream s;
+    const auto& b = e.source().begin;
+    if (b.line == 0) s << "cannot read config: " << e.description();
+    else s << "line " << b.line << ", column " << b.column << ": " << e.description();
+    throw InputError(path, s.str());
+  }
 }
 
-void read_fields(const Section& s, ParcelFields& f) {
-  s.allow_only({"id", "right_type", "official_area"});
-  if (s.node("id", false)) f.id_required = true;  // named by the user: must exist
-  s.text("id", f.id, false);
-  s.text("right_type", f.right_type, false);
-  s.text("official_area", f.official_area, false);
+// The table's keys and the sections above them ("valuation", "valuation.tax").
+struct KnownKeys {
+  std::set<std::string> keys, sections;
+  KnownKeys() {
+    for (const Parameter& p : parameter_table()) {
+      keys.insert(p.key);
+      for (std::string s = section_of(p.key); !s.empty(); s = section_of(s)) sections.insert(s);
+    }
+  }
+};
+
+// Rejects keys the table does not know: a typo must not fall back silently.
+void reject_unknown(const toml::table& t, const std::string& prefix, const KnownKeys& known,
+                    const Where& w) {
+  for (const auto& [k, node] : t) {
+    std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (known.keys.count(key)) continue;
+    if (!known.sections.count(key)) w.fail(key, "unknown key");
+    if (!node.is_table()) w.fail(key, "must be a table");
+    reject_unknown(*node.as_table(), key, known, w);
+  }
 }
 
-void read_reconstruction(const Section& s, ReconstructionParams& r) {
-  s.allow_only({"outlier_neighbours", "outlier_std", "roof_cluster_m",
-                "component_smoothness_deg", "component_curvature", "min_component_points",
-                "min_component_area_m2", "plane_inlier_m", "loose_point_reach_m", "partition_cell_m",
-                "default_overhang_m", "storey_height_m", "shared_roof_depth_m", "optimize",
-                "optimize_device"});
-  s.integer("outlier_neighbours", r.outlier_neighbours, false, 1);
-  s.number("outlier_std", r.outlier_std, false);
-  s.number("roof_cluster_m", r.roof_cluster_m, false, 0, 10);
-  s.number("component_smoothness_deg", r.component_smoothness_deg, false, 0, 180);
-  s.number("component_curvature", r.component_curvature, false);
-  s.integer("min_component_points", r.min_component_points, false, 3);
-  s.number("min_component_area_m2", r.min_component_area_m2, false);
-  s.number("plane_inlier_m", r.plane_inlier_m, false);
-  s.number("loose_point_reach_m", r.loose_point_reach_m, false, 0, 10);
-  s.number("partition_cell_m", r.partition_cell_m, false, 0, 1);
-  s.number("default_overhang_m", r.default_overhang_m, false);
-  s.number("storey_height_m", r.storey_height_m, false, 0.5);
-  s.number("shared_roof_depth_m", r.shared_roof_depth_m, false, 0, 10);
-  s.boolean("optimize", r.optimize, false);
-  s.text("optimize_device", r.optimize_device, false);
-  if (r.optimize_device != "auto" && r.optimize_device != "cpu" && r.optimize_device != "vulkan")
-    s.fail("optimize_device", "must be auto, cpu or vulkan");
+// The node at a dotted key, or null; reject_unknown has checked that sections are tables.
+const toml::node* find(const toml::table& root, const std::string& key) {
+  const toml::table* t = &root;
+  size_t start = 0;
+  for (size_t dot = key.find('.'); dot != std::string::npos; dot = key.find('.', start)) {
+    const toml::node* n = t->get(key.substr(start, dot - start));
+    if (!n || !n->is_table()) return nullptr;
+    t = n->as_table();
+    start = dot + 1;
+  }
+  return t->get(key.substr(start));
 }
 
-void read_unit_costs(const Section& s, ValuationParams& v) {
-  std::set<std::string> types(std::begin(kElementTypes), std::end(kElementTypes));
-  s.allow_only(types);  // names the unknown element type
-  v.unit_cost.clear();
-  for (const char* t : kElementTypes) s.number(t, v.unit_cost[t], true);
+double read_number(const toml::node& n, const Range& r, const std::string& key, const Where& w) {
+  double v;
+  if (auto i = n.as_integer()) v = double(i->get());
+  else if (auto f = n.as_floating_point()) v = f->get();
+  else w.fail(key, "must be a number");
+  if (!std::isfinite(v) || v < r.min || v > r.max) {
+    std::ostringstream s;
+    if (r.max == kUnbounded) s << "must be >= " << r.min << ", got " << v;
+    else s << "must be in [" << r.min << ", " << r.max << "], got " << v;
+    w.fail(key, s.str());
+  }
+  return v;
 }
 
-void read_valuation(const Section& s, ValuationParams& v) {
-  s.allow_only({"currency", "building_age_years", "depreciation_per_year", "max_depreciation",
-                "default_zone", "default_quality", "gross_floor_cost_per_m2", "unit_cost",
-                "quality_factor", "land_price", "tax", "parcels"});
-  s.text("currency", v.currency, true);
-  if (v.currency.empty()) s.fail("currency", "must not be empty");
-  s.number("building_age_years", v.building_age_years, true);
-  s.number("depreciation_per_year", v.depreciation_per_year, true, 0, 1);
-  s.number("max_depreciation", v.max_depreciation, true, 0, 1);
-  s.number("gross_floor_cost_per_m2", v.gross_floor_cost_per_m2, false);
-  read_unit_costs(s.sub("unit_cost", true), v);
+json read_integer(const toml::node& n, const Range& r, const std::string& key, const Where& w) {
+  if (!n.as_integer()) w.fail(key, "must be an integer");
+  return int(read_number(n, r, key, w));
+}
 
-  v.quality_factor = s.sub("quality_factor", false).number_map();
-  v.default_quality.clear();
-  s.text("default_quality", v.default_quality, false);
-  if (!v.default_quality.empty() && !v.quality_factor.count(v.default_quality))
-    s.fail("default_quality", "'" + v.default_quality + "' is not in valuation.quality_factor");
+std::string read_text(const toml::node& n, const std::string& key, const Where& w) {
+  auto s = n.as_string();
+  if (!s) w.fail(key, "must be a string");
+  return s->get();
+}
 
-  v.land_price = s.sub("land_price", true).number_map();
-  if (v.land_price.empty()) s.fail("land_price", "needs at least one zone");
-  s.text("default_zone", v.default_zone, true);
+json read_class_list(const toml::node& n, const Range& r, const std::string& key, const Where& w) {
+  auto a = n.as_array();
+  if (!a) w.fail(key, "must be an array of integers");
+  std::vector<int> codes;
+  for (const auto& e : *a) {
+    auto i = e.as_integer();
+    if (!i || i->get() < r.min || i->get() > r.max) w.fail(key, "must hold class codes 0..255");
+    codes.push_back(int(i->get()));
+  }
+  return codes;
+}
+
+// name -> number; when the range names keys, exactly those (every element type priced).
+json read_number_map(const toml::node& n, const Range& r, const std::string& key, const Where& w) {
+  if (!n.is_table()) w.fail(key, "must be a table");
+  const toml::table& t = *n.as_table();
+  std::set<std::string> named(r.names.begin(), r.names.end());
+  json m = json::object();
+  for (const auto& [k, v] : t) {
+    std::string name(k.str());
+    if (!named.empty() && !named.count(name)) w.fail(key + "." + name, "unknown key");
+    m[name] = read_number(v, r, key + "." + name, w);
+  }
+  for (const auto& name : r.names)
+    if (!m.contains(name)) w.fail(key + "." + name, "missing");
+  return m;
+}
+
+// parcel id -> {zone, quality, age_years}; the references are checked with the rest.
+json read_overrides(const toml::node& n, const Range& r, const std::string& key, const Where& w) {
+  if (!n.is_table()) w.fail(key, "must be a table");
+  json all = json::object();
+  for (const auto& [id, node] : *n.as_table()) {
+    std::string at = key + "." + std::string(id.str());
+    if (!node.is_table()) w.fail(at, "must be a table");
+    json o = json::object();
+    for (const auto& [k, v] : *node.as_table()) {
+      std::string name(k.str());
+      if (name == "zone" || name == "quality") o[name] = read_text(v, at + "." + name, w);
+      else if (name == "age_years") o[name] = read_number(v, r, at + "." + name, w);
+      else w.fail(at + "." + name, "unknown key");
+    }
+    all[std::string(id.str())] = o;
+  }
+  return all;
+}
+
+json read_value(const Parameter& p, const toml::node& n, const Where& w) {
+  const std::string& key = p.key;
+  switch (p.kind) {
+    case Kind::Integer: return read_integer(n, p.range, key, w);
+    case Kind::Real: return read_number(n, p.range, key, w);
+    case Kind::Boolean:
+      if (!n.as_boolean()) w.fail(key, "must be true or false");
+      return n.as_boolean()->get();
+    case Kind::Text: {
+      std::string s = read_text(n, key, w);
+      if (p.range.non_empty && s.empty()) w.fail(key, "must not be empty");
+      return s;
+    }
+    case Kind::Choice: {
+      std::string s = read_text(n, key, w);
+      for (const auto& c : p.range.names)
+        if (s == c) return s;
+      w.fail(key, "must be " + describe_range(p) + ", got '" + s + "'");
+    }
+    case Kind::ClassList: return read_class_list(n, p.range, key, w);
+    case Kind::NumberMap: return read_number_map(n, p.range, key, w);
+    case Kind::ParcelOverrides: return read_overrides(n, p.range, key, w);
+  }
+  w.fail(key, "has a kind the reader does not know");
+}
+
+// What an OffWhenAbsent key means when a file leaves it out.
+json off_value(Kind k) {
+  switch (k) {
+    case Kind::Integer: return 0;
+    case Kind::Real: return 0.0;
+    case Kind::Boolean: return false;
+    case Kind::Text:
+    case Kind::Choice: return "";
+    case Kind::ClassList: return json::array();
+    case Kind::NumberMap:
+    case Kind::ParcelOverrides: return json::object();
+  }
+  return nullptr;
+}
+
+// The valuation's names must point at zones and quality classes that exist.
+void check_references(const ValuationParams& v, const Where& w) {
+  if (v.land_price.empty()) w.fail("valuation.land_price", "needs at least one zone");
   if (!v.land_price.count(v.default_zone))
-    s.fail("default_zone", "'" + v.default_zone + "' is not in valuation.land_price");
-
-  Section tax = s.sub("tax", true);
-  tax.allow_only({"rate", "njoptkp"});
-  tax.number("rate", v.tax_rate, true, 0, 1);
-  tax.number("njoptkp", v.tax_exemption, true);
-
-  v.parcels.clear();
-  s.sub("parcels", false).each_table([&](const std::string& id, const Section& p) {
-    p.allow_only({"zone", "quality", "age_years"});
-    ParcelValuationOverride o;
-    p.text("zone", o.zone, false);
-    p.text("quality", o.quality, false);
-    p.number("age_years", o.age_years, false);
+    w.fail("valuation.default_zone", "'" + v.default_zone + "' is not in valuation.land_price");
+  if (!v.default_quality.empty() && !v.quality_factor.count(v.default_quality))
+    w.fail("valuation.default_quality",
+           "'" + v.default_quality + "' is not in valuation.quality_factor");
+  for (const auto& [id, o] : v.parcels) {
+    const std::string at = "valuation.parcels." + id;
     if (!o.zone.empty() && !v.land_price.count(o.zone))
-      p.fail("zone", "'" + o.zone + "' is not in valuation.land_price");
+      w.fail(at + ".zone", "'" + o.zone + "' is not in valuation.land_price");
     if (!o.quality.empty() && !v.quality_factor.count(o.quality))
-      p.fail("quality", "'" + o.quality + "' is not in valuation.quality_factor");
-    v.parcels[id] = o;
-  });
+      w.fail(at + ".quality", "'" + o.quality + "' is not in valuation.quality_factor");
+  }
 }
 
 }  // namespace
@@ -230,50 +209,22 @@ ParcelFields parcel_fields(const std::string& id_field) {
   return f;
 }
 
-Config default_config() {
-  Config c;
-  c.source = "(defaults)";
-  c.fields.id = "NIB";
-  c.fields.id_required = false;  // the built-in default: other layers fall back to feature ids
-  ValuationParams& v = c.valuation;
-  v.currency = "IDR";
-  v.building_age_years = 10;
-  v.depreciation_per_year = 0.015;
-  v.max_depreciation = 0.5;
-  v.default_zone = "ZNT-B";
-  v.default_quality = "permanent";
-  v.gross_floor_cost_per_m2 = 0;
-  v.unit_cost = {{"roof", 550000},   {"wall", 400000},         {"party_wall", 200000},
-                 {"ground", 350000}, {"outer_ceiling", 175000}};
-  v.quality_factor = {{"permanent", 1.0}, {"semi_permanent", 0.75}, {"temporary", 0.5}};
-  v.land_price = {{"ZNT-A", 6500000}, {"ZNT-B", 4000000}, {"ZNT-C", 2500000}};
-  v.tax_rate = 0.001;
-  v.tax_exemption = 10000000;
-  return c;
-}
+Config default_config() { return Config{}; }
 
 Config load_config(const std::string& path) {
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream s;
-    const auto& b = e.source().begin;
-    if (b.line == 0) s << "cannot read config: " << e.description();
-    else s << "line " << b.line << ", column " << b.column << ": " << e.description();
-    throw InputError(path, s.str());
-  }
+  const toml::table root = parse_file(path);
+  const Where where{path};
+  static const KnownKeys known;
+  reject_unknown(root, "", known, where);
   Config c = default_config();
   c.source = path;
-  Section top(path, &root, "");
-  top.allow_only({"classes", "parcel_fields", "clip", "reconstruction", "valuation"});
-  read_classes(top.sub("classes", false), c.classes);
-  read_fields(top.sub("parcel_fields", false), c.fields);
-  Section clip = top.sub("clip", false);
-  clip.allow_only({"overhang_buffer_m"});
-  clip.number("overhang_buffer_m", c.clip.overhang_buffer_m, false);
-  read_reconstruction(top.sub("reconstruction", false), c.reconstruction);
-  read_valuation(top.sub("valuation", true), c.valuation);
+  for (const Parameter& p : parameter_table()) {
+    const toml::node* n = find(root, p.key);
+    if (n) p.field.set(c, read_value(p, *n, where));
+    else if (p.need == Need::Required) where.fail(p.key, "missing");
+    else if (p.need == Need::OffWhenAbsent) p.field.set(c, off_value(p.kind));
+  }
+  check_references(c.valuation, where);
   return c;
 }
 

@@ -1,4 +1,4 @@
-#include "cadastre/sha256.h"
+#include "core/io/sha256.h"
 
 #include <cstring>
 #include <fstream>

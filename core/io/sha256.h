@@ -1,6 +1,7 @@
 #pragma once
-// SHA-256 (FIPS 180-4) for input checksums and per-parcel input keys; small
-// enough to keep here rather than pull a crypto library into the build.
+// SHA-256 (FIPS 180-4) for input checksums, per-parcel input keys and the
+// config fingerprint; small enough to keep here rather than pull a crypto
+// library into the build.
 #include <cstddef>
 #include <cstdint>
 #include <string>
