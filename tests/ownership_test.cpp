@@ -151,16 +151,18 @@ TEST(ReconstructBadInput, PartyWallEndsWhereTheNeighboursHouseEnds) {
   // The split itself: a vertex where the house ends, the edge along it a
   // party edge, the rest free; no vertex where the house runs along the whole side.
   const Polygon2 outline{{{3, 2}, {17, 2}, {17, 10}, {3, 10}}, {}};
-  std::vector<int> label(s.roof_points.size(), -1);  // every point another's: only the house counts across
-  const Polygon2 split = split_where_neighbour_roof_ends(outline, s, label);
+  // Every point another's: only the house counts across.
+  const Ownership own = decide_ownership(s, no_roofs(s), params());
+  const Polygon2 split = split_where_neighbour_roof_ends(outline, own);
   ASSERT_EQ(split.outer.size(), 5u);
   EXPECT_NEAR(split.outer[3].x(), 10, 0.2);
   EXPECT_NEAR(split.outer[3].y(), 10, 1e-9);
-  const std::vector<bool> party = find_party_edges(split, s, label);
+  const std::vector<bool> party = find_party_edges(split, own);
   EXPECT_EQ(party, (std::vector<bool>{false, false, false, true, false}));
   ParcelScene whole = s;
   whole.roof_points = sample_plane(plane_through({0, 0, 101.5}, {0, 0, 1}), 2, 18, 10.05, 16, 40, 0.02, rng);
-  EXPECT_EQ(split_where_neighbour_roof_ends(outline, whole, std::vector<int>(whole.roof_points.size(), -1)).outer.size(), 4u);
+  const Ownership whole_own = decide_ownership(whole, no_roofs(whole), params());
+  EXPECT_EQ(split_where_neighbour_roof_ends(outline, whole_own).outer.size(), 4u);
 }
 
 TEST(ReconstructBadInput, CornerOfABuildingOnLandOutsideTheLayerIsNobodysHere) {

@@ -14,6 +14,7 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/reconstruct/envelope/envelope.h"
 #include "core/reconstruct/reconstruct.h"
+#include "core/reconstruct/segment/segmentation.h"
 
 namespace c3d::test {
 
@@ -162,6 +163,15 @@ inline BuildingTotals one_building(const ParcelScene& s) {
   EXPECT_EQ(r.buildings.size(), 1u);
   for (const auto& b : r.buildings) EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
   return r.buildings.empty() ? BuildingTotals{} : totals(r.buildings[0]);
+}
+
+// A segmentation of the scene's roof points that found no roof: every point
+// belongs to no component and no roof (all another's, to the ownership queries).
+inline Segmentation no_roofs(const ParcelScene& s) {
+  Segmentation seg;
+  seg.label.assign(s.roof_points.size(), -1);
+  seg.roof_of.assign(s.roof_points.size(), -1);
+  return seg;
 }
 
 }  // namespace c3d::test

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "core/config/config.h"
+#include "core/reconstruct/building_plan.h"
 #include "core/reconstruct/envelope/envelope.h"
 #include "core/evaluate/evaluate.h"
 #include "core/geometry/geometry.h"
@@ -93,6 +94,58 @@ TEST(ReconstructBadInput, RoofsTouchingAtACornerAreTwoBuildings) {
   }
 }
 
+
+// ---- the work list: a plan whose footprint comes apart --------------------
+
+// Two 8 x 8 m roofs (x 1..9 and x 11..19, y 6..14) joined by a walkway roof
+// (x 9..11, y 9.5..10.5), whose footprint came apart in two: the plan is
+// replaced by one per house, the walkway's roof going to one of them, and
+// neither house may grow onto its sibling.
+TEST(Reconstruct, PlanWhoseFootprintComesApartIsOnePlanPerHouse) {
+  const MultiPolygon2 roof = poly::unite_all({{Polygon2{{{1, 6}, {9, 6}, {9, 14}, {1, 14}}, {}}},
+                                              {Polygon2{{{11, 6}, {19, 6}, {19, 14}, {11, 14}}, {}}},
+                                              {Polygon2{{{9, 9.5}, {11, 9.5}, {11, 10.5}, {9, 10.5}}, {}}}});
+  ASSERT_EQ(roof.size(), 1u);
+  const BuildingPlan bp{roof[0], {0, 1}, poly::buffer(roof, 3.0)};
+  FootprintApart apart;
+  apart.parts = {Polygon2{{{1.5, 6.5}, {8.5, 6.5}, {8.5, 13.5}, {1.5, 13.5}}, {}},
+                 Polygon2{{{11.5, 6.5}, {18.5, 6.5}, {18.5, 13.5}, {11.5, 13.5}}, {}}};
+  apart.overhang = 0.5;
+  const std::vector<BuildingPlan> houses = houses_under(bp, apart);
+  ASSERT_EQ(houses.size(), 2u);
+  EXPECT_NEAR(area(houses[0].outline) + area(houses[1].outline), 130, 0.1);
+  for (size_t h = 0; h < 2; ++h) {
+    EXPECT_GE(area(houses[h].outline), 64 - 0.1);
+    EXPECT_EQ(houses[h].components, bp.components);
+    EXPECT_TRUE(poly::covers(houses[h].room, h == 0 ? Vec2(5, 10) : Vec2(15, 10)));
+    EXPECT_FALSE(poly::covers(houses[h].room, h == 0 ? Vec2(15, 10) : Vec2(5, 10)));  // the sibling's
+  }
+  apart.parts.pop_back();  // in one piece: the plan stands
+  EXPECT_TRUE(houses_under(bp, apart).empty());
+}
+
+// The same two houses and a shed apart from them (x 3..9, y 16..19): three
+// buildings, numbered in the order modelled, with nothing left out.
+TEST(Reconstruct, HousesOfARoofThatCameApartAreModelledInTurn) {
+  std::mt19937_64 rng(41);
+  const Plane flat = plane_through({0, 0, 103}, {0, 0.02, 1});
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = sample_plane(flat, 1, 9, 6, 14, 40, 0.02, rng);
+  for (auto part : {sample_plane(flat, 11, 19, 6, 14, 40, 0.02, rng),
+                    sample_plane(flat, 9, 11, 9.5, 10.5, 40, 0.02, rng),
+                    sample_plane(plane_through({0, 0, 102}, {0.1, 0, 1}), 3, 9, 16, 19, 40, 0.02, rng)})
+    s.roof_points.insert(s.roof_points.end(), part.begin(), part.end());
+  const ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 3u);
+  std::set<std::string> ids;
+  for (const auto& b : r.buildings) {
+    ids.insert(b.id);
+    EXPECT_TRUE(b.solid_valid) << b.id << " " << b.solid_problem;
+  }
+  EXPECT_EQ(ids, (std::set<std::string>{"P_b1", "P_b2", "P_b3"}));
+  EXPECT_EQ(r.reason, "");
+}
 
 // ---- roof points no plane takes -------------------------------------------
 

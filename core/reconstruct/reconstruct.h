@@ -1,6 +1,9 @@
 #pragma once
-// One parcel from points to buildings of elements: segment -> own -> outline ->
-// partition -> envelope -> measure -> evaluate. Everything in local coordinates.
+// One parcel from points to buildings of elements: segment -> own (decided
+// once into an Ownership the later steps query) -> plan the buildings (outline)
+// -> per plan on a work list: partition -> envelope -> measure (a plan whose
+// footprint comes apart is replaced by its houses) -> evaluate. Everything in
+// local coordinates.
 #include <functional>
 #include <vector>
 
