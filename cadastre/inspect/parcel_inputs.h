@@ -14,4 +14,14 @@ namespace c3d {
 ParcelLayer read_parcels_for_clouds(const std::string& path, const std::string& id_field,
                                     std::vector<PointCloud>& clouds, std::vector<std::string>& warnings);
 
+struct ParcelInputs {
+  ParcelLayer layer;
+  std::vector<PointCloud> clouds;     // in the layer's CRS
+  std::vector<std::string> warnings;  // reading and CRS notes
+};
+// As read_parcels_for_clouds, reading the layer first (a bad layer is reported
+// before any cloud is read), then the clouds.
+ParcelInputs read_parcel_inputs(const std::string& path, const std::string& id_field,
+                                const std::vector<std::string>& cloud_paths);
+
 }  // namespace c3d
