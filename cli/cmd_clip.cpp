@@ -24,16 +24,7 @@ void run_clip(const ClipOptions& o) {
   const ParcelInputs in = read_parcel_inputs(o.parcels, o.id_field, o.clouds);
   for (const std::string& w : in.warnings) std::cerr << "cadastre3d: warning: " << w << "\n";
   const ClipCounts counts = count_points_per_parcel(in.layer, in.clouds, o.buffer);
-  std::printf("%-6s %-14s %10s %10s %10s %10s\n", "parcel", "id", "in_parcel", "in_buffer", "roof", "wall");
-  for (size_t p = 0; p < counts.parcels.size(); ++p) {
-    const ParcelPointCount& r = counts.parcels[p];
-    std::printf("%-6zu %-14s %10ld %10ld %10ld %10ld\n", p, in.layer.parcels[p].id.c_str(), r.in_parcel,
-                r.in_buffer, r.roof, r.wall);
-  }
-  std::printf("%ld points, %ld in no parcel (buffer %.2f m; in_buffer = outside the parcel but "
-              "within the buffer; roof/wall count both)\n",
-              counts.points, counts.unclipped, counts.buffer_m);
-  if (!counts.any_classes) std::printf("no cloud carries classes: roof/wall counts are 0\n");
+  std::fputs(clip_table(in.layer, counts).c_str(), stdout);
   if (!o.csv.empty()) write_clip_csv(o.csv, in.layer, counts);
 }
 

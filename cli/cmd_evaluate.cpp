@@ -26,58 +26,6 @@ struct EvalOptions {
   double buffer = kWallPointReachM;
 };
 
-// "a roof within 0.3 m": the printed name of the part on the model, from the
-// same constant the split uses.
-std::string within_on_model(const char* surface) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "a %s within %.1f m", surface, kOnModelM);
-  return buf;
-}
-
-// Where a pooled deviation comes from: each part's points and share of the
-// squared distance.
-void print_parts(const char* title, const std::vector<std::string>& labels, const std::vector<Deviation>& parts) {
-  double total = 0;
-  for (const Deviation& d : parts) total += double(d.n) * d.rmse * d.rmse;
-  std::printf("%s (share of the squared distance):\n", title);
-  for (size_t k = 0; k < parts.size(); ++k) {
-    const Deviation& d = parts[k];
-    const double share = total > 0 ? 100.0 * double(d.n) * d.rmse * d.rmse / total : 0.0;
-    std::printf("  %-24s %8ld  rmse %6.3f  %5.1f %%\n", labels[k].c_str(), d.n, d.rmse, share);
-  }
-}
-
-void print_row(const ZoneSummary& z) {
-  auto cols = [](const Deviation& d) {
-    char buf[128];
-    if (d.n == 0) std::snprintf(buf, sizeof buf, "%8s %7s %7s %7s %7s", "0", "-", "-", "-", "-");
-    else std::snprintf(buf, sizeof buf, "%8ld %7.3f %7.3f %7.3f %7.3f", d.n, d.mean, d.std, d.rmse, d.max);
-    return std::string(buf);
-  };
-  char vbuf[32];
-  if (z.roof_vertical.n) std::snprintf(vbuf, sizeof vbuf, "%8.3f", z.roof_vertical.rmse);
-  else std::snprintf(vbuf, sizeof vbuf, "%8s", "-");
-  std::printf("%-22s %s %s  %s\n", z.id.c_str(), cols(z.roof).c_str(), vbuf, cols(z.wall).c_str());
-}
-
-void print_report(const ModelEvaluation& e, const EvaluationSummary& s) {
-  std::printf("%-22s %8s %7s %7s %7s %7s %8s  %8s %7s %7s %7s %7s\n", "parcel", "roof n", "mean", "std",
-              "rmse", "max", "vert rms", "wall n", "mean", "std", "rmse", "max");
-  if (e.per_parcel)
-    for (const ZoneSummary& z : s.zones) print_row(z);
-  print_row(s.pooled);
-  print_parts("roof points by what the model has above or below them",
-              {within_on_model("roof"), "a roof further off", "no roof"}, s.pooled.roof_cover.parts());
-  print_parts("wall points by where they stand",
-              {within_on_model("wall"), "under the parcel's roof", "under another's roof", "under no roof"},
-              s.pooled.wall_cover.parts());
-  std::printf("roof points %zu, wall points %zu; in parcels without a model: %ld roof, %ld wall; "
-              "outside every parcel: %ld; model faces outside every parcel: %ld\n",
-              e.roof_points, e.wall_points, s.pooled.unmodelled_roof, s.pooled.unmodelled_wall, e.points_outside,
-              e.faces_outside);
-  std::printf("distances in m: mean/std/rmse/max of |d|; vert rms = vertical distance RMSE\n");
-}
-
 // OBJ/PLY meshes, or CityJSON models (by the extension).
 std::vector<MeshGroup> read_model(const std::vector<std::string>& paths) {
   std::vector<MeshGroup> model;
@@ -103,7 +51,7 @@ void run_evaluate(const EvalOptions& o) {
   const ModelEvaluation e = o.parcels.empty() ? evaluate_as_one_zone(model, points)
                                               : evaluate_per_parcel(model, points, layer, o.buffer);
   const EvaluationSummary summary = summarize(e);
-  print_report(e, summary);
+  std::fputs(evaluation_table(e, summary).c_str(), stdout);
   if (!o.residuals.empty()) write_residuals_csv(o.residuals, e.zones);
   if (o.json.empty()) return;
   nlohmann::json j = evaluation_json(e, summary);

@@ -1,6 +1,7 @@
 #include "cadastre/inspect/clip_counts.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 
 #include "cadastre/clip.h"
@@ -45,6 +46,29 @@ ClipCounts count_points_per_parcel(const ParcelLayer& layer, const std::vector<P
     out.points += long(c.points.size());
     out.any_classes |= !c.classes.empty();
   }
+  return out;
+}
+
+std::string clip_table(const ParcelLayer& layer, const ClipCounts& counts) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "%-6s %-14s %10s %10s %10s %10s\n", "parcel", "id", "in_parcel", "in_buffer",
+                "roof", "wall");
+  std::string out = buf;
+  for (size_t p = 0; p < counts.parcels.size(); ++p) {
+    const ParcelPointCount& r = counts.parcels[p];
+    std::string id = layer.parcels[p].id;  // as %-14s, of any length
+    id.resize(std::max<size_t>(id.size(), 14), ' ');
+    std::snprintf(buf, sizeof buf, "%-6zu ", p);
+    out += buf + id;
+    std::snprintf(buf, sizeof buf, " %10ld %10ld %10ld %10ld\n", r.in_parcel, r.in_buffer, r.roof, r.wall);
+    out += buf;
+  }
+  std::snprintf(buf, sizeof buf,
+                "%ld points, %ld in no parcel (buffer %.2f m; in_buffer = outside the parcel but "
+                "within the buffer; roof/wall count both)\n",
+                counts.points, counts.unclipped, counts.buffer_m);
+  out += buf;
+  if (!counts.any_classes) out += "no cloud carries classes: roof/wall counts are 0\n";
   return out;
 }
 

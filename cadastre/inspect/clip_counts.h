@@ -26,6 +26,9 @@ struct ClipCounts {
 ClipCounts count_points_per_parcel(const ParcelLayer& layer, const std::vector<PointCloud>& clouds,
                                    double buffer_m, const ClassMapping& classes = {});
 
+// The table `clip` prints: a row per parcel and the totals.
+std::string clip_table(const ParcelLayer& layer, const ClipCounts& counts);
+
 // parcel_index,parcel_id,in_parcel,in_buffer,roof,wall; throws InputError when
 // the file cannot be written.
 void write_clip_csv(const std::string& path, const ParcelLayer& layer, const ClipCounts& counts);

@@ -34,4 +34,7 @@ struct FileInfo {
 // file that is none of these or cannot be read.
 FileInfo describe_file(const std::string& path);
 
+// The description `info` prints: the path, then one "  key: value" line each.
+std::string info_text(const std::string& path, const FileInfo& info);
+
 }  // namespace c3d

@@ -18,6 +18,10 @@ nlohmann::json to_json(const Deviation& d);  // n, mean, std, rmse, max
 // ("parcels", one object per zone) when the evaluation is per parcel.
 nlohmann::json evaluation_json(const ModelEvaluation& evaluation, const EvaluationSummary& summary);
 
+// The printed report: one row per zone (when per parcel) and the pooled row,
+// where the pooled squared distance comes from, and the point counts.
+std::string evaluation_table(const ModelEvaluation& evaluation, const EvaluationSummary& summary);
+
 // One row per measured point, so a disputed deviation can be looked at point by
 // point (QGIS reads the CSV as a point layer by its x/y columns):
 // parcel,kind,x,y,z,distance_m,vertical_m,part. Throws InputError when the file
