@@ -47,7 +47,8 @@ void run_evaluate(const EvalOptions& o) {
     for (const auto& w : warnings) std::cerr << "cadastre3d: warning: " << w << "\n";
   }
   const RoofWallPoints points = roof_and_wall_points(clouds[0], classes);
-  if (points.unclassified) std::cerr << "cadastre3d: note: " << o.cloud << " has no classes; all points taken as roof\n";
+  if (points.unclassified)
+    std::cerr << "cadastre3d: note: " << o.cloud << " has no classes; all points taken as roof\n";
   const ModelEvaluation e = o.parcels.empty() ? evaluate_as_one_zone(model, points)
                                               : evaluate_per_parcel(model, points, layer, o.buffer);
   const EvaluationSummary summary = summarize(e);

@@ -35,19 +35,9 @@ void run_sample(const SampleArgs& a) {
   const auto truth_obj = (std::filesystem::path(a.out) / "truth_obj").string();
   write_obj_per_parcel(truth_model(town), truth_obj);
   auto t2 = clock::now();
-  const SampleTownCounts n = count_town(town);
   auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
-  std::cout << "sample town, seed " << town.seed << ", EPSG:" << town.epsg << "\n"
-            << "  parcels   " << files.parcels << "  (" << town.parcels.size() << " parcels, "
-            << n.buildings << " buildings)\n"
-            << "  dtm       " << files.dtm << "  (" << town.dtm.nx << " x " << town.dtm.ny
-            << " cells of 1 m, " << int(town.dtm.nodata_share * 1000) / 10.0 << " % NoData)\n";
-  if (!files.cloud.empty())
-    std::cout << "  cloud     " << files.cloud << "  (" << town.cloud.points.size() << " points: "
-              << n.roof_points << " roof, " << n.wall_points << " wall, " << n.other_points << " ground)\n";
-  std::cout << "  truth     " << files.truth << ", " << truth_obj << "/<parcel>.obj\n  layouts  ";
-  for (const auto& [k, count] : n.layouts) std::cout << " " << k << " " << count;
-  std::cout << "\n  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
+  std::cout << sample_town_text(town, files, truth_obj);
+  std::cout << "  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "core/synthetic/sample_summary.h"
 
+#include <sstream>
+
 namespace c3d {
 
 BatchModel truth_model(const SampleTown& town) {
@@ -27,6 +29,23 @@ SampleTownCounts count_town(const SampleTown& town) {
   }
   for (auto c : town.cloud.classes) (c == 6 ? n.roof_points : c == 64 ? n.wall_points : n.other_points)++;
   return n;
+}
+
+std::string sample_town_text(const SampleTown& town, const SampleFiles& files, const std::string& truth_obj_dir) {
+  const SampleTownCounts n = count_town(town);
+  std::ostringstream out;
+  out << "sample town, seed " << town.seed << ", EPSG:" << town.epsg << "\n"
+      << "  parcels   " << files.parcels << "  (" << town.parcels.size() << " parcels, " << n.buildings
+      << " buildings)\n"
+      << "  dtm       " << files.dtm << "  (" << town.dtm.nx << " x " << town.dtm.ny << " cells of 1 m, "
+      << int(town.dtm.nodata_share * 1000) / 10.0 << " % NoData)\n";
+  if (!files.cloud.empty())
+    out << "  cloud     " << files.cloud << "  (" << town.cloud.points.size() << " points: " << n.roof_points
+        << " roof, " << n.wall_points << " wall, " << n.other_points << " ground)\n";
+  out << "  truth     " << files.truth << ", " << truth_obj_dir << "/<parcel>.obj\n  layouts  ";
+  for (const auto& [layout, count] : n.layouts) out << " " << layout << " " << count;
+  out << "\n";
+  return out.str();
 }
 
 }  // namespace c3d

@@ -22,4 +22,8 @@ struct SampleTownCounts {
 };
 SampleTownCounts count_town(const SampleTown& town);
 
+// The lines `sample` prints about the town and the files written (its truth
+// models in truth_obj_dir), before the timing line.
+std::string sample_town_text(const SampleTown& town, const SampleFiles& files, const std::string& truth_obj_dir);
+
 }  // namespace c3d
