@@ -1,10 +1,10 @@
 // cadastre3d optimize MESH CLOUD: dense mesh refinement against a point cloud
-// with the primitive-constrained optimizer (Vulkan, or the CPU reference).
+// with the primitive-constrained optimizer (Vulkan, or the CPU reference);
+// core/optimizer/dense_files.h does the work.
 #include <iostream>
 
 #include "cli/commands.h"
-#include "core/error.h"
-#include "core/optimizer/mesh_dense.h"
+#include "core/optimizer/dense_files.h"
 
 namespace c3d::cli {
 
@@ -15,33 +15,13 @@ struct OptimizeArgs {
   DenseOptions dense;
 };
 
-// Local origin: the cloud's first point, floored, so float kernels stay precise.
 void run_optimize(OptimizeArgs& a) {
   a.dense.optimizer.device = parse_compute_device(a.device);
   a.dense.optimizer.threads = 0;
-  std::vector<Vec3> pts = read_points(a.cloud);
-  if (pts.empty()) throw InputError(a.cloud, "no points");
-  const Vec3 origin = pts.front().array().floor().matrix();
-  for (Vec3& p : pts) p -= origin;
-  TriMesh mesh;
-  if (a.mesh != "-") {
-    mesh = read_mesh(a.mesh);
-    for (Vec3& p : mesh.vertices) p -= origin;
-  }
-  DenseReport r = optimize_dense(mesh, pts, a.dense);
-  for (Vec3& p : mesh.vertices) p += origin;
-  write_mesh_ply(a.out, mesh);
-  const auto& o = r.optimizer;
-  std::cout << "device: " << o.device << "\n"
-            << "points: " << r.input_points << " in, " << r.kept_points << " after filters ("
-            << r.tiles << " tiles)\n"
-            << "mesh: " << r.triangles << " triangles" << (a.mesh == "-" ? " (greedy projection)" : "")
-            << ", " << r.constrained_triangles << " on " << r.planes << " RANSAC planes, "
-            << o.junction_vertices << " junction vertices\n"
-            << "energy: " << o.energy.front() << " -> " << o.energy.back() << "\n"
-            << "mean point-to-mesh distance: " << r.deviation_before << " m -> " << r.deviation_after
-            << " m\n"
-            << "wrote " << a.out << " (" << o.seconds << " s optimizer)\n";
+  const bool meshed_from_points = a.mesh == "-";
+  const auto mesh = meshed_from_points ? std::nullopt : std::optional<std::string>(a.mesh);
+  const DenseReport r = optimize_dense_files(mesh, a.cloud, a.out, a.dense);
+  std::cout << dense_report_text(r, meshed_from_points, a.out);
 }
 
 }  // namespace

@@ -1,12 +1,11 @@
-// cadastre3d sample: a synthetic town with exact ground truth (core/sample_town.h).
+// cadastre3d sample: a synthetic town with exact ground truth (core/synthetic).
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 
 #include "cli/commands.h"
-#include "core/synthetic/sample_town.h"
+#include "core/synthetic/sample_summary.h"
 #include "ifc_citygml/export.h"
 
 namespace c3d::cli {
@@ -18,26 +17,6 @@ struct SampleArgs {
   std::string format = "gpkg";
   SampleOptions opt;
 };
-
-// The exact buildings as the batch would write them (truth_obj/<parcel>.obj,
-// a group per element), so `evaluate` can measure the perfect model with the
-// batch's ruler: the figures a flawless reconstruction of these points gets.
-std::vector<std::string> write_truth_obj(const SampleTown& town, const std::string& dir) {
-  BatchModel model;
-  model.frame = town.frame;
-  model.crs_wkt = town.crs_wkt;
-  model.epsg = town.epsg;
-  model.parcels = town.parcels;
-  for (size_t i = 0; i < town.parcels.size(); ++i) {
-    ParcelResult r;
-    r.parcel_index = int(i);
-    r.parcel_id = town.parcels[i].id;
-    r.status = town.truth[i].empty() ? ParcelStatus::Empty : ParcelStatus::Ok;
-    for (const auto& tb : town.truth[i]) r.buildings.push_back(tb.model);
-    model.results.push_back(std::move(r));
-  }
-  return write_obj_per_parcel(model, dir);
-}
 
 void run_sample(const SampleArgs& a) {
   using clock = std::chrono::steady_clock;
@@ -52,29 +31,13 @@ void run_sample(const SampleArgs& a) {
   auto t1 = clock::now();
   auto files = write_sample_town(town, a.out,
                                  a.format == "geojson" ? ParcelFormat::GeoJson : ParcelFormat::GeoPackage);
+  // The exact buildings as the batch writes its models (truth_obj/<parcel>.obj), for `evaluate`.
   const auto truth_obj = (std::filesystem::path(a.out) / "truth_obj").string();
-  write_truth_obj(town, truth_obj);
+  write_obj_per_parcel(truth_model(town), truth_obj);
   auto t2 = clock::now();
-  std::map<std::string, int> counts;
-  int buildings = 0;
-  for (size_t i = 0; i < town.parcels.size(); ++i) {
-    ++counts[to_string(town.layouts[i])];
-    buildings += int(town.truth[i].size());
-  }
-  long cls[3] = {0, 0, 0};
-  for (auto c : town.cloud.classes) cls[c == 6 ? 0 : c == 64 ? 1 : 2]++;
   auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
-  std::cout << "sample town, seed " << town.seed << ", EPSG:" << town.epsg << "\n"
-            << "  parcels   " << files.parcels << "  (" << town.parcels.size() << " parcels, "
-            << buildings << " buildings)\n"
-            << "  dtm       " << files.dtm << "  (" << town.dtm.nx << " x " << town.dtm.ny
-            << " cells of 1 m, " << int(town.dtm.nodata_share * 1000) / 10.0 << " % NoData)\n";
-  if (!files.cloud.empty())
-    std::cout << "  cloud     " << files.cloud << "  (" << town.cloud.points.size() << " points: "
-              << cls[0] << " roof, " << cls[1] << " wall, " << cls[2] << " ground)\n";
-  std::cout << "  truth     " << files.truth << ", " << truth_obj << "/<parcel>.obj\n  layouts  ";
-  for (const auto& [k, n] : counts) std::cout << " " << k << " " << n;
-  std::cout << "\n  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
+  std::cout << sample_town_text(town, files, truth_obj);
+  std::cout << "  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Point-to-model deviation, pooling, mesh IO and the evaluate command.
+// Point-to-model deviation, pooling, mesh IO and the evaluate command (the
+// evaluate logic called as a library: evaluate_zones_test.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -215,8 +217,32 @@ TEST(MeshIo, PlyAsciiAndBinary) {
   EXPECT_THROW(read_mesh_groups(dir + "/missing.obj"), std::runtime_error);
 }
 
-TEST(EvaluateCli, PooledAndPerParcelDeviation) {
-  const std::string dir = test::temp_dir("evaluate_cli");
+namespace {
+
+// A GeoJSON layer of parcels (id, x0, x1), each from o.y - 1 to o.y + 9, ids in NIB.
+void write_parcels(const std::string& path, const Vec3& o,
+                   const std::vector<std::tuple<std::string, double, double>>& parcels) {
+  std::ofstream g(path);
+  g << R"({"type":"FeatureCollection","features":[)";
+  for (size_t i = 0; i < parcels.size(); ++i) {
+    const auto& [id, x0, x1] = parcels[i];
+    std::ostringstream s;
+    s.precision(12);
+    const double y0 = o.y() - 1, y1 = o.y() + 9;
+    s << (i ? "," : "") << R"({"type":"Feature","properties":{"NIB":")" << id
+      << R"("},"geometry":{"type":"Polygon","coordinates":[[[)" << o.x() + x0 << "," << y0 << "],["
+      << o.x() + x1 << "," << y0 << "],[" << o.x() + x1 << "," << y1 << "],[" << o.x() + x0 << "," << y1
+      << "],[" << o.x() + x0 << "," << y0 << "]]]}}";
+    g << s.str();
+  }
+  g << "]}";
+}
+
+// P1's 10 x 8 x 3 m house as model.obj; cloud.las: five roof points at kOffsets
+// over its roof, two wall points 0.2 m off its walls, and a roof point in
+// parcel P2, which has no model; parcels.geojson: P1 and P2. Returns the dir.
+std::string write_house_inputs(const std::string& name) {
+  const std::string dir = test::temp_dir(name);
   const Vec3 o(512300.0, 9241200.0, 700.0);
   auto b = test::box_shell(o, o + Vec3(10, 8, 3));
   write_obj(dir + "/model.obj", {{"P1_b1_roof", "", {b[1]}}, {"P1_b1_wall", "", {b[2], b[3], b[4], b[5]}},
@@ -232,29 +258,27 @@ TEST(EvaluateCli, PooledAndPerParcelDeviation) {
   cloud.points.push_back(o + Vec3(25, 4, 3));  // a roof point in parcel P2, which has no model
   cloud.classes.push_back(6);
   write_las(dir + "/cloud.las", cloud);
-  {
-    std::ofstream g(dir + "/parcels.geojson");
-    auto ring = [&](double x0, double x1) {
-      std::ostringstream s;
-      s.precision(12);
-      s << "[[[" << o.x() + x0 << "," << o.y() - 1 << "],[" << o.x() + x1 << "," << o.y() - 1 << "],["
-        << o.x() + x1 << "," << o.y() + 9 << "],[" << o.x() + x0 << "," << o.y() + 9 << "],[" << o.x() + x0
-        << "," << o.y() - 1 << "]]]";
-      return s.str();
-    };
-    g << R"({"type":"FeatureCollection","features":[)"
-      << R"({"type":"Feature","properties":{"NIB":"P1"},"geometry":{"type":"Polygon","coordinates":)"
-      << ring(-1, 11) << "}},"
-      << R"({"type":"Feature","properties":{"NIB":"P2"},"geometry":{"type":"Polygon","coordinates":)"
-      << ring(20, 30) << "}}]}";
-  }
-  std::string out;
-  ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --json " + dir +
-                              "/all.json",
-                          &out),
+  write_parcels(dir + "/parcels.geojson", o, {{"P1", -1, 11}, {"P2", 20, 30}});
+  return dir;
+}
+
+// Runs `evaluate` on the house inputs with the extra arguments; the JSON it wrote.
+nlohmann::json evaluate_house(const std::string& dir, const std::string& args, std::string* out) {
+  const std::string json = dir + "/e.json";
+  EXPECT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --json " + json +
+                              " " + args,
+                          out),
             0)
-      << out;
-  nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/all.json"));
+      << *out;
+  return nlohmann::json::parse(std::ifstream(json));
+}
+
+}  // namespace
+
+TEST(EvaluateCli, PooledWithoutParcels) {
+  const std::string dir = write_house_inputs("evaluate_cli");
+  std::string out;
+  const nlohmann::json j = evaluate_house(dir, "", &out);
   EXPECT_EQ(j["pooled"]["roof"]["n"], 6);  // without parcels the P2 point counts too
   // ... with no roof over it, 20 m off the model; the others lie on the roof's plan.
   const auto& cover = j["pooled"]["roof_cover"];
@@ -262,14 +286,13 @@ TEST(EvaluateCli, PooledAndPerParcelDeviation) {
   EXPECT_NEAR(cover["uncovered"]["rmse"].get<double>(), 15.0, 1e-6);  // to the roof's east edge
   EXPECT_EQ(cover["on_model"]["n"].get<long>() + cover["off_model"]["n"].get<long>(), 5);
   EXPECT_NEAR(j["pooled"]["wall"]["rmse"].get<double>(), 0.2, 1e-6);
+}
 
-  ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --parcels " + dir +
-                              "/parcels.geojson --id-field NIB --json " + dir + "/parcels.json",
-                          &out),
-            0)
-      << out;
+TEST(EvaluateCli, PerParcelDeviation) {
+  const std::string dir = write_house_inputs("evaluate_cli");
+  std::string out;
+  nlohmann::json j = evaluate_house(dir, "--parcels " + dir + "/parcels.geojson --id-field NIB", &out);
   EXPECT_NE(out.find("pooled"), std::string::npos) << out;
-  j = nlohmann::json::parse(std::ifstream(dir + "/parcels.json"));
   const auto& p1 = j["parcels"][0];
   EXPECT_EQ(p1["id"], "P1");
   EXPECT_EQ(p1["roof"]["n"], 5);
@@ -283,15 +306,14 @@ TEST(EvaluateCli, PooledAndPerParcelDeviation) {
   // where the layer has it), so the batch's OBJ groups find their parcel by
   // name, not by the land under them (on Cimahi the feature ids gave 0.268 m
   // for the batch's 0.281 m).
-  ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --parcels " + dir +
-                              "/parcels.geojson --json " + dir + "/default_ids.json",
-                          &out),
-            0)
-      << out;
-  j = nlohmann::json::parse(std::ifstream(dir + "/default_ids.json"));
+  j = evaluate_house(dir, "--parcels " + dir + "/parcels.geojson", &out);
   EXPECT_EQ(j["parcels"][0]["id"], "P1");
   EXPECT_EQ(j["parcels"][1]["id"], "P2");
+}
 
+TEST(EvaluateCli, NamesAMissingOrBrokenModel) {
+  const std::string dir = write_house_inputs("evaluate_cli");
+  std::string out;
   EXPECT_NE(test::run_cli("evaluate --mesh " + dir + "/missing.obj --cloud " + dir + "/cloud.las", &out), 0);
   EXPECT_NE(out.find("missing.obj"), std::string::npos) << out;
   // A CityJSON model that is not there or not JSON: one error naming the file.
@@ -342,22 +364,7 @@ TEST(EvaluateCli, WallSplitAndResidualsPerPoint) {
   add({12.5, 4, 1}, 64);    // under P2's roof: 2.5 m from P1's east wall, 0.5 m from P2's west wall
   add({5, 10, 1}, 64);      // 1 m off P1's land, under no roof, 2 m from P1's north wall
   write_las(dir + "/cloud.las", cloud);
-  {
-    std::ofstream g(dir + "/parcels.geojson");
-    g.precision(12);
-    auto feature = [&](const std::string& id, double x0, double x1) {
-      std::ostringstream s;
-      s.precision(12);
-      const double y0 = o.y() - 1, y1 = o.y() + 9;
-      s << R"({"type":"Feature","properties":{"NIB":")" << id
-        << R"("},"geometry":{"type":"Polygon","coordinates":[[[)" << o.x() + x0 << "," << y0 << "],["
-        << o.x() + x1 << "," << y0 << "],[" << o.x() + x1 << "," << y1 << "],[" << o.x() + x0 << "," << y1
-        << "],[" << o.x() + x0 << "," << y0 << "]]]}}";
-      return s.str();
-    };
-    g << R"({"type":"FeatureCollection","features":[)" << feature("P1", -1, 11) << ","
-      << feature("P2", 11.5, 21) << "]}";
-  }
+  write_parcels(dir + "/parcels.geojson", o, {{"P1", -1, 11}, {"P2", 11.5, 21}});
   std::string out;
   ASSERT_EQ(test::run_cli("evaluate --mesh " + dir + "/model.obj --cloud " + dir + "/cloud.las --parcels " + dir +
                               "/parcels.geojson --id-field NIB --json " + dir + "/e.json --residuals " + dir +
