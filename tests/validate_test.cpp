@@ -188,3 +188,22 @@ TEST(PolygonRules, ThinFaceCanTiltOnTheExportGrid) {
   for (size_t i = 0; i < face.ring.size(); ++i)
     EXPECT_LE((exported.ring[i] - face.ring[i]).cwiseAbs().maxCoeff(), kExportGridM / 2 + 1e-12);
 }
+
+TEST(PolygonRules, NeighboursUnderAMillimetreApartRepeatAcrossAGridBorder) {
+  // val3dity merges a vertex into the first one within 1 mm, by distance; two
+  // consecutive vertices 0.6 mm apart on either side of a 1 mm grid border
+  // (x = 5.0012 and 5.0018) are one vertex there: a repeated point (102).
+  auto codes_of = [](const Face& f) {
+    VertexSnap snap(PolygonRules{}.snap_tol);
+    std::vector<std::vector<int>> rings;
+    std::vector<PolygonIssue> issues;
+    check_polygon(f, PolygonRules{}, snap, rings, issues);
+    std::vector<int> codes;
+    for (const auto& i : issues) codes.push_back(i.code);
+    return codes;
+  };
+  const Face close{{{0, 0, 3}, {5.0012, 0, 3}, {5.0018, 0, 3}, {5, 4, 3}, {0, 4, 3}}, {}};
+  EXPECT_EQ(codes_of(close), std::vector<int>{kConsecutivePointsSame});
+  const Face apart{{{0, 0, 3}, {5.0012, 0, 3}, {5.0032, 0.5, 3}, {5, 4, 3}, {0, 4, 3}}, {}};
+  EXPECT_TRUE(codes_of(apart).empty());
+}

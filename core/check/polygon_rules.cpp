@@ -24,15 +24,20 @@ std::vector<int> check_ring(const Ring3& r, const Vec3& normal, VertexSnap& snap
                             std::vector<PolygonIssue>& issues) {
   std::vector<int> ids;
   bool repeated = false;
-  for (const auto& p : r) {
-    int i = snap.id(p);
-    if (!ids.empty() && ids.back() == i) {
+  // val3dity merges a vertex into the first one it read within its tolerance
+  // (by distance, not by grid cell), so two neighbours 0.9 mm apart across a
+  // cell border can repeat there: closer than the tolerance counts as one.
+  auto too_close = [&](const Vec3& a, const Vec3& b) { return (a - b).norm() < snap.tol(); };
+  for (size_t k = 0; k < r.size(); ++k) {
+    int i = snap.id(r[k]);
+    if (!ids.empty() && (ids.back() == i || too_close(r[k - 1], r[k]))) {
       repeated = true;
       continue;
     }
     ids.push_back(i);
   }
-  if (ids.size() > 1 && ids.front() == ids.back()) ids.pop_back(), repeated = true;
+  if (ids.size() > 1 && (ids.front() == ids.back() || too_close(r.front(), r.back())))
+    ids.pop_back(), repeated = true;
   if (repeated) issues.push_back({kConsecutivePointsSame, where, "consecutive duplicate vertices"});
   if (ids.size() < 3) {
     issues.push_back({kTooFewPoints, where, std::to_string(ids.size()) + " distinct vertices"});

@@ -44,6 +44,7 @@ class VertexSnap {
  public:
   explicit VertexSnap(double tol) : tol_(tol) {}
   int id(const Vec3& p);
+  double tol() const { return tol_; }
   std::vector<Vec3> points;  // by id
 
  private:
