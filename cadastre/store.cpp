@@ -89,11 +89,11 @@ void Store::Impl::prepare() {
   ins_building = sql::Stmt(
       db,
       "INSERT INTO building (geom, spatialunit_id, building_id, building_index, geom_kind, volume, "
-      "eave_height, ridge_height, terrain_z, storeys, solid_valid, solid_problem, roof_area, "
+      "eave_height, ridge_height, terrain_z, storeys, solid_valid, solid_problem, lod, lod_note, roof_area, "
       "roof_plan_area, wall_area, party_wall_area, ground_area, outer_ceiling_area, roof_dev_n, "
       "roof_dev_max, roof_dev_mean, roof_dev_std, roof_dev_rmse, wall_dev_n, wall_dev_max, "
       "wall_dev_mean, wall_dev_std, wall_dev_rmse) "
-      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   ins_element = sql::Stmt(
       db,
       "INSERT INTO building_element (geom, building_fid, element_index, element_type, area, "
@@ -187,7 +187,7 @@ std::int64_t Store::Impl::write_building(
   s.bind_blob(gpkg_faces_blob(building_geometry(b, &kind), off, srs)).bind(su).bind(b.id)
       .bind(index).bind(kind).bind(b.volume).bind(b.eave_height).bind(b.ridge_height)
       .bind(b.terrain_z + off.z()).bind(b.storeys).bind(b.solid_valid ? 1 : 0)
-      .bind(b.solid_problem).bind(t.roof).bind(t.roof_plan).bind(t.wall).bind(t.party_wall)
+      .bind(b.solid_problem).bind(b.lod).bind(b.lod_note).bind(t.roof).bind(t.roof_plan).bind(t.wall).bind(t.party_wall)
       .bind(t.ground).bind(t.outer_ceiling);
   for (const Deviation* d : {&b.roof_deviation, &b.wall_deviation})
     s.bind(d->n).bind(d->max).bind(d->mean).bind(d->std).bind(d->rmse);

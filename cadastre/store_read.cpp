@@ -6,6 +6,7 @@
 
 #include "cadastre/gpkg_geometry.h"
 #include "cadastre/sqlite_util.h"
+#include "cadastre/store_schema.h"
 #include "core/error.h"
 
 namespace c3d {
@@ -81,11 +82,13 @@ std::vector<Face> read_faces(const sql::Stmt& q, int col, const Vec3& origin) {
 }
 
 std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const LocalFrame& frame) {
+  // A store written before buildings recorded their LoD holds LoD 2.2 models only.
+  const std::string lod = store_schema::has_column(db, "building", "lod") ? "lod, lod_note" : "'2.2', ''";
   sql::Stmt qb(db,
                "SELECT fid, geom, geom_kind, building_id, volume, eave_height, ridge_height, "
                "terrain_z, storeys, solid_valid, solid_problem, roof_dev_n, roof_dev_max, "
                "roof_dev_mean, roof_dev_std, roof_dev_rmse, wall_dev_n, wall_dev_max, wall_dev_mean, "
-               "wall_dev_std, wall_dev_rmse FROM building WHERE spatialunit_id=? ORDER BY building_index");
+               "wall_dev_std, wall_dev_rmse, " + lod + " FROM building WHERE spatialunit_id=? ORDER BY building_index");
   sql::Stmt qe(db,
                "SELECT geom, element_type, area, plan_area, slope_deg, azimuth_deg, sigma_area, "
                "support_points, rmse, wall_evidence FROM building_element WHERE building_fid=? "
@@ -109,6 +112,8 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
       *devs[k] = {long(qb.get_int(c)), qb.get_double(c + 1), qb.get_double(c + 2),
                   qb.get_double(c + 3), qb.get_double(c + 4)};
     }
+    b.lod = qb.is_null(21) ? "2.2" : qb.get_text(21);
+    b.lod_note = qb.get_text(22);
     qe.bind(qb.get_int(0));
     while (qe.step()) {
       Element e;

@@ -66,7 +66,7 @@ CREATE TABLE IF NOT EXISTS building (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
   spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
   building_id TEXT NOT NULL UNIQUE, building_index INTEGER NOT NULL, geom_kind TEXT,
   volume DOUBLE, eave_height DOUBLE, ridge_height DOUBLE, terrain_z DOUBLE, storeys INTEGER,
-  solid_valid BOOLEAN, solid_problem TEXT,
+  solid_valid BOOLEAN, solid_problem TEXT, lod TEXT, lod_note TEXT,
   roof_area DOUBLE, roof_plan_area DOUBLE, wall_area DOUBLE, party_wall_area DOUBLE,
   ground_area DOUBLE, outer_ceiling_area DOUBLE,
   roof_dev_n INTEGER, roof_dev_max DOUBLE, roof_dev_mean DOUBLE, roof_dev_std DOUBLE, roof_dev_rmse DOUBLE,
@@ -114,6 +114,18 @@ CREATE INDEX IF NOT EXISTS ix_ci_element ON vm_cost_item(element_fid);
 CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);
 )SQL";
 
+// Columns added to a table after stores were written with it: a store
+// written before gets them on opening, so its later parcels record them too.
+struct AddedColumn {
+  const char* table;
+  const char* column;
+  const char* type;
+};
+const AddedColumn kAddedColumns[] = {
+    {"building", "lod", "TEXT"},
+    {"building", "lod_note", "TEXT"},
+};
+
 struct Layer {
   const char* table;
   const char* description;
@@ -123,7 +135,8 @@ struct Layer {
 
 const Layer kLayers[] = {
     {"la_spatialunit", "LADM spatial units: cadastral parcels", true, 0},
-    {"building", "LoD2 buildings (closed solid, or footprint when none)", true, 1},
+    {"building", "Buildings: LoD 2.2, or an LoD 1.2 prism where 2.2 is not valid (closed solid, or footprint when none)",
+     true, 1},
     {"building_element", "Building elements: roof, wall, party wall, ground, outer ceiling", true, 1},
     {"la_party", "LADM parties", false, 0},
     {"la_baunit", "LADM basic administrative units", false, 0},
@@ -199,6 +212,9 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
   }
   const int srs = register_srs(db, crs_wkt, epsg);
   db.exec(kLadmSchema);
+  for (const AddedColumn& c : kAddedColumns)
+    if (!has_column(db, c.table, c.column))
+      db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN " + c.column + " " + c.type);
   sql::Stmt contents(db,
                      "INSERT OR IGNORE INTO gpkg_contents (table_name, data_type, identifier, "
                      "description, srs_id) VALUES (?,?,?,?,?)");
@@ -215,6 +231,12 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
   }
   tx.commit();
   return srs;
+}
+
+bool has_column(const sql::Db& db, const std::string& table, const std::string& column) {
+  sql::Stmt q(db, "SELECT count(*) FROM pragma_table_info(?) WHERE name=?");
+  q.bind(table).bind(column);
+  return q.step() && q.get_int(0) > 0;
 }
 
 void update_extents(sql::Db& db) {

@@ -1,10 +1,14 @@
 // CityGML writer, 2.0 or 3.0: Building (BuildingPart per roof level) with thematic
 // boundary surfaces in lod2MultiSurface and a lod2Solid whose shell points at those
 // polygons by xlink:href (solid faces that no element face matches are written
-// inline). The two versions differ in namespaces and wrappers only: 2.0
+// inline). An LoD 1.2 prism has a lod1Solid instead: in 3.0 with its boundary
+// surfaces in lod1MultiSurface; in 2.0, whose boundary surfaces exist from LoD 2
+// on, with its polygons inline and no boundary surfaces (its element areas are
+// in the building's attributes). The two versions differ in namespaces and wrappers only: 2.0
 // bldg:boundedBy / gen:stringAttribute / measuredHeight, 3.0 core:boundary with
 // con: surfaces / core:genericAttribute / con:height, on GML 3.2.
 #include <cctype>
+#include <string>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -133,6 +137,10 @@ class GmlWriter {
         << xml_escape(r.parcel_id) << "</core:name></core:externalObject></core:externalReference>\n";
   }
 
+  // "lod1" for an LoD 1.2 prism, "lod2" for the element model.
+  static const char* lod(const Building& b) { return b.lod.rfind('1', 0) == 0 ? "lod1" : "lod2"; }
+  bool prism_in_v2(const Building& b) const { return !v3_ && std::string(lod(b)) == "lod1"; }
+
   void building_attributes(const ParcelResult& r, const Building& b) {
     const Parcel* p = exp::parcel_of(m_, r);
     str_attr("parcelId", r.parcel_id);
@@ -151,6 +159,8 @@ class GmlWriter {
     dbl_attr("volume", b.volume, 3);
     dbl_attr("eaveHeight", b.eave_height, 3);
     str_attr("solidValid", b.solid_valid ? "true" : "false");
+    str_attr("lod", b.lod);
+    str_attr("lodNote", b.lod_note);
   }
 
   void boundary_surface(const Building& b, size_t e) {
@@ -160,7 +170,7 @@ class GmlWriter {
     const std::string open = v3_ ? "<core:boundary><con:" : "<bldg:boundedBy><bldg:";
     const std::string close = v3_ ? "</con:" + std::string(tag) + "></core:boundary>\n"
                                   : "</bldg:" + std::string(tag) + "></bldg:boundedBy>\n";
-    const char* lod2 = v3_ ? "core:lod2MultiSurface" : "bldg:lod2MultiSurface";
+    const std::string surfaces = std::string(v3_ ? "core:" : "bldg:") + lod(b) + "MultiSurface";
     os_ << open << tag << " gml:id=\"" << id << "\">\n";
     str_attr("elementType", to_string(el.type));
     str_attr("isPartyWall", el.type == ElementType::PartyWall ? "true" : "false");
@@ -172,24 +182,24 @@ class GmlWriter {
     int_attr("supportPoints", el.support_points);
     dbl_attr("rmse", el.rmse, 4);
     str_attr("wallEvidence", to_string(el.evidence));
-    os_ << "<" << lod2 << "><gml:MultiSurface>\n";
+    os_ << "<" << surfaces << "><gml:MultiSurface>\n";
     for (size_t k = 0; k < el.faces.size(); ++k) {
       os_ << "<gml:surfaceMember>";
       polygon(el.faces[k], id + "_f" + std::to_string(k));
       os_ << "</gml:surfaceMember>\n";
     }
-    os_ << "</gml:MultiSurface></" << lod2 << ">\n" << close;
+    os_ << "</gml:MultiSurface></" << surfaces << ">\n" << close;
   }
 
   void solid(const Building& b) {
     if (b.solid.empty()) return;
-    const char* lod2 = v3_ ? "core:lod2Solid" : "bldg:lod2Solid";
+    const std::string property = std::string(v3_ ? "core:" : "bldg:") + lod(b) + "Solid";
     const char* shell = v3_ ? "gml:Shell" : "gml:CompositeSurface";  // GML 3.2 solids have shells
-    os_ << "<" << lod2 << "><gml:Solid gml:id=\"" << ncname(b.id) << "_solid\"><gml:exterior><"
+    os_ << "<" << property << "><gml:Solid gml:id=\"" << ncname(b.id) << "_solid\"><gml:exterior><"
         << shell << ">\n";
     for (size_t j = 0; j < b.solid.size(); ++j) {
       auto m = exp::matching_element_face(b, b.solid[j]);
-      if (m[0] >= 0) {
+      if (m[0] >= 0 && !prism_in_v2(b)) {  // a 2.0 prism writes no element polygons
         os_ << "<gml:surfaceMember xlink:href=\"#" << ncname(b.id) << "_e" << m[0] << "_f" << m[1]
             << "\"/>\n";
       } else {
@@ -198,7 +208,7 @@ class GmlWriter {
         os_ << "</gml:surfaceMember>\n";
       }
     }
-    os_ << "</" << shell << "></gml:exterior></gml:Solid></" << lod2 << ">\n";
+    os_ << "</" << shell << "></gml:exterior></gml:Solid></" << property << ">\n";
   }
 
   void heights(const Building& b) {
@@ -224,7 +234,7 @@ class GmlWriter {
     building_attributes(r, b);
     // 2.0: heights, solid, then surfaces; 3.0: surfaces, solid, then heights.
     if (!v3_) heights(b), solid(b);
-    if (levels == 1)
+    if (levels == 1 && !prism_in_v2(b))
       for (size_t e = 0; e < b.elements.size(); ++e) boundary_surface(b, e);
     if (v3_) solid(b), heights(b);
     const char* part = v3_ ? "bldg:buildingPart" : "bldg:consistsOfBuildingPart";

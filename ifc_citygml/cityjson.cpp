@@ -1,8 +1,9 @@
 // CityJSON 2.0 writer and reader. Vertices are integers with scale kScale (0.1 mm:
 // rounding to whole mm would tilt the thinnest faces) and
-// translate = frame origin, deduplicated; each building has a lod-2 MultiSurface
-// (one semantic surface object per element, carrying its area attributes) on the
-// Building or on its BuildingParts, and a lod-2 Solid (the closed shell) on the Building.
+// translate = frame origin, deduplicated; each building has a MultiSurface (one
+// semantic surface object per element, carrying its area attributes) on the
+// Building or on its BuildingParts, and a Solid (the closed shell) on the
+// Building; both of lod "2" for an LoD 2.2 model and "1.2" for an LoD 1.2 prism.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -71,6 +72,10 @@ json semantic(const Element& el, size_t index) {
   return s;
 }
 
+// The geometry's "lod": "2" for the element model (as written before LoDs
+// were told apart), a building's own for a simpler one ("1.2").
+std::string lod_of(const Building& b) { return b.lod == "2.2" ? "2" : b.lod; }
+
 // MultiSurface of the elements whose level is `level` (all when level < 0).
 json multisurface(Vertices& v, const Building& b, const std::vector<int>& lv, int level) {
   json bounds = json::array(), surfaces = json::array(), values = json::array();
@@ -82,7 +87,7 @@ json multisurface(Vertices& v, const Building& b, const std::vector<int>& lv, in
       values.push_back(surfaces.size() - 1);
     }
   }
-  return {{"type", "MultiSurface"}, {"lod", "2"}, {"boundaries", bounds},
+  return {{"type", "MultiSurface"}, {"lod", lod_of(b)}, {"boundaries", bounds},
           {"semantics", {{"surfaces", surfaces}, {"values", values}}}};
 }
 
@@ -98,7 +103,7 @@ json solid(Vertices& v, const Building& b) {
     shell.push_back(surface_json(v, f));
     values.push_back(it->second);
   }
-  return {{"type", "Solid"}, {"lod", "2"}, {"boundaries", json::array({shell})},
+  return {{"type", "Solid"}, {"lod", lod_of(b)}, {"boundaries", json::array({shell})},
           {"semantics", {{"surfaces", surfaces}, {"values", json::array({values})}}}};
 }
 
@@ -116,7 +121,8 @@ json building_attributes(const BatchModel& m, const ParcelResult& r, const Build
           {"outer_ceiling_area_sigma", t.sigma_outer_ceiling},
           {"volume", b.volume}, {"measuredHeight", b.ridge_height},
           {"eave_height", b.eave_height}, {"storeysAboveGround", b.storeys},
-          {"terrain_z", b.terrain_z}, {"solid_valid", b.solid_valid}};
+          {"terrain_z", b.terrain_z}, {"solid_valid", b.solid_valid},
+          {"lod", b.lod}, {"lod_note", b.lod_note}};
 }
 
 void add_building(json& objects, Vertices& v, const BatchModel& m, const ParcelResult& r,
@@ -252,9 +258,12 @@ struct Reader {
     }
   }
 
+  // Reads the LoD 2 geometry, or an LoD 1.2 prism's (the building's lod then says so).
   void geometry(const json& g, Building& b, Ordered& els) const {
-    std::string lod = g.contains("lod") ? g["lod"].dump() : "";
-    if (lod.find('2') == std::string::npos) return;
+    const json lj = g.value("lod", json());
+    const std::string lod = lj.is_string() ? lj.get<std::string>() : lj.dump();
+    if (lod == "1.2") b.lod = lod;
+    else if (lod.empty() || lod[0] != '2') return;
     std::string type = g.value("type", "");
     if (type == "MultiSurface" || type == "CompositeSurface") elements(g, els);
     if (type == "Solid" && !g.at("boundaries").empty())
@@ -302,6 +311,7 @@ BatchModel read_cityjson(const std::string& path) {
     b.ridge_height = attrs.value("measuredHeight", 0.0);
     b.eave_height = attrs.value("eave_height", 0.0);
     b.storeys = attrs.value("storeysAboveGround", 1);
+    b.lod_note = attrs.value("lod_note", "");
     Reader::Ordered els;
     for (const auto& g : o.value("geometry", json::array())) rd.geometry(g, b, els);
     for (const auto& c : o.value("children", json::array())) {

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "core/check/polygon_rules.h"
 #include "core/check/solid_check.h"
@@ -17,6 +18,7 @@
 #include "core/optimizer/optimizer.h"
 #include "core/reconstruct/building_plan.h"
 #include "core/reconstruct/envelope/envelope.h"
+#include "core/reconstruct/lod12.h"
 #include "core/reconstruct/measure/measure.h"
 #include "core/reconstruct/ownership/ownership.h"
 #include "core/reconstruct/roof/roof.h"
@@ -265,6 +267,66 @@ void remodel_defective(const ParcelContext& c, ModelledParcel& m) {
   }
 }
 
+// The heights of building `bp`'s own roof points: its planes' points and the
+// points of its roofs no plane took that lie inside `footprint`.
+std::vector<double> own_roof_heights(const ParcelContext& c, const BuildingPlan& bp, const Polygon2& footprint) {
+  std::vector<double> z;
+  for (int k : bp.components)
+    for (int i : c.roofs.components[size_t(k)].points) z.push_back(c.scene.roof_points[size_t(i)].z());
+  const std::set<int> roofs = roofs_of(c.roofs, bp.components);
+  const MultiPolygon2 inside{footprint};
+  for (size_t i = 0; i < c.scene.roof_points.size(); ++i)
+    if (c.roofs.label[i] < 0 && roofs.count(c.roofs.roof_of[i]) && poly::covers(inside, plan(c.scene.roof_points[i])))
+      z.push_back(c.scene.roof_points[i].z());
+  return z;
+}
+
+// The LoD 1.2 prism of plan `bp` (see lod12.h) and why it fails ("" when it
+// passes check_solid and the face rules); a courtyard's prism that fails is
+// tried again without its holes.
+std::pair<Building, std::string> lod12_of(const ParcelContext& c, const BuildingPlan& bp, const std::string& id) {
+  std::pair<Building, std::string> out;
+  for (bool holes : {true, false}) {
+    PrismInput in;
+    in.building_id = id;
+    in.footprint = prism_footprint(bp.outline, holes);
+    if (in.footprint.outer.size() >= 3) in.party_edge = find_party_edges(in.footprint, c.own);
+    in.roof_heights = own_roof_heights(c, bp, in.footprint);
+    in.terrain = c.scene.terrain;
+    in.spacing = c.roofs.spacing;
+    in.default_overhang = c.p.default_overhang_m;
+    in.storey_height = c.p.storey_height_m;
+    out.first = lod12_prism(in);
+    out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
+    if (out.second.empty() || in.footprint.holes.empty()) break;
+  }
+  return out;
+}
+
+// A building whose LoD 2.2 model is still invalid after remodel_defective
+// becomes its LoD 1.2 prism where that is valid, and says so; where even the
+// prism fails it stays as it is, invalid, and says that too.
+void fall_back_to_lod12(const ParcelContext& c, ModelledParcel& m) {
+  bool tried = false;
+  for (size_t k = 0; k < m.buildings.size(); ++k) {
+    Building& b = m.buildings[k];
+    if (b.solid_valid) continue;  // remodel_defective marked face defects invalid
+    tried = true;
+    auto [prism, why] = lod12_of(c, m.plans[k], b.id);
+    adopt_prism(b, std::move(prism), why);
+    log::info(b.id + ": " + b.lod_note);
+  }
+  if (tried) c.clock.lap("lod 1.2");
+}
+
+// What the parcel's reason says of a building: its LoD 1.2 and why, or that its
+// solid is invalid ("" for a valid LoD 2.2 model).
+std::string building_reason(const Building& b) {
+  if (!b.solid_valid)
+    return b.id + ": solid not valid (" + b.solid_problem + ")" + (b.lod_note.empty() ? "" : "; " + b.lod_note);
+  return b.lod_note.empty() ? "" : b.id + ": " + b.lod_note;
+}
+
 // Deviations of the buildings from the parcel's own roof points and the wall
 // points near it.
 void evaluate_on_parcel(const ParcelScene& s, std::vector<Building>& buildings) {
@@ -304,6 +366,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     clock.lap("boundary");
     ModelledParcel m = model_work_list(c, std::deque<BuildingPlan>(plans.begin(), plans.end()));
     remodel_defective(c, m);
+    fall_back_to_lod12(c, m);
     if (m.buildings.empty()) {
       r.status = ParcelStatus::Empty;
       r.reason = "roof points form no roof plane large enough for a building";
@@ -314,10 +377,10 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     evaluate_on_parcel(s, r.buildings);
     clock.lap("evaluate");
     r.status = ParcelStatus::Ok;
-    for (const auto& b : r.buildings)
-      if (!b.solid_valid) {
-        r.reason += (r.reason.empty() ? "" : "; ") + b.id + ": solid not valid (" + b.solid_problem + ")";
-      }
+    for (const auto& b : r.buildings) {
+      const std::string why = building_reason(b);
+      if (!why.empty()) r.reason += (r.reason.empty() ? "" : "; ") + why;
+    }
   } catch (const std::exception& e) {
     r.status = ParcelStatus::Failed;
     r.reason = e.what();

@@ -2,8 +2,9 @@
 // One parcel from points to buildings of elements: segment -> own (decided
 // once into an Ownership the later steps query) -> plan the buildings (outline)
 // -> per plan on a work list: partition -> envelope -> measure (a plan whose
-// footprint comes apart is replaced by its houses) -> evaluate. Everything in
-// local coordinates.
+// footprint comes apart is replaced by its houses) -> a building still invalid
+// modelled again on the hull's axes, else as its LoD 1.2 prism (lod12.h) ->
+// evaluate. Everything in local coordinates.
 #include <functional>
 #include <vector>
 

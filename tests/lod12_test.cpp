@@ -1,0 +1,332 @@
+// LoD 1.2 fallback: the prism of a footprint (exact areas and volume), a
+// building whose LoD 2.2 model is invalid taking it with a note, the LoD
+// recorded by the store and the exports (schema-valid), and the AHN3 town
+// end to end (every building valid; val3dity agrees where it is installed).
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "cadastre/store.h"
+#include "core/check/solid_check.h"
+#include "core/config/config.h"
+#include "core/geometry/geometry.h"
+#include "core/reconstruct/lod12.h"
+#include "core/reconstruct/measure/measure.h"
+#include "ifc_citygml/export.h"
+#include "tests/export_checks.h"
+#include "tests/export_fixtures.h"
+#include "tests/test_support.h"
+#include "valuation/valuation.h"
+
+using namespace c3d;
+using nlohmann::json;
+namespace fs = std::filesystem;
+namespace fx = c3d::fixture;
+using namespace c3d::check;
+
+namespace {
+
+// An L of 10 x 4 m plus 4 x 4 m (56 m^2, perimeter 36 m) on flat terrain at
+// z = 1, roof points at 1 .. 11 m (70th percentile 8 m): a prism 7 m high.
+PrismInput l_shape(const std::string& id = "L_b1") {
+  PrismInput in;
+  in.building_id = id;
+  in.footprint = prism_footprint({{{0, 0}, {10, 0}, {10, 4}, {4, 4}, {4, 8}, {0, 8}}, {}}, true);
+  for (int z = 1; z <= 11; ++z) in.roof_heights.push_back(z);
+  in.terrain = [](double, double) { return 1.0; };
+  return in;
+}
+
+double total(const Building& b, ElementType t) {
+  double a = 0;
+  for (const auto& e : b.elements)
+    if (e.type == t) a += e.area;
+  return a;
+}
+
+int count(const Building& b, ElementType t) {
+  int n = 0;
+  for (const auto& e : b.elements) n += e.type == t;
+  return n;
+}
+
+// A box house whose shell lost its roof: an LoD 2.2 model that is not closed.
+Building open_box(const std::string& id) {
+  Building b;
+  b.id = id;
+  std::vector<Face> shell = test::box_shell({0, 0, 1}, {10, 8, 8});
+  shell.erase(std::remove_if(shell.begin(), shell.end(), [](const Face& f) { return unit_normal(f).z() > 0.5; }),
+              shell.end());
+  b.solid = shell;
+  for (const auto& f : shell) {
+    Element e;
+    e.type = unit_normal(f).z() < -0.5 ? ElementType::Ground : ElementType::Wall;
+    e.faces = {f};
+    b.elements.push_back(e);
+  }
+  measure_building(b);
+  return b;
+}
+
+}  // namespace
+
+TEST(Lod12, PercentileIsLinearBetweenRanks) {
+  EXPECT_DOUBLE_EQ(percentile({0, 10}, 0.7), 7.0);
+  EXPECT_DOUBLE_EQ(percentile({5, 1, 3}, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(percentile({4}, 0.7), 4.0);
+  EXPECT_TRUE(std::isnan(percentile({}, 0.7)));
+}
+
+TEST(Lod12, PrismOfAnLShapeHasExactAreasAndVolume) {
+  const PrismInput in = l_shape();
+  ASSERT_EQ(in.footprint.outer.size(), 6u);
+  const Building b = lod12_prism(in);
+  ASSERT_TRUE(b.solid_valid) << b.solid_problem;
+  EXPECT_TRUE(check_solid(b.solid).ok);
+  EXPECT_EQ(b.lod, "1.2");
+  EXPECT_DOUBLE_EQ(b.terrain_z, 1.0);
+  EXPECT_EQ(count(b, ElementType::Roof), 1);
+  EXPECT_EQ(count(b, ElementType::Wall), 6);  // one per footprint edge
+  EXPECT_EQ(count(b, ElementType::Ground), 1);
+  EXPECT_NEAR(total(b, ElementType::Roof), 56.0, 1e-9);
+  EXPECT_NEAR(total(b, ElementType::Ground), 56.0, 1e-9);
+  EXPECT_NEAR(total(b, ElementType::Wall), 36.0 * 7.0, 1e-9);
+  EXPECT_NEAR(b.volume, 56.0 * 7.0, 1e-9);
+  EXPECT_NEAR(b.eave_height, 7.0, 1e-12);
+  EXPECT_NEAR(b.ridge_height, 7.0, 1e-12);
+  EXPECT_EQ(b.storeys, 2);
+  for (const auto& e : b.elements) {
+    EXPECT_GT(e.sigma_area, 0) << to_string(e.type);
+    EXPECT_NEAR(e.slope_deg, e.type == ElementType::Wall ? 90.0 : 0.0, 1e-9);
+  }
+}
+
+TEST(Lod12, PartyEdgeGivesAPartyWall) {
+  PrismInput in = l_shape();
+  in.party_edge.assign(in.footprint.outer.size(), false);
+  for (size_t i = 0; i < in.footprint.outer.size(); ++i)  // the 10 m edge
+    in.party_edge[i] = (in.footprint.outer[(i + 1) % in.footprint.outer.size()] - in.footprint.outer[i]).norm() > 9;
+  const Building b = lod12_prism(in);
+  ASSERT_TRUE(b.solid_valid) << b.solid_problem;
+  EXPECT_EQ(count(b, ElementType::PartyWall), 1);
+  EXPECT_NEAR(total(b, ElementType::PartyWall), 70.0, 1e-9);
+  EXPECT_NEAR(total(b, ElementType::Wall), 26.0 * 7.0, 1e-9);
+}
+
+TEST(Lod12, CourtyardKeepsItsHoleOrDropsIt) {
+  const Polygon2 yard{{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, {{{3, 3}, {3, 7}, {7, 7}, {7, 3}}}};
+  PrismInput in = l_shape();
+  in.footprint = prism_footprint(yard, true);
+  ASSERT_EQ(in.footprint.holes.size(), 1u);
+  Building b = lod12_prism(in);
+  ASSERT_TRUE(b.solid_valid) << b.solid_problem;
+  EXPECT_NEAR(total(b, ElementType::Roof), 84.0, 1e-9);
+  EXPECT_NEAR(total(b, ElementType::Wall), (40.0 + 16.0) * 7.0, 1e-9);
+  EXPECT_NEAR(b.volume, 84.0 * 7.0, 1e-9);
+  in.footprint = prism_footprint(yard, false);
+  EXPECT_TRUE(in.footprint.holes.empty());
+  EXPECT_NEAR(lod12_prism(in).volume, 100.0 * 7.0, 1e-9);
+}
+
+TEST(Lod12, FootprintIsMadeValidAndSimple) {
+  // A bow tie: make-valid gives two triangles, the larger is kept.
+  const Polygon2 bow{{{0, 0}, {10, 10}, {10, 0}, {0, 12}}, {}};
+  const Polygon2 fp = prism_footprint(bow, true);
+  ASSERT_GE(fp.outer.size(), 3u);
+  EXPECT_GT(signed_area(fp.outer), 0);  // counter-clockwise
+  // An edge of half a millimetre and a vertex in line with its neighbours go.
+  const Polygon2 specks{{{0, 0}, {5, 0}, {10, 0}, {10, 5}, {10.0005, 5}, {10, 10}, {0, 10}}, {}};
+  EXPECT_EQ(prism_footprint(specks, true).outer.size(), 4u);
+  EXPECT_TRUE(prism_footprint({}, true).outer.empty());
+}
+
+TEST(Lod12, NoPrismWhereRoofPointsLieAtTheTerrain) {
+  PrismInput in = l_shape();
+  in.roof_heights = {1.0, 1.02, 0.98};
+  const Building b = lod12_prism(in);
+  EXPECT_FALSE(b.solid_valid);
+  EXPECT_TRUE(b.solid.empty());
+  EXPECT_NE(b.solid_problem.find("terrain"), std::string::npos) << b.solid_problem;
+  in = l_shape();
+  in.terrain = [](double, double) { return kNaN; };
+  EXPECT_FALSE(lod12_prism(in).solid_valid);
+}
+
+TEST(Lod12, InvalidLod22BuildingTakesThePrismAndSaysWhy) {
+  Building b = open_box("L_b1");
+  ASSERT_FALSE(b.solid_valid);
+  const std::string problem = b.solid_problem;
+  EXPECT_NE(problem.find("not_closed"), std::string::npos) << problem;
+  adopt_prism(b, lod12_prism(l_shape()), "");
+  EXPECT_EQ(b.lod, "1.2");
+  EXPECT_TRUE(b.solid_valid);
+  EXPECT_EQ(b.id, "L_b1");
+  EXPECT_EQ(b.lod_note, "LoD 2.2 invalid (" + problem + "): LoD 1.2 prism at the 70th percentile of its roof points");
+  EXPECT_NEAR(b.volume, 392.0, 1e-9);
+
+  // Where the prism fails too, the building stays as it was and says so.
+  Building c = open_box("L_b2");
+  adopt_prism(c, Building{}, "the roof points lie at the terrain");
+  EXPECT_EQ(c.lod, "2.2");
+  EXPECT_FALSE(c.solid_valid);
+  EXPECT_EQ(c.solid_problem, problem);
+  EXPECT_EQ(c.lod_note, "no valid LoD 1.2 prism either (the roof points lie at the terrain)");
+}
+
+namespace {
+
+// The export fixtures' batch with one more parcel holding an LoD 1.2 prism.
+BatchModel batch_with_prism() {
+  BatchModel m = fx::sample_batch();
+  Building prism = lod12_prism(l_shape("P-005_b1"));
+  prism.lod_note = "LoD 2.2 invalid (test): LoD 1.2 prism at the 70th percentile of its roof points";
+  fx::translate(prism, {90, 0, 0});
+  m.parcels.push_back(fx::parcel(4, "P-005", m.frame.origin, 87, 103, -3, 11));
+  m.results.push_back(fx::result(m.parcels.back(), {prism}));
+  return m;
+}
+
+}  // namespace
+
+TEST(Lod12, CityJsonWritesLod12AndReadsItBack) {
+  const BatchModel m = batch_with_prism();
+  const std::string dir = test::temp_dir("lod12_cityjson"), path = dir + "/buildings.city.json";
+  write_cityjson(m, path);
+  const json doc = json::parse(fx::read_text(path));
+  const json& o = doc["CityObjects"]["P-005_b1"];
+  for (const auto& g : o["geometry"]) EXPECT_EQ(g["lod"], "1.2");
+  EXPECT_EQ(o["attributes"]["lod"], "1.2");
+  EXPECT_EQ(doc["CityObjects"]["P-001_b1"]["geometry"][0]["lod"], "2");
+  const BatchModel back = read_cityjson(path);
+  const Building& b = back.results.back().buildings.front();
+  EXPECT_EQ(b.lod, "1.2");
+  EXPECT_EQ(b.lod_note, m.results.back().buildings.front().lod_note);
+  EXPECT_EQ(b.elements.size(), 8u);
+  EXPECT_EQ(back.results.front().buildings.front().lod, "2.2");
+  if (!can_ajv()) GTEST_SKIP() << "tests/js/node_modules (npm) or ../shared/schemas missing";
+  std::string out;
+  EXPECT_EQ(ajv(path, &out), 0) << out;
+}
+
+TEST(Lod12, CityGmlWritesLod1SolidSchemaValid) {
+  const BatchModel m = batch_with_prism();
+  const std::string dir = test::temp_dir("lod12_citygml");
+  for (int version : {2, 3}) {
+    const std::string path = dir + "/buildings" + std::to_string(version) + ".gml";
+    write_citygml(m, path, version);
+    const std::string text = fx::read_text(path);
+    EXPECT_NE(text.find(version == 2 ? "<bldg:lod1Solid>" : "<core:lod1Solid>"), std::string::npos);
+    EXPECT_NE(text.find(version == 2 ? "<bldg:lod2Solid>" : "<core:lod2Solid>"), std::string::npos);
+    if (version == 3) EXPECT_NE(text.find("<core:lod1MultiSurface>"), std::string::npos);
+    if (!can_xmllint()) continue;
+    std::string out;
+    EXPECT_EQ(xmllint(path, &out, version), 0) << out;
+  }
+  if (!can_xmllint()) GTEST_SKIP() << "xmllint or ../shared/schemas missing";
+}
+
+namespace {
+
+std::string write_store(const std::string& path, const BatchModel& m) {
+  Store s;
+  s.open(path, "", m.epsg);
+  s.begin_run("{}", {}, m.frame);
+  const Config c = default_config();
+  for (size_t i = 0; i < m.parcels.size(); ++i)
+    s.write_parcel(m.parcels[i], m.results[i], value_parcel(m.parcels[i], m.results[i], c.valuation), m.frame);
+  s.end_run();
+  return path;
+}
+
+void sql(const std::string& path, const std::string& statement) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(db, statement.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+  sqlite3_close(db);
+}
+
+}  // namespace
+
+TEST(Lod12, StoreRecordsTheLodAndAnOlderStoreGetsTheColumns) {
+  const BatchModel m = batch_with_prism();
+  const std::string path = write_store(test::temp_dir("lod12_store") + "/cadastre.gpkg", m);
+  BatchModel back = load_batch_model(path);
+  const Building& prism = back.results.back().buildings.front();
+  EXPECT_EQ(prism.lod, "1.2");
+  EXPECT_EQ(prism.lod_note, m.results.back().buildings.front().lod_note);
+  EXPECT_EQ(back.results.front().buildings.front().lod, "2.2");
+  EXPECT_EQ(back.results.front().buildings.front().lod_note, "");
+
+  // A store written before the LoD was recorded reads as LoD 2.2, and takes
+  // the columns when a batch opens it again.
+  sql(path, "ALTER TABLE building DROP COLUMN lod; ALTER TABLE building DROP COLUMN lod_note;");
+  back = load_batch_model(path);
+  EXPECT_EQ(back.results.back().buildings.front().lod, "2.2");
+  write_store(path, m);
+  back = load_batch_model(path);
+  EXPECT_EQ(back.results.back().buildings.front().lod, "1.2");
+}
+
+// ---- the AHN3 town end to end ---------------------------------------------------
+
+namespace {
+
+const fs::path kShared = fs::path(C3D_SOURCE_DIR).parent_path() / "shared";
+
+// Buildings another change makes valid: 09220_b1 has consecutive vertices
+// closer than 1 mm (val3dity 102) that our face rules do not flag yet; once
+// they do, the LoD 1.2 fallback covers it.
+const std::set<std::string> kFixedElsewhere = {"09220_b1"};
+
+}  // namespace
+
+TEST(Lod12, Ahn3TownHasOnlyValidSolids) {
+  const fs::path town = kShared / "data" / "ahn3";
+  if (!fs::exists(town / "cloud.las")) GTEST_SKIP() << town << " not found";
+  const std::string out = test::temp_dir("ahn3");
+  std::string log;
+  const int rc = test::run_cli("batch --quiet --cloud " + (town / "cloud.las").string() + " --parcels " +
+                                   (town / "parcels.gpkg").string() + " --dtm " + (town / "dtm.tif").string() +
+                                   " --out " + out + " --formats cityjson",
+                               &log);
+  ASSERT_EQ(rc, 0) << log;
+  const json summary = json::parse(fx::read_text(out + "/summary.json"));
+  int buildings = 0, lod12 = 0;
+  std::set<std::string> not_buildings;  // "roof" points on the ground: no prism either
+  for (const auto& p : summary["parcels"])
+    for (const auto& b : p["buildings"]) {
+      ++buildings;
+      lod12 += b["lod"] == "1.2";
+      const std::string id = b["building_id"], note = b["lod_note"];
+      if (b["solid_valid"]) continue;
+      EXPECT_EQ(p["status"], "ok");
+      EXPECT_NE(p["reason"].get<std::string>().find(id + ": solid not valid"), std::string::npos) << p["reason"];
+      EXPECT_NE(note.find("the roof points lie at the terrain"), std::string::npos) << id << ": " << note;
+      not_buildings.insert(id);
+    }
+  std::cout << "AHN3: " << buildings << " buildings, " << lod12 << " LoD 1.2, " << not_buildings.size()
+            << " invalid with their roof points on the terrain\n";
+  EXPECT_GE(buildings, 240);
+  EXPECT_LE(not_buildings.size(), 1u);
+
+  const fs::path val3dity = kShared / "tools" / "val3dity" / "val3dity";
+  if (!fs::exists(val3dity)) GTEST_SKIP() << val3dity << " not found";
+  const std::string report = out + "/val3dity.json";
+  ASSERT_EQ(std::system((val3dity.string() + " --report " + report + " " + out + "/buildings.city.json >/dev/null 2>&1").c_str()), 0);
+  const json r = json::parse(fx::read_text(report));
+  std::string invalid;
+  for (const auto& f : r["features"]) {
+    if (f["validity"]) continue;
+    const std::string id = f["id"];
+    invalid += " " + id;
+    EXPECT_TRUE(kFixedElsewhere.count(id) || not_buildings.count(id)) << id << " invalid by val3dity";
+  }
+  std::cout << "val3dity invalid:" << (invalid.empty() ? " none" : invalid) << "\n";
+}
