@@ -319,6 +319,26 @@ void fall_back_to_lod12(const ParcelContext& c, ModelledParcel& m) {
   if (tried) c.clock.lap("lod 1.2");
 }
 
+// A building with no valid model at any LoD is not reported as modelled (no
+// invalid solid is ever `ok`): it leaves the parcel, and the notes say why.
+// Returns how many left.
+int drop_unmodellable(ModelledParcel& m) {
+  int dropped = 0;
+  for (size_t k = 0; k < m.buildings.size();) {
+    const Building& b = m.buildings[k];
+    if (b.solid_valid) {
+      ++k;
+      continue;
+    }
+    m.notes += (m.notes.empty() ? "" : "; ") + b.id + ": no valid model (" + b.solid_problem + ")" +
+               (b.lod_note.empty() ? "" : "; " + b.lod_note);
+    m.buildings.erase(m.buildings.begin() + long(k));
+    m.plans.erase(m.plans.begin() + long(k));
+    ++dropped;
+  }
+  return dropped;
+}
+
 // What the parcel's reason says of a building: its LoD 1.2 and why, or that its
 // solid is invalid ("" for a valid LoD 2.2 model).
 std::string building_reason(const Building& b) {
@@ -367,9 +387,10 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     ModelledParcel m = model_work_list(c, std::deque<BuildingPlan>(plans.begin(), plans.end()));
     remodel_defective(c, m);
     fall_back_to_lod12(c, m);
+    const int dropped = drop_unmodellable(m);
     if (m.buildings.empty()) {
-      r.status = ParcelStatus::Empty;
-      r.reason = "roof points form no roof plane large enough for a building";
+      r.status = dropped > 0 ? ParcelStatus::Failed : ParcelStatus::Empty;
+      r.reason = dropped > 0 ? m.notes : "roof points form no roof plane large enough for a building";
       return r;
     }
     r.reason = m.notes;
