@@ -207,11 +207,12 @@ std::set<int> give_away(const ParcelScene& s, Segmentation& seg, const Reconstru
   return split_with;
 }
 
-// A part left here with too few points for a plane joins the roof's loose
-// points: no component, its roof kept.
+// A part left here with too few points for a plane (the component's own
+// minimum where it has one) joins the roof's loose points: no component, its
+// roof kept.
 void drop_remnants(Segmentation& seg, int min_points) {
   for (auto& c : seg.components)
-    if (int(c.points.size()) < min_points) {
+    if (int(c.points.size()) < (c.min_points > 0 ? c.min_points : min_points)) {
       for (int i : c.points) seg.label[i] = -1;
       c.points.clear();
     }

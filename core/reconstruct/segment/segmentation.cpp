@@ -1,5 +1,6 @@
 #include "core/reconstruct/segment/segmentation.h"
 
+#include "core/reconstruct/planes/ransac.h"
 #include "core/reconstruct/segment/neighbours.h"
 
 #include <pcl/features/normal_3d_omp.h>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace c3d {
 namespace {
@@ -20,6 +22,12 @@ namespace {
 // Corrugated sheet tilts its normals by up to ~45.
 constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
 constexpr int kNormalNeighbours = 16;    // normals, and the smoothing of the second pass
+// A roof cluster region growing leaves without a plane is one roof plane when
+// most of its points lie on one (a sparse scan's shed: its 16-point normals
+// span the whole roof and its edges, and no region grows to the minimum);
+// a tree crown or a noisy heap has a fifth of its points on any plane.
+constexpr double kMinPlanarShare = 0.6;
+constexpr int kMinPlanePoints = 10;      // fewer points judge no plane, at any density
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Tree = pcl::search::KdTree<pcl::PointXYZ>;
@@ -49,6 +57,21 @@ double median_spacing(const Cloud::Ptr& cloud, const NeighbourTable& table) {
   if (d.empty()) return 0.2;
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
   return std::max(d[d.size() / 2], 0.02);
+}
+
+// Median over the points of the points per m2 within their 16 nearest: the
+// scan's density, near enough for the fewest points a roof plane may hold.
+double median_density(const Cloud::Ptr& cloud, const NeighbourTable& table) {
+  std::vector<double> rho;
+  pcl::Indices nn(kNormalNeighbours);
+  std::vector<float> d2(kNormalNeighbours);
+  size_t step = std::max<size_t>(1, cloud->size() / 2000);
+  for (size_t i = 0; i < cloud->size(); i += step)
+    if (table.nearestKSearch(int(i), kNormalNeighbours, nn, d2) == kNormalNeighbours && d2.back() > 0)
+      rho.push_back(double(kNormalNeighbours - 1) / (M_PI * double(d2.back())));
+  if (rho.empty()) return 0;
+  std::nth_element(rho.begin(), rho.begin() + long(rho.size() / 2), rho.end());
+  return rho[rho.size() / 2];
 }
 
 std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl::Indices& kept, double tolerance,
@@ -212,7 +235,84 @@ void smooth_normals(const NeighbourTable& table, const pcl::PointCloud<pcl::Norm
   }
 }
 
+// What one roof's planes are grown from.
+struct RoofScene {
+  const std::vector<Vec3>& points;
+  const Cloud::Ptr& cloud;
+  const NeighbourTable& table;
+  const pcl::PointCloud<pcl::Normal>::Ptr& normals;
+  const std::vector<int>& cluster_of;  // per point: its roof cluster
+  const ReconstructionParams& p;
+};
+
+// The planar components region growing finds on roof cluster `r` (some may
+// still be too small to keep). `smooth`: the second pass's normals, made on
+// first use.
+std::vector<RoofComponent> roof_components(const RoofScene& s, int r, const pcl::Indices& roof,
+                                           const Segmentation& seg, pcl::PointCloud<pcl::Normal>::Ptr& smooth) {
+  const auto& points = s.points;
+  const auto& p = s.p;
+  std::vector<RoofComponent> comps;
+  std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
+  add_regions(points, grow_components(s.cloud, s.normals, roof, p, roof_neighbours), p, seg.roof_count, comps);
+  std::vector<int> local_label(points.size(), -1);
+  settle_labels(points, roof_neighbours, roof, roof, p.plane_inlier_m, comps, local_label);
+  // Second pass over what the first left: textured sheet (corrugation, tiles)
+  // tilts the 16-point normals by 20-45 degrees, so region growing breaks such
+  // roofs into patches too small to keep. Averaged over the neighbours, the
+  // normals follow the sheet, and the patches grow into planes.
+  comps.erase(std::remove_if(comps.begin(), comps.end(),
+                             [&](const RoofComponent& c) { return !big_enough(c, seg.spacing, p); }),
+              comps.end());
+  relabel(roof, comps, local_label);
+  pcl::Indices leftover;
+  for (int i : roof)
+    if (local_label[i] < 0) leftover.push_back(i);
+  if (int(leftover.size()) >= p.min_component_points) {
+    if (!smooth) smooth.reset(new pcl::PointCloud<pcl::Normal>(*s.normals));
+    smooth_normals(s.table, *s.normals, s.cluster_of, r, leftover, *smooth);
+    std::vector<pcl::Indices> unused;
+    size_t before = comps.size();
+    add_regions(points, grow_components(s.cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
+                size_t(p.min_component_points), kMinRoofNormalZ);
+    if (comps.size() > before)
+      settle_labels(points, roof_neighbours, roof, leftover, p.plane_inlier_m, comps, local_label);
+  }
+  return comps;
+}
+
+// A roof cluster that region growing left without a plane, as one plane
+// (kMinPlanarShare): the plane most of its points lie within plane_inlier_m
+// of, no wall, its points enough for the scan's density and covering
+// min_component_area_m2 in plan. Its points off that plane stay unlabelled.
+std::optional<RoofComponent> planar_cluster(const std::vector<Vec3>& points, const pcl::Indices& roof,
+                                            double density, const ReconstructionParams& p) {
+  const std::vector<int> idx(roof.begin(), roof.end());
+  PlaneSample best = sample_plane_consensus(points, idx, p.plane_inlier_m, kMinRoofNormalZ);
+  const int n = int(best.inliers.size());
+  if (n < min_plane_points(density, p) || double(n) < kMinPlanarShare * double(idx.size()) ||
+      plan_hull_area(points, best.inliers) < p.min_component_area_m2)
+    return std::nullopt;
+  RoofComponent c;
+  c.points = std::move(best.inliers);
+  c.fit = fit_plane_robust(points, c.points, p.plane_inlier_m);
+  c.min_points = min_plane_points(density, p);
+  return c;
+}
+
+// Adds a component to the segmentation, labelling its points.
+void keep_component(RoofComponent c, Segmentation& seg) {
+  const int id = int(seg.components.size());
+  for (int i : c.points) seg.label[size_t(i)] = id;
+  seg.components.push_back(std::move(c));
+}
+
 }  // namespace
+
+int min_plane_points(double density, const ReconstructionParams& p) {
+  const int at_density = int(std::ceil(density * p.min_component_area_m2));
+  return std::max(kMinPlanePoints, std::min(p.min_component_points, at_density));
+}
 
 Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
   Segmentation seg;
@@ -222,6 +322,7 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   auto cloud = to_pcl(points);
   auto table = std::make_shared<NeighbourTable>(cloud, std::max(kNormalNeighbours, p.outlier_neighbours + 1));
   seg.spacing = median_spacing(cloud, *table);
+  seg.density = median_density(cloud, *table);
 
   pcl::Indices kept = remove_statistical_outliers(*table, p.outlier_neighbours, p.outlier_std);
   pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
@@ -232,7 +333,8 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   ne.compute(*normals);
 
   double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
-  auto roofs = cluster_roofs(cloud, kept, tolerance, p.min_component_points);
+  // Clusters as small as a sparse scan's plane: one no region grows on may still be a plane.
+  auto roofs = cluster_roofs(cloud, kept, tolerance, min_plane_points(seg.density, p));
   std::vector<int> cluster_of(points.size(), -1);
   for (size_t r = 0; r < roofs.size(); ++r)
     for (int i : roofs[r].indices) cluster_of[size_t(i)] = int(r);
@@ -241,41 +343,20 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   pcl::PointCloud<pcl::Normal>::Ptr smooth;
   for (size_t r = 0; r < roofs.size(); ++r) {
     const auto& roof = roofs[r];
-    std::vector<RoofComponent> comps;
-    std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
-    add_regions(points, grow_components(cloud, normals, roof.indices, p, roof_neighbours), p, seg.roof_count, comps);
-    std::vector<int> local_label(points.size(), -1);
-    settle_labels(points, roof_neighbours, roof.indices, roof.indices, p.plane_inlier_m, comps, local_label);
-    // Second pass over what the first left: textured sheet (corrugation, tiles)
-    // tilts the 16-point normals by 20-45 degrees, so region growing breaks such
-    // roofs into patches too small to keep. Averaged over the neighbours, the
-    // normals follow the sheet, and the patches grow into planes.
-    comps.erase(std::remove_if(comps.begin(), comps.end(),
-                               [&](const RoofComponent& c) { return !big_enough(c, seg.spacing, p); }),
-                comps.end());
-    relabel(roof.indices, comps, local_label);
-    pcl::Indices leftover;
-    for (int i : roof.indices)
-      if (local_label[i] < 0) leftover.push_back(i);
-    if (int(leftover.size()) >= p.min_component_points) {
-      if (!smooth) smooth.reset(new pcl::PointCloud<pcl::Normal>(*normals));
-      smooth_normals(*table, *normals, cluster_of, int(r), leftover, *smooth);
-      std::vector<pcl::Indices> unused;
-      size_t before = comps.size();
-      add_regions(points, grow_components(cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
-                  size_t(p.min_component_points), kMinRoofNormalZ);
-      if (comps.size() > before)
-        settle_labels(points, roof_neighbours, roof.indices, leftover, p.plane_inlier_m, comps, local_label);
-    }
+    const RoofScene scene{points, cloud, *table, normals, cluster_of, p};
+    std::vector<RoofComponent> comps = roof_components(scene, int(r), roof.indices, seg, smooth);
     int kept_here = 0;
     for (auto& c : comps) {
       if (!big_enough(c, seg.spacing, p)) continue;
-      int id = int(seg.components.size());
-      for (int i : c.points) seg.label[i] = id;
-      seg.components.push_back(std::move(c));
+      keep_component(std::move(c), seg);
       ++kept_here;
     }
-    if (kept_here == 0) continue;
+    if (kept_here == 0) {
+      std::optional<RoofComponent> planar = planar_cluster(points, roof.indices, seg.density, p);
+      if (!planar) continue;
+      planar->roof = seg.roof_count;
+      keep_component(std::move(*planar), seg);
+    }
     for (int i : roof.indices)  // a steep surface no plane took is not roof (kMinRoofNormalZ)
       if (seg.label[i] >= 0 || std::abs((*normals)[size_t(i)].normal_z) >= kMinRoofNormalZ)
         seg.roof_of[i] = seg.roof_count;

@@ -15,6 +15,8 @@ struct RoofComponent {
   std::vector<int> points;  // indices into the segmented point list
   PlaneFit fit;
   int roof = 0;             // individual roof it belongs to
+  int min_points = 0;       // fewest points a part of it is a plane with (0: min_component_points);
+                            // lower for a sparse scan's small roof (min_plane_points)
 };
 
 struct Segmentation {
@@ -24,7 +26,13 @@ struct Segmentation {
   std::vector<int> roof_of; // per point: individual roof, or -1 (outlier, a roof with no component,
                             // a steep surface no plane took, a point ownership gave away)
   double spacing = 0.2;     // median nearest-neighbour distance in plan, m
+  double density = 0;       // median points per m2 around a point (0: too few points to tell)
 };
+
+// The fewest points a roof plane needs at `density` points/m2: those a patch of
+// min_component_area_m2 holds, never more than min_component_points (a dense
+// scan's patch is held to its area) nor fewer than a plane can be judged on.
+int min_plane_points(double density, const ReconstructionParams& p);
 
 Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p);
 
