@@ -116,3 +116,20 @@ TEST(Segmentation, DensityMinimumIsThePointsOfTheMinimumPatch) {
   EXPECT_EQ(min_plane_points(87.0, p), 30);   // a dense scan keeps the configured count
   EXPECT_EQ(min_plane_points(2.0, p), 10);    // never fewer than a plane is judged on
 }
+
+TEST(Segmentation, FacadeInTheBuildingClassIsNoRoofPlane) {
+  // An airborne "building" class: a flat roof 10 x 8 m at 6 m and, of the same
+  // class, its 10 x 6 m south facade at 10 points/m^2 (AHN3 keeps such points).
+  // The facade is a plane, but no roof is steeper than 75 degrees: lifted as a
+  // roof it ran to kilometres. The roof keeps its one plane.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> noise(0, 0.02);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 1600; ++i) pts.emplace_back(10 * u(rng), 8 * u(rng), 6 + noise(rng));
+  for (int i = 0; i < 600; ++i) pts.emplace_back(10 * u(rng), noise(rng), 6 * u(rng));
+  const Segmentation seg = segment_roofs(pts, ReconstructionParams{});
+  ASSERT_GE(seg.components.size(), 1u);
+  for (const auto& c : seg.components) EXPECT_LT(c.fit.plane.slope_deg(), 75.0) << c.points.size() << " points";
+  EXPECT_NEAR(seg.components[0].fit.plane.slope_deg(), 0.0, 1.0);
+}

@@ -21,6 +21,11 @@ namespace {
 // roof: neither a loose point on it nor a plane the second pass grows there.
 // Corrugated sheet tilts its normals by up to ~45.
 constexpr double kMinRoofNormalZ = 0.5;  // cos 60 degrees
+// No roof is steeper than 75 degrees: a plane that is (the facade points an
+// airborne "building" class holds) is a wall seen from the air, and lifted as
+// a roof it runs to kilometres (AHN3: 14 buildings with planes of 80-90
+// degrees, heights from -47 km to +11 km). Mansard faces stay below it.
+constexpr double kMinPlaneNormalZ = 0.2588;  // cos 75 degrees
 constexpr int kNormalNeighbours = 16;    // normals, and the smoothing of the second pass
 // A roof cluster region growing leaves without a plane is one roof plane when
 // most of its points lie on one (a sparse scan's shed: its 16-point normals
@@ -254,7 +259,8 @@ std::vector<RoofComponent> roof_components(const RoofScene& s, int r, const pcl:
   const auto& p = s.p;
   std::vector<RoofComponent> comps;
   std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
-  add_regions(points, grow_components(s.cloud, s.normals, roof, p, roof_neighbours), p, seg.roof_count, comps);
+  add_regions(points, grow_components(s.cloud, s.normals, roof, p, roof_neighbours), p, seg.roof_count, comps, 0,
+              kMinPlaneNormalZ);
   std::vector<int> local_label(points.size(), -1);
   settle_labels(points, roof_neighbours, roof, roof, p.plane_inlier_m, comps, local_label);
   // Second pass over what the first left: textured sheet (corrugation, tiles)
