@@ -210,3 +210,16 @@ TEST(Reconstruct, BoxStandingOverTheEaveDoesNotWidenTheRoof) {
   ASSERT_EQ(r.buildings.size(), 1u);
   EXPECT_NEAR(totals(r.buildings[0]).roof_plan, 11.0 * 9.0, 11.0 * 9.0 * 0.01);
 }
+
+TEST(ReconstructBadInput, RoofOnTheTerrainIsNoBuildingAndTheParcelSaysSo) {
+  // A ground patch in the building class (AHN3 09088): a flat "roof" 6 x 5 m
+  // lying on the terrain. No solid of any LoD can stand on it, and no invalid
+  // solid is ever reported as modelled: the parcel fails and says why.
+  std::mt19937_64 rng(3);
+  ParcelScene s = square_parcel_scene();  // terrain at 100 m
+  s.roof_points = sample_plane(plane_through({0, 0, 100}, {0, 0, 1}), 7, 13, 7, 12, 40, 0.01, rng);
+  const ParcelResult r = reconstruct_parcel(s, params());
+  EXPECT_TRUE(r.buildings.empty());
+  EXPECT_EQ(r.status, ParcelStatus::Failed) << r.reason;
+  EXPECT_NE(r.reason.find("no valid model"), std::string::npos) << r.reason;
+}
