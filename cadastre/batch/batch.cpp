@@ -86,8 +86,23 @@ std::vector<Face> world_faces(const BatchModel& model, const std::vector<Element
   return out;
 }
 
+std::vector<double> distances_to(const std::vector<Vec3>& points, const std::vector<Face>& faces) {
+  const FaceIndex index(faces);
+  std::vector<double> d;
+  if (index.empty()) return d;
+  for (const auto& hit : index.nearest(points)) d.push_back(hit.distance);
+  return d;
+}
+
+std::vector<Ring3> footprint_rings(const BatchModel& model) {
+  std::vector<Ring3> rings;
+  for (const Face& f : world_faces(model, {ElementType::Ground})) rings.push_back(f.ring);
+  return rings;
+}
+
 // Every roof point inside a parcel against the nearest roof of any model, and
-// every wall point within kWallPointReachM of a parcel against the nearest wall.
+// every wall point within kWallPointReachM of a parcel against the nearest
+// wall; then the same by the judge's rulers.
 void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
                          const ParcelClipper::IndexLists& roof_lists, BatchReport& report) {
   const std::vector<Face> roofs = world_faces(report.model, {ElementType::Roof});
@@ -108,8 +123,16 @@ void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
   for (const auto& list : ParcelClipper(in.layer, near).clip(in.wall))
     for (size_t k : list)
       if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
-  if (!roofs.empty()) report.any_model_roof = deviation_to_faces(roof_in, roofs);
-  if (!walls.empty()) report.any_model_wall = deviation_to_faces(wall_near, walls);
+  const std::vector<double> roof_d = distances_to(roof_in, roofs);
+  if (!roofs.empty()) report.any_model_roof = deviation(roof_d), report.roof_ruler = ruler_figures(roof_d);
+  if (walls.empty()) return;
+  report.any_model_wall = deviation(distances_to(wall_near, walls));
+  const std::vector<char> of_building = near_rings(wall_near, footprint_rings(report.model), kFootprintReachM);
+  std::vector<Vec3> measured;
+  for (size_t k = 0; k < wall_near.size(); ++k)
+    if (of_building[k]) measured.push_back(wall_near[k]);
+  report.wall_ruler = ruler_figures(distances_to(measured, walls));
+  if (!wall_near.empty()) report.wall_points_measured = double(measured.size()) / double(wall_near.size());
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/config/config.h"
+#include "core/evaluate/ruler.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
@@ -72,6 +73,11 @@ struct BatchReport {
   // and every wall point within kWallPointReachM of a parcel against the
   // nearest wall: the models' fit, free of which parcel a point counted for.
   Deviation any_model_roof, any_model_wall;
+  // The same points by the shared judge's rulers (core/evaluate/ruler.h): the
+  // roof points inside the parcels, and the wall points of modelled buildings
+  // (within kFootprintReachM of a footprint edge), with their share.
+  RulerFigures roof_ruler, wall_ruler;
+  double wall_points_measured = 0;  // share of the wall points near the parcels the wall ruler measures
 };
 
 // Runs the batch. Bad inputs throw InputError naming the file; a parcel that

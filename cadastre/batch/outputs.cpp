@@ -17,6 +17,12 @@ using nlohmann::json;
 namespace c3d {
 namespace {
 
+json to_json(const RulerFigures& r) {
+  return {{"n", r.n}, {"rmse", r.rmse}, {"median", r.median}, {"nmad", r.nmad}, {"p95", r.p95}, {"max", r.max},
+          {"rmse_within_1m", r.rmse_within_1m}, {"share_over_0_3m", r.share_over_0_3m},
+          {"share_over_1m", r.share_over_1m}};
+}
+
 json to_json(const Deviation& d) {
   return {{"n", d.n}, {"max", d.max}, {"mean", d.mean}, {"std", d.std}, {"rmse", d.rmse}};
 }
@@ -88,6 +94,9 @@ void write_summary(const BatchReport& report, const std::string& path) {
             {"pooled_wall_deviation", to_json(pool(wall_devs))},
             {"any_model_roof_deviation", to_json(report.any_model_roof)},
             {"any_model_wall_deviation", to_json(report.any_model_wall)},
+            {"roof_ruler", to_json(report.roof_ruler)},
+            {"wall_ruler", to_json(report.wall_ruler)},
+            {"wall_points_measured_share", report.wall_points_measured},
             {"timings_s",
              {{"ingest_and_clip", timings.ingest_s},
               {"reconstruct_and_store", timings.reconstruct_s},
