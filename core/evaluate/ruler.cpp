@@ -5,18 +5,12 @@
 #include <map>
 #include <utility>
 
+#include "core/geometry/geometry.h"
+
 namespace c3d {
 namespace {
 
 constexpr double kMissM = 99.0;  // a point with no surface at all, as the judge counts it
-
-// The q-quantile with linear interpolation between order statistics (numpy's default).
-double quantile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return 0;
-  const double pos = q * double(sorted.size() - 1);
-  const size_t lo = size_t(std::floor(pos)), hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (pos - double(lo)) * (sorted[hi] - sorted[lo]);
-}
 
 double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;
@@ -43,13 +37,13 @@ RulerFigures ruler_figures(std::vector<double> d) {
   }
   r.rmse = std::sqrt(sum2 / double(r.n));
   r.rmse_within_1m = within > 0 ? std::sqrt(within2 / double(within)) : 0;
-  r.median = quantile(d, 0.5);
-  r.p95 = quantile(d, 0.95);
+  r.median = quantile_of_sorted(d, 0.5);
+  r.p95 = quantile_of_sorted(d, 0.95);
   r.max = d.back();
   std::vector<double> dev(d.size());
   for (size_t i = 0; i < d.size(); ++i) dev[i] = std::abs(d[i] - r.median);
   std::sort(dev.begin(), dev.end());
-  r.nmad = 1.4826 * quantile(dev, 0.5);
+  r.nmad = 1.4826 * quantile_of_sorted(dev, 0.5);
   r.share_over_0_3m = double(over03) / double(r.n);
   r.share_over_1m = double(over1) / double(r.n);
   return r;

@@ -165,4 +165,11 @@ double planarity_deviation(const Face& f) {
   return worst;
 }
 
+double quantile_of_sorted(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0;
+  const double at = std::clamp(q, 0.0, 1.0) * double(sorted.size() - 1);
+  const size_t lo = size_t(std::floor(at)), hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (at - double(lo)) * (sorted[hi] - sorted[lo]);
+}
+
 }  // namespace c3d

@@ -83,4 +83,8 @@ struct BuildingTotals {
 };
 BuildingTotals totals(const Building& b);
 
+// The q-quantile (0..1) of ascending `sorted`, linear between ranks (numpy's
+// default); 0 for none.
+double quantile_of_sorted(const std::vector<double>& sorted, double q);
+
 }  // namespace c3d

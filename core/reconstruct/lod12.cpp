@@ -119,9 +119,7 @@ Polygon2 prism_footprint(const Polygon2& outline, bool keep_holes) {
 double percentile(std::vector<double> values, double q) {
   if (values.empty()) return kNaN;
   std::sort(values.begin(), values.end());
-  const double at = std::clamp(q, 0.0, 1.0) * double(values.size() - 1);
-  const size_t lo = size_t(std::floor(at)), hi = std::min(lo + 1, values.size() - 1);
-  return values[lo] + (at - double(lo)) * (values[hi] - values[lo]);
+  return quantile_of_sorted(values, q);
 }
 
 Building lod12_prism(const PrismInput& in) {
