@@ -144,3 +144,25 @@ TEST(Report, CliWritesReportFromStoreAndChromiumRendersIt) {
   ASSERT_TRUE(fs::exists(png)) << "chromium rc " << rc;
   EXPECT_GT(fs::file_size(png), 50000u);  // a blank page is a few kB
 }
+
+TEST(Report, SaysWhichBuildingIsAnLod12PrismAndWhy) {
+  // An officer must see that a building's areas come from the LoD 1.2 prism.
+  Sample s;
+  Building& b = s.model.results[0].buildings[0];
+  b.lod = "1.2";
+  b.lod_note = "LoD 2.2 invalid (not_closed): LoD 1.2 prism at the 70th percentile of its roof points";
+  const std::string html = report_html(s.model, s.vals);
+  EXPECT_NE(html.find(b.id + ": LoD 1.2 (LoD 2.2 invalid (not_closed)"), std::string::npos);
+  EXPECT_NE(html.find(s.model.results[1].buildings[0].id + ": LoD 2.2,"), std::string::npos);
+  const auto rows = parse_csv(report_csv(s.model, s.vals));
+  const size_t lod = size_t(std::find(rows[0].begin(), rows[0].end(), "lod") - rows[0].begin());
+  ASSERT_LT(lod, rows[0].size());
+  const size_t building = size_t(std::find(rows[0].begin(), rows[0].end(), "building_id") - rows[0].begin());
+  int prisms = 0;
+  for (size_t i = 1; i < rows.size(); ++i)
+    if (rows[i][0] == "element") {
+      EXPECT_EQ(rows[i][lod], rows[i][building] == b.id ? "1.2" : "2.2");
+      prisms += rows[i][lod] == "1.2";
+    }
+  EXPECT_EQ(prisms, int(b.elements.size()));
+}

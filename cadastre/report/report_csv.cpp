@@ -12,7 +12,7 @@ using namespace report_detail;
 namespace {
 
 const char* const kCsvColumns[] = {
-    "record", "parcel_id", "status", "reason", "right_type", "building_id", "element_index",
+    "record", "parcel_id", "status", "reason", "right_type", "building_id", "lod", "element_index",
     "element_type", "area_m2", "sigma_area_m2", "plan_area_m2", "slope_deg", "azimuth_deg",
     "support_points", "rmse_m", "wall_evidence", "unit_cost", "amount", "sigma_amount", "roof_m2",
     "wall_m2", "party_wall_m2", "ground_m2", "outer_ceiling_m2", "land_area_m2",
@@ -78,7 +78,7 @@ std::string report_csv(const BatchModel& m, const std::vector<ParcelValuation>& 
       for (int k = 0; k < int(b.elements.size()); ++k) {
         const Element& e = b.elements[size_t(k)];
         CsvRow er;
-        er.set("record", "element").set("parcel_id", p.id).set("building_id", b.id)
+        er.set("record", "element").set("parcel_id", p.id).set("building_id", b.id).set("lod", b.lod)
             .set("element_index", std::to_string(k)).set("element_type", to_string(e.type))
             .num("area_m2", e.area, "%.3f").num("sigma_area_m2", e.sigma_area, "%.3f")
             .num("plan_area_m2", e.plan_area, "%.3f").num("slope_deg", e.slope_deg)

@@ -163,9 +163,11 @@ std::string parcel_sections(const BatchModel& m, const std::vector<ParcelValuati
              to_string(r.status));
     if (!r.reason.empty()) s += "<p>" + html_escape(r.reason) + "</p>";
     for (const Building& b : r.buildings)
-      s += fmt("<p class=\"meta\">%s: volume %.1f m&#179;, eave %.2f m, ridge %.2f m, %d storey(s), "
+      s += fmt("<p class=\"meta\">%s: LoD %s%s, volume %.1f m&#179;, eave %.2f m, ridge %.2f m, %d storey(s), "
                "solid %s; roof deviation RMSE %.3f m (%ld points), wall %.3f m (%ld points)</p>",
-               html_escape(b.id).c_str(), b.volume, b.eave_height, b.ridge_height, b.storeys,
+               html_escape(b.id).c_str(), html_escape(b.lod).c_str(),
+               b.lod_note.empty() ? "" : (" (" + html_escape(b.lod_note) + ")").c_str(), b.volume,
+               b.eave_height, b.ridge_height, b.storeys,
                b.solid_valid ? "closed" : ("open: " + html_escape(b.solid_problem)).c_str(),
                b.roof_deviation.rmse, b.roof_deviation.n, b.wall_deviation.rmse, b.wall_deviation.n);
     if (!r.buildings.empty()) s += element_table(r, v);
