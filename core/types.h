@@ -42,6 +42,16 @@ struct ClassMapping {
   std::vector<int> roof{6};
   std::vector<int> wall{64};
   std::vector<int> ground{2};
+  bool is_roof(int code) const { return holds(roof, code); }
+  bool is_wall(int code) const { return holds(wall, code); }
+  bool is_ground(int code) const { return holds(ground, code); }
+
+ private:
+  static bool holds(const std::vector<int>& codes, int c) {
+    for (int k : codes)
+      if (k == c) return true;
+    return false;
+  }
 };
 
 struct Polygon2 {

@@ -10,10 +10,6 @@
 namespace c3d {
 namespace {
 
-bool has_class(const std::vector<int>& set, int c) {
-  return std::find(set.begin(), set.end(), c) != set.end();
-}
-
 void split_classes(const PointCloud& cloud, const ClassMapping& m, LoadedInputs& in,
                    std::vector<Vec3>& ground) {
   if (cloud.classes.empty()) {  // an unclassified cloud is taken as roof points
@@ -23,9 +19,9 @@ void split_classes(const PointCloud& cloud, const ClassMapping& m, LoadedInputs&
   }
   for (size_t i = 0; i < cloud.points.size(); ++i) {
     int c = cloud.classes[i];
-    if (has_class(m.roof, c)) in.roof.push_back(cloud.points[i]);
-    else if (has_class(m.wall, c)) in.wall.push_back(cloud.points[i]);
-    else if (has_class(m.ground, c)) ground.push_back(cloud.points[i]);
+    if (m.is_roof(c)) in.roof.push_back(cloud.points[i]);
+    else if (m.is_wall(c)) in.wall.push_back(cloud.points[i]);
+    else if (m.is_ground(c)) ground.push_back(cloud.points[i]);
   }
 }
 

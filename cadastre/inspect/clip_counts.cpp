@@ -10,8 +10,6 @@
 namespace c3d {
 namespace {
 
-bool has(const std::vector<int>& codes, int c) { return std::find(codes.begin(), codes.end(), c) != codes.end(); }
-
 // Adds one cloud's points to the counts; returns those in no parcel's buffer.
 long count_cloud(const PointCloud& c, const ParcelClipper& clipper, const ClassMapping& classes,
                  std::vector<ParcelPointCount>& rows) {
@@ -24,8 +22,8 @@ long count_cloud(const PointCloud& c, const ParcelClipper& clipper, const ClassM
       ParcelPointCount& r = rows[p];
       (clipper.inside(p, pt.x(), pt.y()) ? r.in_parcel : r.in_buffer)++;
       if (!c.classes.empty()) {
-        r.roof += has(classes.roof, c.classes[i]);
-        r.wall += has(classes.wall, c.classes[i]);
+        r.roof += classes.is_roof(c.classes[i]);
+        r.wall += classes.is_wall(c.classes[i]);
       }
     }
   return long(std::count(used.begin(), used.end(), 0));

@@ -19,8 +19,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool has_code(const std::vector<int>& codes, int c) { return std::count(codes.begin(), codes.end(), c) > 0; }
-
 }  // namespace
 
 SurfaceKind surface_kind(const MeshGroup& group, const Face& face) {
@@ -76,8 +74,8 @@ RoofWallPoints roof_and_wall_points(const PointCloud& cloud, const ClassMapping&
   out.unclassified = cloud.classes.empty();
   for (size_t i = 0; i < cloud.points.size(); ++i) {
     const int c = out.unclassified ? classes.roof.front() : cloud.classes[i];
-    if (has_code(classes.roof, c)) out.roof.push_back(cloud.points[i]);
-    else if (has_code(classes.wall, c)) out.wall.push_back(cloud.points[i]);
+    if (classes.is_roof(c)) out.roof.push_back(cloud.points[i]);
+    else if (classes.is_wall(c)) out.wall.push_back(cloud.points[i]);
   }
   return out;
 }
