@@ -126,12 +126,14 @@ void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
   const std::vector<double> roof_d = distances_to(roof_in, roofs);
   if (!roofs.empty()) report.any_model_roof = deviation(roof_d), report.roof_ruler = ruler_figures(roof_d);
   if (walls.empty()) return;
-  report.any_model_wall = deviation(distances_to(wall_near, walls));
+  const std::vector<double> wall_d = distances_to(wall_near, walls);
+  report.any_model_wall = deviation(wall_d);
+  if (wall_d.empty()) return;  // no wall face with an area
   const std::vector<char> of_building = near_rings(wall_near, footprint_rings(report.model), kFootprintReachM);
-  std::vector<Vec3> measured;
+  std::vector<double> measured;  // the wall points of modelled buildings
   for (size_t k = 0; k < wall_near.size(); ++k)
-    if (of_building[k]) measured.push_back(wall_near[k]);
-  report.wall_ruler = ruler_figures(distances_to(measured, walls));
+    if (of_building[k]) measured.push_back(wall_d[k]);
+  report.wall_ruler = ruler_figures(measured);
   if (!wall_near.empty()) report.wall_points_measured = double(measured.size()) / double(wall_near.size());
 }
 
