@@ -1,6 +1,5 @@
 #include "cadastre/store.h"
 
-#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -134,15 +133,9 @@ void Store::Impl::prepare() {
                        "status IN ('ok','empty')");
 }
 
-std::int64_t Store::begin_run(const std::string& params_json,
-                              const std::vector<std::string>& input_files, const LocalFrame& frame) {
+std::int64_t Store::begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
+                              const LocalFrame& frame) {
   if (!impl_) throw InputError("store", "begin_run before open");
-  std::vector<InputFile> inputs;
-  for (const auto& f : input_files) {
-    std::error_code ec;
-    auto bytes = std::filesystem::file_size(f, ec);
-    inputs.push_back({f, sha256_file(f), ec ? -1 : std::int64_t(bytes)});
-  }
   auto& db = impl_->db;
   sql::Transaction tx(db);
   sql::Stmt run(db, std::string("INSERT INTO run (tool_version, parameters, crs_epsg, origin_x, "

@@ -14,16 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "core/io/sha256.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
 namespace c3d {
-
-struct InputFile {
-  std::string path;
-  std::string sha256;
-  std::int64_t bytes = 0;
-};
 
 struct RunRecord {
   std::int64_t id = 0;
@@ -52,9 +47,9 @@ class Store {
   // Creates the GeoPackage (or opens an existing one, whose CRS must match).
   // epsg 0 with a WKT registers a custom CRS; both empty: undefined Cartesian.
   void open(const std::string& path, const std::string& crs_wkt, int epsg);
-  // Starts a run record: parameters (JSON text), input files (SHA-256 taken
-  // here), the batch's local frame. Returns the run id.
-  std::int64_t begin_run(const std::string& params_json, const std::vector<std::string>& input_files,
+  // Starts a run record: parameters (JSON text), input files (with their
+  // SHA-256), the batch's local frame. Returns the run id.
+  std::int64_t begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
                          const LocalFrame& frame = {});
   // Marks parcels pending (one transaction) unless already done with the same key.
   void mark_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& inputs_keys);

@@ -265,7 +265,7 @@ TEST(Store, RunRecordsInputChecksums) {
   std::ofstream(input) << "abc";
   Store s;
   s.open(dir + "/cadastre.gpkg", "", 32748);
-  s.begin_run("{\"voxel_m\":0}", {input});
+  s.begin_run("{\"voxel_m\":0}", {describe_input_file(input)});
   s.end_run();
   s.close();
   auto runs = load_runs(dir + "/cadastre.gpkg");

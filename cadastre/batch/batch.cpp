@@ -28,9 +28,9 @@ BatchRun describe_run(const LoadedInputs& in, const BatchInputs& inputs, const C
   run.crs_wkt = in.crs_wkt;
   run.frame = frame;
   run.parameters = run_parameters(cfg);
-  run.input_files = inputs.files();
+  for (const auto& f : inputs.files()) run.inputs.push_back(describe_input_file(f));
   run.parcels = &in.layer.parcels;
-  const std::string key = run_key(cfg, run.input_files);
+  const std::string key = run_key(cfg, run.inputs);
   for (const auto& p : in.layer.parcels) run.parcel_keys.push_back(parcel_key(key, p));
   return run;
 }

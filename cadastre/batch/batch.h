@@ -14,6 +14,7 @@
 
 #include "core/config/config.h"
 #include "core/evaluate/ruler.h"
+#include "core/io/sha256.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
@@ -42,7 +43,7 @@ struct BatchRun {
   std::string crs_wkt;
   LocalFrame frame;                       // local = world - frame.origin
   std::string parameters;                 // the effective configuration, JSON text
-  std::vector<std::string> input_files;
+  std::vector<InputFile> inputs;          // every input file with its SHA-256 (read once)
   const std::vector<Parcel>* parcels = nullptr;  // the layer, world coordinates
   std::vector<std::string> parcel_keys;   // per parcel: what its result depends on (resume key)
 };

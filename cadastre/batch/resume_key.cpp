@@ -12,9 +12,9 @@ std::string run_parameters(const Config& cfg) {
   return j.dump();
 }
 
-std::string run_key(const Config& cfg, const std::vector<std::string>& input_files) {
+std::string run_key(const Config& cfg, const std::vector<InputFile>& inputs) {
   std::string s = config_fingerprint(cfg);
-  for (const auto& f : input_files) s += "|" + sha256_file(f);
+  for (const auto& f : inputs) s += "|" + f.sha256;
   return sha256_hex(s);
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/config/config.h"
+#include "core/io/sha256.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -15,7 +16,7 @@ std::string run_parameters(const Config& cfg);
 
 // The key of a whole run: config_fingerprint (every parameter, not the file's
 // name) and the SHA-256 of every input file's content (not its name).
-std::string run_key(const Config& cfg, const std::vector<std::string>& input_files);
+std::string run_key(const Config& cfg, const std::vector<InputFile>& inputs);
 
 // A parcel's key: the run key, its id and its own shape.
 std::string parcel_key(const std::string& run_key, const Parcel& p);

@@ -13,7 +13,7 @@ void StoreSink::begin(const BatchRun& run) {
   const auto dir = std::filesystem::path(path_).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
   store_.open(path_, run.crs_wkt, epsg_of(run.crs_wkt));
-  store_.begin_run(run.parameters, run.input_files, run.frame);
+  store_.begin_run(run.parameters, run.inputs, run.frame);
   store_.mark_pending(*parcels_, keys_);
 }
 

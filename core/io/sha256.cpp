@@ -1,6 +1,7 @@
 #include "core/io/sha256.h"
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -93,6 +94,12 @@ std::string sha256_file(const std::string& path) {
     h.update(buf.data(), std::size_t(in.gcount()));
   }
   return h.hex();
+}
+
+InputFile describe_input_file(const std::string& path) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  return {path, sha256_file(path), ec ? -1 : std::int64_t(bytes)};
 }
 
 }  // namespace c3d

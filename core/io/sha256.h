@@ -27,4 +27,13 @@ std::string sha256_hex(const std::string& data);
 // Streams the file; throws InputError when it cannot be read.
 std::string sha256_file(const std::string& path);
 
+// An input file by its content, as a run records it.
+struct InputFile {
+  std::string path;
+  std::string sha256;
+  std::int64_t bytes = 0;  // -1 when the size cannot be read
+};
+// Reads the file once for its checksum; throws InputError when it cannot be read.
+InputFile describe_input_file(const std::string& path);
+
 }  // namespace c3d
