@@ -339,11 +339,9 @@ int drop_unmodellable(ModelledParcel& m) {
   return dropped;
 }
 
-// What the parcel's reason says of a building: its LoD 1.2 and why, or that its
-// solid is invalid ("" for a valid LoD 2.2 model).
+// What the parcel's reason says of a building: its LoD 1.2 and why ("" for an
+// LoD 2.2 model). Every building here is valid: drop_unmodellable took the rest.
 std::string building_reason(const Building& b) {
-  if (!b.solid_valid)
-    return b.id + ": solid not valid (" + b.solid_problem + ")" + (b.lod_note.empty() ? "" : "; " + b.lod_note);
   return b.lod_note.empty() ? "" : b.id + ": " + b.lod_note;
 }
 
