@@ -53,18 +53,7 @@ TEST(ReconstructBadInput, RoofCrossingTheBoundaryStaysWholeWithItsOverhang) {
 // where no parcel lies beyond the boundary (a street): no neighbour to meet.
 TEST(ReconstructBadInput, RoofHiddenUnderANeighboursEaveRunsOnToAPartyWall) {
   auto model = [](bool north_wall_seen, bool neighbour_beyond = true) {
-    std::mt19937_64 rng(17);
-    ParcelScene s = square_parcel_scene();
-    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
-    if (neighbour_beyond) s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
-    s.roof_points = sample_plane(plane_through({0, 2, 104}, {0, 0.2, 1}), 3, 17, 2, 9.7, 40, 0.02, rng);
-    const auto eave = sample_plane(plane_through({0, 0, 108}, {0, 0, 1}), 1, 19, 9.7, 18, 40, 0.02, rng);
-    s.roof_points.insert(s.roof_points.end(), eave.begin(), eave.end());
-    if (north_wall_seen) {
-      EnvelopeInput walls;
-      see_wall(walls, {16, 9.2}, {4, 9.2}, 5, 1500, 100.3, 102.3);
-      s.wall_points = walls.wall_points;
-    }
+    const ParcelScene s = roof_under_a_neighbours_eave(north_wall_seen, neighbour_beyond);
     ParcelResult r = reconstruct_parcel(s, params());
     EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
     EXPECT_EQ(r.buildings.size(), 1u);

@@ -125,18 +125,7 @@ TEST(OwnershipValue, QueriesAnswerFromTheValueAlone) {
 // stands free and keeps its outline.
 TEST(OwnershipValue, OutlineGrowsUnderANeighboursHigherEave) {
   auto grown = [](bool north_wall_seen) {
-    std::mt19937_64 rng(17);
-    ParcelScene s = square_parcel_scene();
-    s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
-    s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
-    s.roof_points = sample_plane(plane_through({0, 2, 104}, {0, 0.2, 1}), 3, 17, 2, 9.7, 40, 0.02, rng);
-    const auto eave = sample_plane(plane_through({0, 0, 108}, {0, 0, 1}), 1, 19, 9.7, 18, 40, 0.02, rng);
-    s.roof_points.insert(s.roof_points.end(), eave.begin(), eave.end());
-    if (north_wall_seen) {
-      EnvelopeInput walls;
-      see_wall(walls, {16, 9.2}, {4, 9.2}, 5, 1500, 100.3, 102.3);
-      s.wall_points = walls.wall_points;
-    }
+    const ParcelScene s = roof_under_a_neighbours_eave(north_wall_seen);
     const Segmentation seg = segment_roofs(s.roof_points, params());
     const Ownership own = decide_ownership(s, seg, params());
     std::set<int> roofs;  // the shed's: the roofs of the components kept on the parcel

@@ -174,4 +174,25 @@ inline Segmentation no_roofs(const ParcelScene& s) {
   return seg;
 }
 
+// This parcel's shed roof (x 3..17, y 2..9.7 at 104 m, falling north) stops
+// 0.3 m short of the boundary y = 10, where the neighbour's roof 5 m higher
+// (x 1..19, y 9.7..18) hangs over it; with north_wall_seen, 1500 points of the
+// house's north wall 0.5 m inside its edge; without neighbour_beyond, no
+// parcel beyond the boundary (a street).
+inline ParcelScene roof_under_a_neighbours_eave(bool north_wall_seen, bool neighbour_beyond = true) {
+  std::mt19937_64 rng(17);
+  ParcelScene s = square_parcel_scene();
+  s.parcel = {Polygon2{{{0, 0}, {20, 0}, {20, 10}, {0, 10}}, {}}};
+  if (neighbour_beyond) s.neighbours = {{Polygon2{{{0, 10}, {20, 10}, {20, 24}, {0, 24}}, {}}}};
+  s.roof_points = sample_plane(plane_through({0, 2, 104}, {0, 0.2, 1}), 3, 17, 2, 9.7, 40, 0.02, rng);
+  const auto eave = sample_plane(plane_through({0, 0, 108}, {0, 0, 1}), 1, 19, 9.7, 18, 40, 0.02, rng);
+  s.roof_points.insert(s.roof_points.end(), eave.begin(), eave.end());
+  if (north_wall_seen) {
+    EnvelopeInput walls;
+    see_wall(walls, {16, 9.2}, {4, 9.2}, 5, 1500, 100.3, 102.3);
+    s.wall_points = walls.wall_points;
+  }
+  return s;
+}
+
 }  // namespace c3d::test
