@@ -181,6 +181,7 @@ ModelledBuilding model_building(const ParcelContext& c, const BuildingPlan& bp, 
   c.clock.lap("roof partition input");
   partition_over(grow_under_neighbour_eaves(bp.outline, c.own, roofs_of(c.roofs, bp.components), bp.room), rp, c, ei);
   ei.wall_points = c.scene.wall_points;
+  ei.roof_points = c.scene.roof_points;
   ei.terrain = c.scene.terrain;
   ei.default_overhang = c.p.default_overhang_m;
   ei.storey_height = c.p.storey_height_m;

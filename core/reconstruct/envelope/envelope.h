@@ -47,6 +47,7 @@ struct EnvelopeInput {
   std::vector<RoofRegion> roof;       // partition of the outline
   std::vector<PlaneFit> fits;         // plane fit per roof region (same order)
   std::vector<Vec3> wall_points;      // local coordinates
+  std::vector<Vec3> roof_points;      // the roof class, facades an airborne scan grazed included
   std::vector<bool> party_edge;       // per outline edge i (outer[i] -> outer[i+1])
   std::function<double(double, double)> terrain;  // local terrain z, NaN outside
   double default_overhang = 0.5;

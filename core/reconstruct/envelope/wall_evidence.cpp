@@ -81,6 +81,20 @@ constexpr double kMinOutside = 0.05;
 // this is no growth (numerical slivers along the edge).
 constexpr double kMinGrowth = 0.05;        // m^2
 constexpr double kGrowSimplify = 0.005;    // m: vertex tolerance of the grown outline
+// sparse_wall: an airborne scanner grazes the facades, and its building class
+// holds those few points with the roof's. Points lower than the eave above
+// them by kBelowEave (a gutter or fascia hangs less) lie on a wall; three of
+// them at one offset (two fit any line) within kSparseWindow (an airborne
+// point's scatter across a facade) show the wall, where they are most of the
+// edge's low points (kMinSparseShare), not clutter beside a few. Pooled over a
+// building, whose edges' directions are known, two agreeing points show its
+// overhang (kMinPooledPoints).
+constexpr double kBelowEave = 0.5;      // m
+constexpr int kMinSparsePoints = 3;
+constexpr int kMinPooledPoints = 2;
+constexpr double kMinWallSpan = 0.5;    // m of height the window's points span
+constexpr double kSparseWindow = 0.3;   // m, full width
+constexpr double kMinSparseShare = 0.5;
 
 namespace {
 
@@ -152,7 +166,72 @@ WallFit wall_at(const std::vector<std::pair<double, double>>& st, double centre,
   return fit;
 }
 
+// Distance in plan from p to segment a -> b.
+double to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 d = b - a;
+  const double t = std::clamp(d.dot(p - a) / std::max(d.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (p - (a + t * d)).norm();
+}
+
+// The outline edge nearest to p in plan: a facade point shows that edge's
+// wall, not the opposite one a narrow building holds within kMaxOverhang.
+size_t nearest_edge(const std::vector<OutlineEdge>& edges, const Vec2& p) {
+  size_t best = 0;
+  double dmin = INFINITY;
+  for (size_t i = 0; i < edges.size(); ++i)
+    if (const double dist = to_segment(p, edges[i].a, edges[i].b); dist < dmin) dmin = dist, best = i;
+  return best;
+}
+
+// The wall the facade points `s` show: the fullest kSparseWindow of their
+// offsets, its median; found=false where too few points, too small a share
+// of them, or too low a span of heights (a porch roof, a car: one height;
+// a wall: from the eave down) show one.
+WallFit wall_in_offsets(std::vector<FacadePoint> s, int min_points) {
+  std::sort(s.begin(), s.end(), [](const FacadePoint& a, const FacadePoint& b) { return a.offset < b.offset; });
+  size_t first = 0, count = 0;
+  for (size_t i = 0, j = 0; i < s.size(); ++i) {
+    while (s[i].offset - s[j].offset > kSparseWindow) ++j;
+    if (i + 1 - j > count) first = j, count = i + 1 - j;
+  }
+  if (count < size_t(min_points) || count < kMinSparseShare * s.size()) return {};
+  double lo = INFINITY, hi = -INFINITY;
+  for (size_t i = first; i < first + count; ++i) lo = std::min(lo, s[i].z), hi = std::max(hi, s[i].z);
+  if (hi - lo < kMinWallSpan) return {};
+  const double median = 0.5 * (s[first + (count - 1) / 2].offset + s[first + count / 2].offset);
+  double sum2 = 0;
+  for (size_t i = first; i < first + count; ++i) sum2 += (s[i].offset - median) * (s[i].offset - median);
+  return {true, median, int(count), std::sqrt(sum2 / count)};
+}
+
 }  // namespace
+
+std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges) {
+  std::vector<FacadePoints> offsets(edges.size());
+  if (edges.empty()) return offsets;
+  for (const auto& p : in.roof_points) {
+    const size_t i = nearest_edge(edges, p.head<2>());
+    const OutlineEdge& e = edges[i];
+    const Vec2 d = direction(e), n = outward(d), q = p.head<2>() - e.a;
+    const double len = (e.b - e.a).norm(), t = d.dot(q), s = n.dot(q);
+    if (e.party || len < kMinWallEdge || t < kFitFrom * len || t > kFitTo * len || s < -kMaxOverhang ||
+        s > kMaxOutside)
+      continue;
+    const double eave = roof_z(in.roof, e.a + t * d - kTopProbeNear * n);
+    const double ground = in.terrain(p.x(), p.y());
+    if (!(p.z() < eave - kBelowEave) || p.z() < ground + kWallFootClearance) continue;  // NaN passes neither way
+    offsets[i].push_back({s, p.z()});
+  }
+  return offsets;
+}
+
+WallFit sparse_wall(const FacadePoints& offsets) { return wall_in_offsets(offsets, kMinSparsePoints); }
+
+WallFit pooled_sparse_wall(const std::vector<FacadePoints>& offsets) {
+  FacadePoints all;
+  for (const auto& s : offsets) all.insert(all.end(), s.begin(), s.end());
+  return wall_in_offsets(std::move(all), kMinPooledPoints);
+}
 
 double weighted_median(std::vector<Weighted> v) {
   std::sort(v.begin(), v.end(), [](const Weighted& a, const Weighted& b) { return a.value < b.value; });
@@ -219,47 +298,82 @@ WallFit fit_edge_wall(const EnvelopeInput& in, const OutlineEdge& e, bool beyond
                   beyond_ends);
 }
 
-std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
+namespace {
+
+// The outline's edges; party edges (on the parcel boundary, shared with the
+// neighbour) marked, with the boundary's sigma.
+std::vector<OutlineEdge> outline_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
   std::vector<OutlineEdge> edges(ring.size());
-  std::vector<SeenWall> seen;
   for (size_t i = 0; i < ring.size(); ++i) {
     OutlineEdge& e = edges[i];
     e.a = ring[i];
     e.b = ring[(i + 1) % ring.size()];
     e.party = i < in.party_edge.size() && in.party_edge[i];
-    if (e.party) {  // on the parcel boundary, shared with the neighbour
-      e.evidence = WallEvidence::ParcelBoundary;
-      e.sigma = kPartySigma;
-      continue;
-    }
-    const WallFit fit = wall_on_outline(in, e);
-    if (fit.found && -fit.offset < kMaxOverhang) {
-      e.overhang = std::max(0.0, -fit.offset);
-      e.evidence = WallEvidence::Measured;
-      e.support = fit.support;
-      // A wall seen outside the outline stays under the roof at the outline:
-      // its distance to the points it stands for is part of its error.
-      e.sigma = kMeasuredSigma + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
-      seen.push_back({i, direction(e), {e.overhang, (e.b - e.a).norm()}});
-    }
+    if (e.party) e.evidence = WallEvidence::ParcelBoundary, e.sigma = kPartySigma;
   }
-  if (seen.empty()) {
-    // No wall of this building seen (a row house between its neighbours): the
-    // facade line may continue on the neighbours just past the edge's ends.
-    for (auto& e : edges) {
-      if (e.party) continue;
-      const WallFit fit = fit_edge_wall(in, e, true);
-      if (!fit.found) continue;
-      e.overhang = std::max(0.0, -fit.offset);
-      e.evidence = WallEvidence::Propagated;
-      e.support = fit.support;
-      e.sigma = kContinuedSigma + fit.rms / std::sqrt(double(fit.support));
-    }
+  return edges;
+}
+
+// Each edge's own wall where the wall points, or failing them the roof
+// class's facade points (`low`, per edge), show one: measured.
+std::vector<SeenWall> measure_own_walls(const EnvelopeInput& in, std::vector<OutlineEdge>& edges,
+                                        const std::vector<FacadePoints>& low) {
+  std::vector<SeenWall> seen;
+  for (size_t i = 0; i < edges.size(); ++i) {
+    OutlineEdge& e = edges[i];
+    if (e.party) continue;
+    WallFit fit = wall_on_outline(in, e);
+    if (!fit.found) fit = sparse_wall(low[i]);
+    if (!fit.found || -fit.offset >= kMaxOverhang) continue;
+    e.overhang = std::max(0.0, -fit.offset);
+    e.evidence = WallEvidence::Measured;
+    e.support = fit.support;
+    // A wall seen outside the outline stays under the roof at the outline:
+    // its distance to the points it stands for is part of its error.
+    e.sigma = kMeasuredSigma + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
+    seen.push_back({i, direction(e), {e.overhang, (e.b - e.a).norm()}});
   }
+  return seen;
+}
+
+// No wall of this building seen (a row house between its neighbours): the
+// facade line may continue on the neighbours just past the edge's ends.
+void continue_neighbours_facades(const EnvelopeInput& in, std::vector<OutlineEdge>& edges) {
+  for (auto& e : edges) {
+    if (e.party) continue;
+    const WallFit fit = fit_edge_wall(in, e, true);
+    if (!fit.found) continue;
+    e.overhang = std::max(0.0, -fit.offset);
+    e.evidence = WallEvidence::Propagated;
+    e.support = fit.support;
+    e.sigma = kContinuedSigma + fit.rms / std::sqrt(double(fit.support));
+  }
+}
+
+}  // namespace
+
+std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
+  std::vector<OutlineEdge> edges = outline_edges(in);
+  // A scene with a wall scan shows its walls there; its roof class's low
+  // points are then porches, fences and clutter the wall scan has placed.
+  const std::vector<FacadePoints> low =
+      in.wall_points.empty() ? facade_offsets(in, edges) : std::vector<FacadePoints>(edges.size());
+  const std::vector<SeenWall> seen = measure_own_walls(in, edges, low);
+  if (seen.empty()) continue_neighbours_facades(in, edges);
   double spread = kUnseenSpread;
   double typical = in.default_overhang;
   WallEvidence fill = WallEvidence::Default;
+  if (seen.empty()) {
+    // No edge shows its own wall, but together they may (a shed's few facade
+    // points): the building's overhang, each edge's wall within its scatter.
+    const WallFit pooled = pooled_sparse_wall(low);
+    if (pooled.found && -pooled.offset < kMaxOverhang) {
+      typical = std::max(0.0, -pooled.offset);
+      spread = std::max(kMinSpread, pooled.rms);
+      fill = WallEvidence::Propagated;
+    }
+  }
   std::vector<double> facade(edges.size(), typical);
   if (!seen.empty()) {
     std::vector<Weighted> measured;

@@ -59,4 +59,24 @@ bool continues_step(const OutlineEdge& e, const std::vector<RoofRegion>& roof);
 // it; beyond_ends as for fit_wall.
 WallFit fit_edge_wall(const EnvelopeInput& in, const OutlineEdge& e, bool beyond_ends = false);
 
+// A point on a wall: its offset from the edge (negative: inside), its height.
+struct FacadePoint {
+  double offset, z;
+};
+using FacadePoints = std::vector<FacadePoint>;
+
+// The offsets from each of `edges` (negative: inside) of the roof class's
+// points that lie on a wall under it: each point along its nearest edge's
+// middle, lower than the eave just inside that edge by kBelowEave, above the
+// terrain's clutter (an airborne scan's facade points).
+std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges);
+
+// The wall a few facade points of one edge show: the fullest 0.3 m window of
+// their offsets, its median; found=false where too few, or too small a share
+// of them, show one.
+WallFit sparse_wall(const FacadePoints& offsets);
+
+// The wall the facade points of all edges show together (a building's overhang).
+WallFit pooled_sparse_wall(const std::vector<FacadePoints>& offsets);
+
 }  // namespace c3d::envelope
