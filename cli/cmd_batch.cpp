@@ -27,6 +27,8 @@ struct BatchOptions {
   bool optimize = false;
   std::string device;  // optimizer device: auto | cpu | vulkan
   bool quiet = false;
+  bool classify = false;                   // classify the clouds first (core/classify)
+  std::string model = C3D_DEFAULT_MODEL;   // the classifier's model
 };
 
 // The configuration the batch runs with: the file's, then the command line's overrides.
@@ -64,6 +66,7 @@ int run(BatchOptions opt) {
   const auto t_start = std::chrono::steady_clock::now();
   if (opt.quiet) log::set_level(log::Level::Warn);
   const Config cfg = effective_config(opt);
+  if (opt.classify) opt.inputs.classifier_model = opt.model;
   fs::create_directories(opt.out);
   const std::string store_path = (fs::path(opt.out) / "cadastre.gpkg").string();
   StoreSink sink(store_path);
@@ -107,6 +110,9 @@ void register_batch(CLI::App& app) {
   cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");
   cmd->add_option("--device", opt->device, "Optimizer device: auto, cpu or vulkan")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  cmd->add_flag("--classify", opt->classify,
+                "Classify the clouds first (ground/roof/wall/other, Random Forest), replacing their classes");
+  cmd->add_option("--model", opt->model, "Classifier model for --classify")->capture_default_str();
   cmd->add_flag("--quiet", opt->quiet, "Print nothing but warnings and errors");
   cmd->callback([opt] { exit_code() = run(*opt); });
 }

@@ -69,6 +69,9 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--clutter", a->opt.clutter_share, "Share of buildings with an antenna or a water tank")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--trees", a->opt.trees_per_parcel, "Trees per parcel on open land (class 5); 0: none")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 20.0));
   cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));

@@ -20,6 +20,7 @@ void register_report(CLI::App& app);
 void register_export(CLI::App& app);
 void register_validate(CLI::App& app);
 void register_optimize(CLI::App& app);
+void register_classify(CLI::App& app);
 
 // Set by a command's callback; returned by main.
 int& exit_code();

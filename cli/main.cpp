@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   register_export(app);
   register_validate(app);
   register_optimize(app);
+  register_classify(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -28,6 +28,9 @@ struct BatchInputs {
   std::vector<std::string> walls;
   std::string parcels;  // any OGR vector source
   std::string dtm;      // any GDAL raster; may be empty
+  // A point classifier model (core/classify): when set, every --cloud is
+  // classified before clipping and its own classes are replaced; empty: none.
+  std::string classifier_model;
   std::vector<std::string> files() const;  // every input file, in a fixed order
 };
 

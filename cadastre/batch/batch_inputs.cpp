@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/classify/classify.h"
 #include "core/error.h"
 #include "core/io/crs.h"
 #include "core/io/point_io.h"
+#include "core/log.h"
 
 namespace c3d {
 namespace {
@@ -25,6 +27,22 @@ void split_classes(const PointCloud& cloud, const ClassMapping& m, LoadedInputs&
   }
 }
 
+// Replaces the classes of every classified cloud by the forest's (batch --classify).
+void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, size_t n, const Dtm* dtm,
+                     const ClassMapping& classes, std::vector<std::string>& warnings) {
+  const PointForest forest = PointForest::load(model);
+  for (size_t i = 0; i < n; ++i) {
+    std::string note;
+    const Dtm terrain = dtm ? Dtm{} : terrain_from_cloud(clouds[i], classes, &note);
+    if (note.rfind("no DTM", 0) == 0) warnings.push_back(clouds[i].source + ": " + note);
+    const Classification c = classify_points(forest, clouds[i].points, dtm ? *dtm : terrain);
+    write_classes(clouds[i], c.classes, classes);
+    log::info(clouds[i].source + ": classified " + std::to_string(c.classes.size()) + " points: ground " +
+              std::to_string(c.counts[0]) + ", roof " + std::to_string(c.counts[1]) + ", wall " +
+              std::to_string(c.counts[2]) + ", other " + std::to_string(c.counts[3]));
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> BatchInputs::files() const {
@@ -32,6 +50,7 @@ std::vector<std::string> BatchInputs::files() const {
   out.insert(out.end(), walls.begin(), walls.end());
   out.push_back(parcels);
   if (!dtm.empty()) out.push_back(dtm);
+  if (!classifier_model.empty()) out.push_back(classifier_model);
   return out;
 }
 
@@ -47,6 +66,9 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
   auto rec = reconcile_crs(in.layer, clouds, have_dtm ? &in.dtm : nullptr);
   in.crs_wkt = rec.crs_wkt;
   in.warnings.insert(in.warnings.end(), rec.warnings.begin(), rec.warnings.end());
+  if (!inputs.classifier_model.empty())
+    classify_clouds(inputs.classifier_model, clouds, n_class_clouds, have_dtm ? &in.dtm : nullptr, cfg.classes,
+                    in.warnings);
   std::vector<Vec3> ground;
   for (size_t i = 0; i < clouds.size(); ++i) {
     if (i < n_class_clouds) split_classes(clouds[i], cfg.classes, in, ground);

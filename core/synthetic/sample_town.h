@@ -75,7 +75,7 @@ struct TruthBuilding {
 // at z = 0). One Building per house (RowHouse: house_widths.size(), else 1).
 std::vector<TruthBuilding> make_truth_buildings(const BuildingParams& p);
 
-enum class PointTag : std::uint8_t { Surface = 0, Outlier = 1, Clutter = 2 };
+enum class PointTag : std::uint8_t { Surface = 0, Outlier = 1, Clutter = 2, Vegetation = 3 };
 
 struct SampleOptions {
   std::uint64_t seed = 1;
@@ -88,6 +88,9 @@ struct SampleOptions {
   double outlier_share = 0.002;     // of roof points
   double clutter_share = 0.3;       // of buildings with an antenna or a water tank
   double wall_occlusion = 0.25;     // share of exterior walls without any point
+  // Trees on open land (class 5, PointTag::Vegetation), drawn from a random stream of
+  // their own after every other point: 0 leaves the town exactly as without them.
+  double trees_per_parcel = 0;
   int epsg = 32748;
   double origin_easting = 781000, origin_northing = 9240000;  // south-west of the town
   bool with_points = true;          // false: parcels, DTM and truth only
@@ -103,7 +106,7 @@ struct SampleTown {
   std::vector<Parcel> parcels;                     // world coordinates, layer order
   std::vector<SampleLayout> layouts;               // per parcel
   std::vector<std::vector<TruthBuilding>> truth;   // per parcel; local coordinates
-  PointCloud cloud;                                // world coordinates, classes 6/64/2
+  PointCloud cloud;                                // world coordinates, classes 6/64/2 (5: trees)
   std::vector<PointTag> point_tags;                // per point
   Dtm dtm;                                         // complete terrain (no holes), world
   std::vector<std::uint8_t> dtm_nodata;            // 1 where dtm.tif holds NoData

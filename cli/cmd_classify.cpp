@@ -1,0 +1,87 @@
+// cadastre3d classify: a cloud's points labelled ground / roof / wall / other by
+// the shipped Random Forest (core/classify); --train and --evaluate rebuild and
+// judge that model on the project's labelled data (cadastre/classify).
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "cadastre/classify/training.h"
+#include "cli/commands.h"
+#include "core/classify/classify.h"
+#include "core/config/config.h"
+#include "core/error.h"
+#include "core/io/dtm_io.h"
+#include "core/io/point_io.h"
+
+namespace c3d::cli {
+namespace {
+
+struct ClassifyArgs {
+  std::string cloud, out, dtm, config, cimahi, table;
+  std::string model = C3D_DEFAULT_MODEL;
+  bool train = false, evaluate = false;
+};
+
+void run_classify(const ClassifyArgs& a) {
+  const Config cfg = a.config.empty() ? default_config() : load_config(a.config);
+  const PointForest forest = PointForest::load(a.model);
+  PointCloud cloud = read_point_cloud(a.cloud);
+  std::string note = "terrain from " + a.dtm;
+  const Dtm terrain = a.dtm.empty() ? terrain_from_cloud(cloud, cfg.classes, &note) : read_dtm(a.dtm);
+  const Classification c = classify_points(forest, cloud.points, terrain);
+  write_classes(cloud, c.classes, cfg.classes);
+  write_las(a.out, cloud);
+  std::cout << "classify: " << cloud.points.size() << " points (" << note << ")\n";
+  for (int k = 0; k < kPointClassCount; ++k)
+    std::cout << "  " << to_string(PointClass(k)) << " (class " << int(class_code(PointClass(k), cfg.classes))
+              << "): " << c.counts[k] << "\n";
+  std::cout << "written: " << a.out << "\n";
+}
+
+void run_training(const ClassifyArgs& a) {
+  TrainingOptions opt;
+  opt.cimahi_dir = a.cimahi;
+  const TrainingData data = training_data(opt);
+  PointForest forest;
+  if (a.train) {
+    forest = train_forest(data, opt);
+    forest.save(a.out);
+    std::cout << "model: " << a.out << "\n";
+  } else {
+    forest = PointForest::load(a.model);
+  }
+  std::vector<Evaluation> evals;
+  for (const auto& set : data.held_out) evals.push_back(evaluate(forest, set));
+  const std::string table = evaluation_table(evals);
+  std::cout << table;
+  if (!a.table.empty()) std::ofstream(a.table) << table;
+}
+
+}  // namespace
+
+void register_classify(CLI::App& app) {
+  auto a = std::make_shared<ClassifyArgs>();
+  auto* cmd = app.add_subcommand(
+      "classify", "Label a cloud's points ground / roof / wall / other with the shipped Random Forest; "
+                  "--train rebuilds the model, --evaluate judges it on held-out data");
+  cmd->add_option("--cloud", a->cloud, "Point cloud to classify: LAS, PLY, PCD, XYZ/CSV");
+  cmd->add_option("--out", a->out, "Output LAS (classify) or model file (--train)");
+  cmd->add_option("--dtm", a->dtm, "Terrain model; default: from ground-class points, else the lowest points");
+  cmd->add_option("--model", a->model, "Classifier model")->capture_default_str();
+  cmd->add_option("--config", a->config, "TOML config: its [classes] codes are written");
+  cmd->add_flag("--train", a->train, "Train a model on the sample towns and Cimahi, write it to --out");
+  cmd->add_flag("--evaluate", a->evaluate, "Precision and recall of --model on the held-out data");
+  cmd->add_option("--cimahi", a->cimahi, "Cimahi data folder for --train / --evaluate");
+  cmd->add_option("--table", a->table, "Also write the held-out table (Markdown) here");
+  cmd->callback([a] {
+    if (a->train || a->evaluate) {
+      if (a->train && a->out.empty()) throw CLI::ValidationError("--train", "needs --out MODEL");
+      run_training(*a);
+      return;
+    }
+    if (a->cloud.empty() || a->out.empty()) throw CLI::ValidationError("classify", "needs --cloud IN and --out OUT.las");
+    run_classify(*a);
+  });
+}
+
+}  // namespace c3d::cli

@@ -1,0 +1,82 @@
+// Trees on the parcels' open land, for the point classifier's training and tests:
+// a crown of returns through an ellipsoid's outer shell and a few trunk points.
+// Their own random stream, drawn after every other point, so a town with trees
+// holds exactly the points of the same town without them, plus the trees.
+#include <cmath>
+
+#include "core/synthetic/sample_detail.h"
+
+namespace c3d {
+
+using namespace sample_detail;
+
+namespace {
+
+constexpr std::uint64_t kTreeStream = 0x7472656573ULL;  // "trees": a stream apart from the town's
+constexpr std::uint8_t kVegetationClass = 5;             // ASPRS high vegetation
+constexpr double kCrownReturnsPerRoofPoint = 0.8;        // a crown returns a little less than a roof
+
+bool on_any_roof(const SampleTown& town, size_t parcel, const Vec2& p) {
+  for (const auto& tb : town.truth[parcel])
+    for (const auto& e : tb.model.elements)
+      if (e.type == ElementType::Roof)
+        for (const auto& f : e.faces) {
+          bool inside = true;
+          for (size_t i = 0, n = f.ring.size(); i < n && inside; ++i) {
+            Vec2 a = f.ring[i].head<2>(), b = f.ring[(i + 1) % n].head<2>();
+            inside = (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x() >= 0;
+          }
+          if (inside) return true;
+        }
+  return false;
+}
+
+void add_point(SampleTown& town, Rng& rng, const Vec3& local, double sigma) {
+  Vec3 n(rng.normal(), rng.normal(), rng.normal());
+  town.cloud.points.push_back(town.frame.to_world(Vec3(local + n * sigma)));
+  town.cloud.classes.push_back(kVegetationClass);
+  town.point_tags.push_back(PointTag::Vegetation);
+}
+
+void one_tree(SampleTown& town, const SampleOptions& opt, Rng& rng, const Vec3& base) {
+  const double radius = rng.uniform(1.5, 3.5), half_height = rng.uniform(1.2, 2.8);
+  const double crown_z = base.z() + half_height + rng.uniform(1.5, 5.0);
+  const long crown = rng.count(opt.roof_density * kCrownReturnsPerRoofPoint * kPi * radius * radius);
+  for (long i = 0; i < crown; ++i) {
+    Vec3 d(rng.normal(), rng.normal(), rng.normal());
+    d.normalize();
+    if (d.z() < 0 && rng.chance(0.6)) d.z() = -d.z();  // most returns come from the top
+    const double depth = std::cbrt(rng.uniform(0.3, 1.0));  // through the outer shell of leaves
+    add_point(town, rng, base + Vec3(d.x() * radius * depth, d.y() * radius * depth,
+                                     crown_z - base.z() + d.z() * half_height * depth),
+              opt.roof_noise);
+  }
+  const double trunk_top = crown_z - half_height - base.z();
+  const long trunk = rng.count(trunk_top * opt.roof_density / 10);
+  for (long i = 0; i < trunk; ++i) {
+    const double a = rng.uniform(0, 2 * kPi);
+    add_point(town, rng, base + Vec3(0.15 * std::cos(a), 0.15 * std::sin(a), rng.uniform(0, trunk_top)),
+              opt.roof_noise);
+  }
+}
+
+}  // namespace
+
+void sample_detail::sample_trees(SampleTown& town, const SampleOptions& opt,
+                                 const std::vector<TownParcel>& tp, double town_angle) {
+  Rng rng(opt.seed ^ kTreeStream);
+  const Placement toloc{Vec2::Zero(), town_angle};
+  for (size_t pi = 0; pi < town.parcels.size(); ++pi) {
+    const Rect& r = tp[pi].rect;
+    const long trees = rng.count(opt.trees_per_parcel);
+    for (long t = 0, tries = 0; t < trees && tries < 50; ++tries) {
+      const Vec2 p = toloc.to_local(Vec2(rng.uniform(r.u0 + 1, r.u1 - 1), rng.uniform(r.v0 + 1, r.v1 - 1)));
+      if (on_any_roof(town, pi, p)) continue;
+      const Vec2 w = town.frame.to_world(p);
+      one_tree(town, opt, rng, Vec3(p.x(), p.y(), town.dtm.height_at(w.x(), w.y()) - town.frame.origin.z()));
+      ++t;
+    }
+  }
+}
+
+}  // namespace c3d
