@@ -114,7 +114,7 @@ TEST(EnvelopeFacadePoints, FacadeOffsetsGoToTheNearestEdge) {
   in.roof_points.emplace_back(0.2, 4.0, 1.0);  // west wall
   in.roof_points.emplace_back(5.0, 4.0, 1.0);  // the middle: deeper than any overhang
   const std::vector<OutlineEdge> edges = measure_edges(in);
-  const std::vector<FacadePoints> low = facade_offsets(in, edges);
+  const std::vector<FacadePoints> low = facade_offsets(in, edges, in.roof_points);
   ASSERT_EQ(low.size(), 4u);
   ASSERT_EQ(low[0].size(), 1u);
   EXPECT_NEAR(low[0][0].offset, -0.3, 1e-12);

@@ -206,10 +206,11 @@ WallFit wall_in_offsets(std::vector<FacadePoint> s, int min_points) {
 
 }  // namespace
 
-std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges) {
+std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges,
+                                         const std::vector<Vec3>& points) {
   std::vector<FacadePoints> offsets(edges.size());
   if (edges.empty()) return offsets;
-  for (const auto& p : in.roof_points) {
+  for (const auto& p : points) {
     const size_t i = nearest_edge(edges, p.head<2>());
     const OutlineEdge& e = edges[i];
     const Vec2 d = direction(e), n = outward(d), q = p.head<2>() - e.a;
@@ -355,10 +356,12 @@ void continue_neighbours_facades(const EnvelopeInput& in, std::vector<OutlineEdg
 
 std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
   std::vector<OutlineEdge> edges = outline_edges(in);
-  // A scene with a wall scan shows its walls there; its roof class's low
-  // points are then porches, fences and clutter the wall scan has placed.
+  // The few wall points where too few show a wall for fit_wall (a classified
+  // airborne scan's facades); where the scene has no wall class, the roof
+  // class's low points (an airborne building class holds the facades). With
+  // wall points, the roof class's low points are porches and clutter.
   const std::vector<FacadePoints> low =
-      in.wall_points.empty() ? facade_offsets(in, edges) : std::vector<FacadePoints>(edges.size());
+      facade_offsets(in, edges, in.wall_points.empty() ? in.roof_points : in.wall_points);
   const std::vector<SeenWall> seen = measure_own_walls(in, edges, low);
   if (seen.empty()) continue_neighbours_facades(in, edges);
   double spread = kUnseenSpread;

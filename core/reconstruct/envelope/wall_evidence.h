@@ -65,11 +65,12 @@ struct FacadePoint {
 };
 using FacadePoints = std::vector<FacadePoint>;
 
-// The offsets from each of `edges` (negative: inside) of the roof class's
-// points that lie on a wall under it: each point along its nearest edge's
+// The offsets from each of `edges` (negative: inside) of those `points`
+// that lie on a wall under it: each point along its nearest edge's
 // middle, lower than the eave just inside that edge by kBelowEave, above the
 // terrain's clutter (an airborne scan's facade points).
-std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges);
+std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges,
+                                         const std::vector<Vec3>& points);
 
 // The wall a few facade points of one edge show: the fullest 0.3 m window of
 // their offsets, its median; found=false where too few, or too small a share
