@@ -50,6 +50,9 @@ constexpr double kSnapM = 0.02;
 // Two layers standing on the same one keep this far apart: touching at a
 // corner, they would pinch the shell there (four walls on one vertical edge).
 constexpr double kSiblingGapM = 0.1;
+// A footprint layer lower than this over the terrain is no building: its
+// roof points lie on the ground (bad terrain or bad points), as for the prism.
+constexpr double kMinHeightM = 0.1;
 // Solids that fail the check are tried again without their smallest layer, this many times.
 constexpr int kRetries = 6;
 
@@ -304,6 +307,7 @@ Building lod13_layers(const PrismInput& in, const std::vector<Vec3>& roof_points
   lo.max_layers = kMaxLayers;
   const std::vector<Layer> layers = lod13::layer_tree(g, lo);
   if (layers.empty()) return without_layers(in.building_id, "no cell of the footprint");
+  if (!(layers[0].z - terrain_z >= kMinHeightM)) return without_layers(in.building_id, "the roof points lie at the terrain");
   Outlines o = outlines_of(g, layers, in, roof_points, lo.min_area_m2);
   o.summary.cell = cell;
   Building b;
@@ -315,11 +319,6 @@ Building lod13_layers(const PrismInput& in, const std::vector<Vec3>& roof_points
     if (!defect.empty()) b.solid_valid = false, b.solid_problem = defect;
     log::debug(in.building_id + ": LoD 1.3 of " + std::to_string(o.pieces.size()) + " layers: " +
                (b.solid_valid ? "valid" : b.solid_problem));
-    for (const auto& p : o.pieces) {
-      std::string t = "LAYER " + in.building_id + " " + std::to_string(p.z);
-      for (const auto& v : p.outline.outer) t += " " + std::to_string(v.x()) + "," + std::to_string(v.y());
-      log::debug(t);
-    }
     if (b.solid_valid || o.pieces.size() < 2) break;
     o.pieces.erase(o.pieces.begin() + long(smallest_layer(o.pieces)));
   }
