@@ -138,9 +138,10 @@ struct Building {
   int storeys = 1;
   bool solid_valid = false;       // closed, 2-manifold, outward oriented
   std::string solid_problem;      // why not valid
-  // The level of detail modelled: "2.2" (roof planes, the element model) or
-  // "1.2" (one prism, where the 2.2 model could not be made valid), and why
-  // it is not 2.2 ("" for a 2.2 model that is valid).
+  // The level of detail modelled: "2.2" (roof planes, the element model),
+  // "1.3" (height layers, where the 2.2 model could not be made valid) or
+  // "1.2" (one prism, where the layers failed too), and why it is not 2.2
+  // ("" for a 2.2 model that is valid).
   std::string lod = "2.2";
   std::string lod_note;
   Deviation roof_deviation, wall_deviation;

@@ -3,7 +3,8 @@
 // translate = frame origin, deduplicated; each building has a MultiSurface (one
 // semantic surface object per element, carrying its area attributes) on the
 // Building or on its BuildingParts, and a Solid (the closed shell) on the
-// Building; both of lod "2" for an LoD 2.2 model and "1.2" for an LoD 1.2 prism.
+// Building; both of lod "2" for an LoD 2.2 model, "1.2" for an LoD 1.2 prism and
+// "1.3" for LoD 1.3 layers.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -258,11 +259,12 @@ struct Reader {
     }
   }
 
-  // Reads the LoD 2 geometry, or an LoD 1.2 prism's (the building's lod then says so).
+  // Reads the LoD 2 geometry, or an LoD 1.2 prism's or LoD 1.3 layers' (the
+  // building's lod then says so).
   void geometry(const json& g, Building& b, Ordered& els) const {
     const json lj = g.value("lod", json());
     const std::string lod = lj.is_string() ? lj.get<std::string>() : lj.dump();
-    if (lod == "1.2") b.lod = lod;
+    if (lod == "1.2" || lod == "1.3") b.lod = lod;
     else if (lod.empty() || lod[0] != '2') return;
     std::string type = g.value("type", "");
     if (type == "MultiSurface" || type == "CompositeSurface") elements(g, els);

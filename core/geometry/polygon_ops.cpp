@@ -12,7 +12,9 @@
 #include <geos/operation/buffer/BufferOp.h>
 #include <geos/operation/buffer/BufferParameters.h>
 #include <geos/operation/distance/IndexedFacetDistance.h>
+#include <geos/geom/PrecisionModel.h>
 #include <geos/operation/linemerge/LineMerger.h>
+#include <geos/operation/overlayng/UnaryUnionNG.h>
 #include <geos/operation/polygonize/Polygonizer.h>
 #include <geos/operation/union/UnaryUnionOp.h>
 #include <geos/operation/valid/MakeValid.h>
@@ -274,7 +276,7 @@ std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const Mul
   return out;
 }
 
-MultiPolygon2 planar_faces(const MultiPolygon2& shapes) {
+MultiPolygon2 planar_faces(const MultiPolygon2& shapes, double grid) {
   std::vector<GeomPtr> lines;
   auto add_ring = [&](const Ring2& r) {
     if (r.size() < 3) return;
@@ -289,7 +291,10 @@ MultiPolygon2 planar_faces(const MultiPolygon2& shapes) {
   }
   if (lines.empty()) return {};
   auto all = factory().createMultiLineString(std::move(lines));
-  GeomPtr noded = all->Union();  // nodes every crossing and shared stretch
+  // nodes every crossing and shared stretch; on a grid by snap rounding
+  GeomPtr noded = grid > 0 ? geos::operation::overlayng::UnaryUnionNG::Union(
+                                 all.get(), geos::geom::PrecisionModel(1.0 / grid))
+                           : all->Union();
   geos::operation::polygonize::Polygonizer polygonizer;
   polygonizer.add(static_cast<const Geometry*>(noded.get()));
   MultiPolygon2 out;

@@ -44,8 +44,10 @@ std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const Mul
                                                double tolerance);
 // Faces of the planar subdivision made by all rings of the given polygons:
 // the boundaries are noded together and polygonized, so two faces that meet
-// share the very same vertices along their common edge.
-MultiPolygon2 planar_faces(const MultiPolygon2& shapes);
+// share the very same vertices along their common edge. With grid > 0 the
+// noding is snap-rounded to that grid (GEOS OverlayNG): every vertex on it,
+// and none nearer an edge it is not on than half a grid step.
+MultiPolygon2 planar_faces(const MultiPolygon2& shapes, double grid = 0);
 // A point strictly inside the polygon (GEOS interior point).
 Vec2 interior_point(const Polygon2& p);
 // Land outside `a` and `b`, within `reach` of b, that lies nearer to b than

@@ -1,8 +1,8 @@
 #pragma once
 // LoD 1.2 (the 3D-city / 3DBAG convention): one prism over a building's
 // outline, from the mean terrain under it up to the 70th percentile of its own
-// roof points' heights. The fallback where a building's LoD 2.2 model cannot be
-// made valid: a simpler, valid solid of the same kinds of elements (one flat
+// roof points' heights. The fallback where a building's LoD 2.2 model and its
+// LoD 1.3 layers (lod13/lod13.h) cannot be made valid: a simpler, valid solid of the same kinds of elements (one flat
 // roof, one wall per footprint edge, the ground), measured like any other.
 #include <functional>
 #include <string>

@@ -19,6 +19,7 @@
 #include "core/reconstruct/building_plan.h"
 #include "core/reconstruct/envelope/envelope.h"
 #include "core/reconstruct/lod12.h"
+#include "core/reconstruct/lod13/lod13.h"
 #include "core/reconstruct/measure/measure.h"
 #include "core/reconstruct/ownership/ownership.h"
 #include "core/reconstruct/roof/roof.h"
@@ -268,18 +269,32 @@ void remodel_defective(const ParcelContext& c, ModelledParcel& m) {
   }
 }
 
-// The heights of building `bp`'s own roof points: its planes' points and the
-// points of its roofs no plane took that lie inside `footprint`.
-std::vector<double> own_roof_heights(const ParcelContext& c, const BuildingPlan& bp, const Polygon2& footprint) {
-  std::vector<double> z;
+// Building `bp`'s own roof points: its planes' points and the points of its
+// roofs no plane took that lie inside `footprint`.
+std::vector<Vec3> own_roof_points(const ParcelContext& c, const BuildingPlan& bp, const Polygon2& footprint) {
+  std::vector<Vec3> pts;
   for (int k : bp.components)
-    for (int i : c.roofs.components[size_t(k)].points) z.push_back(c.scene.roof_points[size_t(i)].z());
+    for (int i : c.roofs.components[size_t(k)].points) pts.push_back(c.scene.roof_points[size_t(i)]);
   const std::set<int> roofs = roofs_of(c.roofs, bp.components);
   const MultiPolygon2 inside{footprint};
   for (size_t i = 0; i < c.scene.roof_points.size(); ++i)
     if (c.roofs.label[i] < 0 && roofs.count(c.roofs.roof_of[i]) && poly::covers(inside, plan(c.scene.roof_points[i])))
-      z.push_back(c.scene.roof_points[i].z());
-  return z;
+      pts.push_back(c.scene.roof_points[i]);
+  return pts;
+}
+
+// What the prism and the layers of plan `bp` are built from (see lod12.h).
+PrismInput prism_input(const ParcelContext& c, const BuildingPlan& bp, const std::string& id, bool holes) {
+  PrismInput in;
+  in.building_id = id;
+  in.footprint = prism_footprint(bp.outline, holes);
+  if (in.footprint.outer.size() >= 3) in.party_edge = find_party_edges(in.footprint, c.own);
+  for (const auto& q : own_roof_points(c, bp, in.footprint)) in.roof_heights.push_back(q.z());
+  in.terrain = c.scene.terrain;
+  in.spacing = c.roofs.spacing;
+  in.default_overhang = c.p.default_overhang_m;
+  in.storey_height = c.p.storey_height_m;
+  return in;
 }
 
 // The LoD 1.2 prism of plan `bp` (see lod12.h) and why it fails ("" when it
@@ -288,15 +303,7 @@ std::vector<double> own_roof_heights(const ParcelContext& c, const BuildingPlan&
 std::pair<Building, std::string> lod12_of(const ParcelContext& c, const BuildingPlan& bp, const std::string& id) {
   std::pair<Building, std::string> out;
   for (bool holes : {true, false}) {
-    PrismInput in;
-    in.building_id = id;
-    in.footprint = prism_footprint(bp.outline, holes);
-    if (in.footprint.outer.size() >= 3) in.party_edge = find_party_edges(in.footprint, c.own);
-    in.roof_heights = own_roof_heights(c, bp, in.footprint);
-    in.terrain = c.scene.terrain;
-    in.spacing = c.roofs.spacing;
-    in.default_overhang = c.p.default_overhang_m;
-    in.storey_height = c.p.storey_height_m;
+    const PrismInput in = prism_input(c, bp, id, holes);
     out.first = lod12_prism(in);
     out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
     if (out.second.empty() || in.footprint.holes.empty()) break;
@@ -304,20 +311,40 @@ std::pair<Building, std::string> lod12_of(const ParcelContext& c, const Building
   return out;
 }
 
+// The LoD 1.3 of plan `bp` (see lod13/lod13.h) and why it fails ("" when it
+// passes check_solid and the face rules); with a courtyard as lod12_of.
+std::pair<Building, std::string> lod13_of(const ParcelContext& c, const BuildingPlan& bp, const std::string& id) {
+  std::pair<Building, std::string> out;
+  for (bool holes : {true, false}) {
+    const PrismInput in = prism_input(c, bp, id, holes);
+    out.first = lod13_layers(in, own_roof_points(c, bp, in.footprint), face_defect);
+    out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
+    if (out.second.empty() || in.footprint.holes.empty()) break;
+  }
+  return out;
+}
+
 // A building whose LoD 2.2 model is still invalid after remodel_defective
-// becomes its LoD 1.2 prism where that is valid, and says so; where even the
-// prism fails it stays as it is, invalid, and says that too.
-void fall_back_to_lod12(const ParcelContext& c, ModelledParcel& m) {
+// becomes its LoD 1.3 layers where those are valid, else its LoD 1.2 prism
+// where that is valid, and says so; where even the prism fails it stays as it
+// is, invalid, and says that too.
+void fall_back_to_lower_lod(const ParcelContext& c, ModelledParcel& m) {
   bool tried = false;
   for (size_t k = 0; k < m.buildings.size(); ++k) {
     Building& b = m.buildings[k];
     if (b.solid_valid) continue;  // remodel_defective marked face defects invalid
     tried = true;
-    auto [prism, why] = lod12_of(c, m.plans[k], b.id);
-    adopt_prism(b, std::move(prism), why);
+    auto [layered, why13] = lod13_of(c, m.plans[k], b.id);
+    if (why13.empty()) {
+      adopt_lod13(b, std::move(layered));
+    } else {
+      auto [prism, why] = lod12_of(c, m.plans[k], b.id);
+      adopt_prism(b, std::move(prism), why);
+      b.lod_note += "; no valid LoD 1.3 (" + why13 + ")";
+    }
     log::info(b.id + ": " + b.lod_note);
   }
-  if (tried) c.clock.lap("lod 1.2");
+  if (tried) c.clock.lap("lod 1.3 / 1.2");
 }
 
 // A building with no valid model at any LoD is not reported as modelled (no
@@ -340,7 +367,7 @@ int drop_unmodellable(ModelledParcel& m) {
   return dropped;
 }
 
-// What the parcel's reason says of a building: its LoD 1.2 and why ("" for an
+// What the parcel's reason says of a building: its LoD 1.3 / 1.2 and why ("" for an
 // LoD 2.2 model). Every building here is valid: drop_unmodellable took the rest.
 std::string building_reason(const Building& b) {
   return b.lod_note.empty() ? "" : b.id + ": " + b.lod_note;
@@ -385,7 +412,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     clock.lap("boundary");
     ModelledParcel m = model_work_list(c, std::deque<BuildingPlan>(plans.begin(), plans.end()));
     remodel_defective(c, m);
-    fall_back_to_lod12(c, m);
+    fall_back_to_lower_lod(c, m);
     const int dropped = drop_unmodellable(m);
     if (m.buildings.empty()) {
       r.status = dropped > 0 ? ParcelStatus::Failed : ParcelStatus::Empty;
