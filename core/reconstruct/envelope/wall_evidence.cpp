@@ -93,6 +93,10 @@ constexpr double kBelowEave = 0.5;      // m
 constexpr int kMinSparsePoints = 3;
 constexpr int kMinPooledPoints = 2;
 constexpr double kMinWallSpan = 0.5;    // m of height the window's points span
+// A hanging roof is a margin of the roof: an overhang assumed where no wall
+// is seen takes at most this share of the roof's plan (a garden shed's
+// eaves are a hand wide, not the configured house's half metre).
+constexpr double kMaxUnseenOverhangShare = 0.3;
 constexpr double kSparseWindow = 0.3;   // m, full width
 constexpr double kMinSparseShare = 0.5;
 
@@ -338,6 +342,17 @@ std::vector<SeenWall> measure_own_walls(const EnvelopeInput& in, std::vector<Out
   return seen;
 }
 
+// The overhang assumed where no wall is seen: the configured default, at
+// most what leaves kMaxUnseenOverhangShare of the roof's plan to the
+// overhangs along the edges that have one (area lost ~ perimeter x overhang).
+double unseen_overhang(const EnvelopeInput& in, const std::vector<OutlineEdge>& edges) {
+  double perimeter = 0;
+  for (const auto& e : edges)
+    if (!e.party) perimeter += (e.b - e.a).norm();
+  if (perimeter <= 0) return in.default_overhang;
+  return std::min(in.default_overhang, kMaxUnseenOverhangShare * area(in.outline) / perimeter);
+}
+
 // No wall of this building seen (a row house between its neighbours): the
 // facade line may continue on the neighbours just past the edge's ends.
 void continue_neighbours_facades(const EnvelopeInput& in, std::vector<OutlineEdge>& edges) {
@@ -365,7 +380,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
   const std::vector<SeenWall> seen = measure_own_walls(in, edges, low);
   if (seen.empty()) continue_neighbours_facades(in, edges);
   double spread = kUnseenSpread;
-  double typical = in.default_overhang;
+  double typical = unseen_overhang(in, edges);
   WallEvidence fill = WallEvidence::Default;
   if (seen.empty()) {
     // No edge shows its own wall, but together they may (a shed's few facade
