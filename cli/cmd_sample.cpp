@@ -72,6 +72,10 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--trees", a->opt.trees_per_parcel, "Trees per parcel on open land (class 5); 0: none")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 20.0));
+  cmd->add_option("--sheds", a->opt.sheds_per_parcel,
+                  "Garden sheds per parcel on open land (not in truth.json); 0: none")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 5.0));
   cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));

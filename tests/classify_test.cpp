@@ -115,6 +115,29 @@ TEST(ClassifyModel, TreesLeaveTheTownAsItWas) {
   }
 }
 
+TEST(ClassifyModel, ShedsAreLowRoofsOnOpenLandAndLeaveTheTownAsItWas) {
+  SampleOptions o;
+  o.parcels = 4;
+  const SampleTown plain = make_sample_town(o);
+  o.sheds_per_parcel = 2;
+  const SampleTown shedded = make_sample_town(o);
+  ASSERT_GT(shedded.cloud.points.size(), plain.cloud.points.size());
+  for (size_t i = 0; i < plain.cloud.points.size(); ++i) ASSERT_EQ(shedded.cloud.points[i], plain.cloud.points[i]);
+  size_t roof = 0;
+  for (size_t i = plain.cloud.points.size(); i < shedded.cloud.points.size(); ++i) {
+    const auto cls = shedded.cloud.classes[i];
+    ASSERT_TRUE(cls == 6 || cls == 64);  // a roof and its facade returns
+    ASSERT_EQ(shedded.point_tags[i], PointTag::Surface);
+    if (cls != 6) continue;
+    ++roof;  // 2-3 m above the terrain: a shed, not a house
+    const Vec3& p = shedded.cloud.points[i];
+    const double above = p.z() - shedded.dtm.height_at(p.x(), p.y());
+    ASSERT_GT(above, 1.6);
+    ASSERT_LT(above, 3.4);
+  }
+  EXPECT_GT(roof, 0u);
+}
+
 TEST(ClassifyCli, RoundTripWritesThePipelinesCodes) {
   const std::string dir = test::temp_dir("town");
   ASSERT_EQ(test::run_cli("sample --out " + dir + " --parcels 4 --trees 1 --density 15"), 0);

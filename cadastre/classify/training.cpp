@@ -17,14 +17,16 @@ namespace {
 constexpr int kHeldOutParcelEvery = 3;  // Cimahi: parcels 2, 5, 8, ... in layer order are held out
 constexpr int kTownParcels = 20;        // two blocks of 2 x 5: every layout, streets, open land
 
-// A survey kind: densities per m2 (roof, wall, open ground), noise, trees per parcel.
+// A survey kind: densities per m2 (roof, wall, open ground), noise, trees and
+// garden sheds per parcel (low roofs beside trees: without them a forest
+// learns that low and small is vegetation, and misses every annex).
 struct Survey {
-  double roof, wall, ground, noise, trees;
+  double roof, wall, ground, noise, trees, sheds;
 };
 constexpr Survey kSurveys[] = {
-    {10, 1.5, 6, 0.05, 2.0},  // airborne: a few facade returns, dense ground
-    {40, 20, 3, 0.03, 1.5},   // UAV roofs with handheld walls (Cimahi's kind)
-    {80, 4, 8, 0.04, 1.0},    // dense UAV, oblique facade returns
+    {10, 1.5, 6, 0.05, 2.0, 0.6},  // airborne: a few facade returns, dense ground
+    {40, 20, 3, 0.03, 1.5, 0.4},   // UAV roofs with handheld walls (Cimahi's kind)
+    {80, 4, 8, 0.04, 1.0, 0.4},    // dense UAV, oblique facade returns
 };
 
 SampleOptions town(std::uint64_t seed) {
@@ -38,6 +40,7 @@ SampleOptions town(std::uint64_t seed) {
   o.roof_noise = s.noise;
   o.wall_noise = s.noise;
   o.trees_per_parcel = s.trees;
+  o.sheds_per_parcel = s.sheds;
   return o;
 }
 

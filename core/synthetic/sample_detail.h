@@ -5,7 +5,7 @@
 //   sample_buildings.cpp building groups -> exact truth buildings
 //   sample_town.cpp      the town: parcels, terrain, placing the buildings
 //   sample_scan.cpp      the simulated UAV / handheld point cloud
-//   sample_trees.cpp     trees on open land (an option, for the classifier)
+//   sample_trees.cpp     trees and garden sheds on open land (options, for the classifier)
 //   sample_files.cpp     parcels, DTM, cloud and truth.json on disk
 #include <cmath>
 #include <cstdint>
@@ -137,6 +137,9 @@ void sample_points(SampleTown& town, const SampleOptions& opt, Rng& rng,
                    const std::vector<TownParcel>& tp, double town_angle);
 // opt.trees_per_parcel trees per parcel on its open land (sample_trees.cpp).
 void sample_trees(SampleTown& town, const SampleOptions& opt, const std::vector<TownParcel>& tp,
+                  double town_angle);
+// opt.sheds_per_parcel garden sheds per parcel on its open land (sample_trees.cpp).
+void sample_sheds(SampleTown& town, const SampleOptions& opt, const std::vector<TownParcel>& tp,
                   double town_angle);
 
 }  // namespace c3d::sample_detail

@@ -370,6 +370,7 @@ SampleTown make_sample_town(const SampleOptions& opt) {
   town.cloud.crs_wkt = town.crs_wkt;
   if (opt.with_points) sample_points(town, opt, rng, tp, town_angle);
   if (opt.with_points && opt.trees_per_parcel > 0) sample_trees(town, opt, tp, town_angle);
+  if (opt.with_points && opt.sheds_per_parcel > 0) sample_sheds(town, opt, tp, town_angle);
   return town;
 }
 

@@ -91,6 +91,9 @@ struct SampleOptions {
   // Trees on open land (class 5, PointTag::Vegetation), drawn from a random stream of
   // their own after every other point: 0 leaves the town exactly as without them.
   double trees_per_parcel = 0;
+  // Garden sheds on open land (2-3 m high boxes: roof class 6, facade returns
+  // class 64; not in the truth), drawn like the trees from a stream of their own.
+  double sheds_per_parcel = 0;
   int epsg = 32748;
   double origin_easting = 781000, origin_northing = 9240000;  // south-west of the town
   bool with_points = true;          // false: parcels, DTM and truth only

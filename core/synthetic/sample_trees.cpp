@@ -1,7 +1,9 @@
-// Trees on the parcels' open land, for the point classifier's training and tests:
-// a crown of returns through an ellipsoid's outer shell and a few trunk points.
-// Their own random stream, drawn after every other point, so a town with trees
-// holds exactly the points of the same town without them, plus the trees.
+// Trees and garden sheds on the parcels' open land, for the point classifier's
+// training and tests. A tree: a crown of returns through an ellipsoid's outer
+// shell and a few trunk points. A shed: a low box (what an airborne town has by
+// every house, and what a classifier must not take for a bush). Each kind has
+// its own random stream, drawn after every other point, so a town with them
+// holds exactly the points of the same town without them, plus theirs.
 #include <cmath>
 
 #include "core/synthetic/sample_detail.h"
@@ -15,6 +17,8 @@ namespace {
 constexpr std::uint64_t kTreeStream = 0x7472656573ULL;  // "trees": a stream apart from the town's
 constexpr std::uint8_t kVegetationClass = 5;             // ASPRS high vegetation
 constexpr double kCrownReturnsPerRoofPoint = 0.8;        // a crown returns a little less than a roof
+constexpr std::uint64_t kShedStream = 0x7368656473ULL;  // "sheds"
+constexpr std::uint8_t kRoofClass = 6, kWallClass = 64;
 
 bool on_any_roof(const SampleTown& town, size_t parcel, const Vec2& p) {
   for (const auto& tb : town.truth[parcel])
@@ -31,11 +35,40 @@ bool on_any_roof(const SampleTown& town, size_t parcel, const Vec2& p) {
   return false;
 }
 
-void add_point(SampleTown& town, Rng& rng, const Vec3& local, double sigma) {
+void add_point(SampleTown& town, Rng& rng, const Vec3& local, double sigma, std::uint8_t cls = kVegetationClass,
+               PointTag tag = PointTag::Vegetation) {
   Vec3 n(rng.normal(), rng.normal(), rng.normal());
   town.cloud.points.push_back(town.frame.to_world(Vec3(local + n * sigma)));
-  town.cloud.classes.push_back(kVegetationClass);
-  town.point_tags.push_back(PointTag::Vegetation);
+  town.cloud.classes.push_back(cls);
+  town.point_tags.push_back(tag);
+}
+
+// A shed of `size` (along, across the town's axes) turned by `angle`, centred
+// at c on terrain z0: a flat or gently pitched roof `height` above it, and the
+// few facade returns the survey's wall density gives its four sides.
+void one_shed(SampleTown& town, const SampleOptions& opt, Rng& rng, const Vec2& c, double z0, const Vec2& size,
+              double angle) {
+  const double height = rng.uniform(2.0, 3.0), pitch = rng.chance(0.5) ? 0.0 : rng.uniform(0.05, 0.18);
+  const Vec2 u(std::cos(angle), std::sin(angle)), v(-u.y(), u.x());
+  auto at = [&](double a, double b) { return Vec2(c + a * u + b * v); };
+  const long roof = rng.count(opt.roof_density * size.x() * size.y());
+  for (long i = 0; i < roof; ++i) {
+    const double a = rng.uniform(-0.5, 0.5) * size.x(), b = rng.uniform(-0.5, 0.5) * size.y();
+    const Vec2 p = at(a, b);
+    add_point(town, rng, Vec3(p.x(), p.y(), z0 + height - pitch * b), opt.roof_noise, kRoofClass, PointTag::Surface);
+  }
+  const double perimeter = 2 * (size.x() + size.y());
+  const long walls = rng.count(opt.wall_density * perimeter * (height - 0.3));
+  for (long i = 0; i < walls; ++i) {
+    double t = rng.uniform(0, perimeter), a, b;  // round the sides
+    if (t < size.x()) a = t - size.x() / 2, b = -size.y() / 2;
+    else if ((t -= size.x()) < size.y()) a = size.x() / 2, b = t - size.y() / 2;
+    else if ((t -= size.y()) < size.x()) a = size.x() / 2 - t, b = size.y() / 2;
+    else a = -size.x() / 2, b = size.y() / 2 - (t - size.x());
+    const Vec2 p = at(a, b);
+    add_point(town, rng, Vec3(p.x(), p.y(), z0 + rng.uniform(0.3, height - pitch * b)), opt.wall_noise, kWallClass,
+              PointTag::Surface);
+  }
 }
 
 void one_tree(SampleTown& town, const SampleOptions& opt, Rng& rng, const Vec3& base) {
@@ -75,6 +108,28 @@ void sample_detail::sample_trees(SampleTown& town, const SampleOptions& opt,
       const Vec2 w = town.frame.to_world(p);
       one_tree(town, opt, rng, Vec3(p.x(), p.y(), town.dtm.height_at(w.x(), w.y()) - town.frame.origin.z()));
       ++t;
+    }
+  }
+}
+
+void sample_detail::sample_sheds(SampleTown& town, const SampleOptions& opt,
+                                 const std::vector<TownParcel>& tp, double town_angle) {
+  Rng rng(opt.seed ^ kShedStream);
+  const Placement toloc{Vec2::Zero(), town_angle};
+  for (size_t pi = 0; pi < town.parcels.size(); ++pi) {
+    const Rect& r = tp[pi].rect;
+    const long sheds = rng.count(opt.sheds_per_parcel);
+    for (long k = 0, tries = 0; k < sheds && tries < 50; ++tries) {
+      const Vec2 size(rng.uniform(2.0, 4.0), rng.uniform(1.8, 3.0));
+      const Vec2 c(rng.uniform(r.u0 + 2.5, r.u1 - 2.5), rng.uniform(r.v0 + 2.5, r.v1 - 2.5));
+      bool free = true;  // the whole shed on open land, a step clear of every roof
+      for (double a : {-1.0, 0.0, 1.0})
+        for (double b : {-1.0, 0.0, 1.0})
+          free = free && !on_any_roof(town, pi, toloc.to_local(c + Vec2(a * (size.x() / 2 + 1), b * (size.y() / 2 + 1))));
+      if (!free) continue;
+      const Vec2 p = toloc.to_local(c), w = town.frame.to_world(p);
+      one_shed(town, opt, rng, p, town.dtm.height_at(w.x(), w.y()) - town.frame.origin.z(), size, town_angle);
+      ++k;
     }
   }
 }
