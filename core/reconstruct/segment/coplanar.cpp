@@ -13,8 +13,11 @@ namespace {
 constexpr double kCoplanarDeg = 6.0;  // planes nearer parallel than this may be one plane
 
 bool coplanar(const PlaneFit& a, const PlaneFit& b, double tol) {
-  const double deg = std::acos(std::clamp(std::abs(a.plane.n.dot(b.plane.n)), 0.0, 1.0)) * 180.0 / M_PI;
-  if (deg > kCoplanarDeg) return false;
+  const double c = std::clamp(std::abs(a.plane.n.dot(b.plane.n)), 0.0, 1.0);
+  // The angle by its cosine, clear of the threshold; acos only near it (the same answer, cheaper).
+  static const double cos_limit = std::cos(kCoplanarDeg * M_PI / 180.0);
+  if (c < cos_limit - 1e-9) return false;
+  if (c <= cos_limit + 1e-9 && std::acos(c) * 180.0 / M_PI > kCoplanarDeg) return false;
   return !(std::abs(a.plane.distance(b.centroid)) > tol || std::abs(b.plane.distance(a.centroid)) > tol);
 }
 
