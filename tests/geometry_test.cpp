@@ -66,6 +66,19 @@ TEST(Geometry, PointsAlongALineDoNotDependOnItsVertices) {
   EXPECT_NEAR((c.back() - Vec2(0.3, 0.5)).norm(), 0.0, 1e-12);
 }
 
+TEST(Geometry, TJunctionsGoIntoTheEdgeTheyLieOn) {
+  // A 3D square; of the candidate vertices, the two on its bottom edge (one
+  // 5 mm off it, within the 1 cm tolerance) go in, in order along the edge;
+  // one 2 cm off, one at a corner and one beyond the edge's end stay out.
+  const std::vector<Vec3> ring{{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}};
+  const std::vector<Vec3> verts{{3, 0.005, 0}, {1, 0, 0}, {2, 0.02, 0}, {4, 0, 0}, {5, 0, 0}};
+  const std::vector<Vec3> out = insert_on_edges(ring, verts, 0.01);
+  ASSERT_EQ(out.size(), 6u);
+  EXPECT_TRUE(out[1].isApprox(Vec3(1, 0, 0)));
+  EXPECT_TRUE(out[2].isApprox(Vec3(3, 0.005, 0)));
+  EXPECT_TRUE(out[3].isApprox(Vec3(4, 0, 0)));
+}
+
 TEST(Dtm, BilinearAndOutside) {
   Dtm d;
   d.x0 = 0.5; d.y0 = 9.5; d.dx = 1; d.dy = -1; d.nx = 2; d.ny = 2;

@@ -56,3 +56,24 @@ TEST(PolygonOps, LandBeyondASharedCornerGoesToTheNearerParcel) {
   EXPECT_FALSE(poly::covers(land, {0.75, -0.25}));
   EXPECT_TRUE(poly::nearer_to(b, poly::box({5, 0}, {6, 1}), 0.5, 0.1).empty());  // too far apart to split land
 }
+
+TEST(PolygonOps, NearZoneFindsTheSharedBoundaryOnceBuilt) {
+  // b's zone built once answers for several a: a 1 m edge shared with the
+  // square next to it, a 0.5 m stretch with the one offset half a metre, and
+  // nothing with one 1 cm away (beyond the 1e-4 m tolerance) or far off.
+  const MultiPolygon2 b = poly::box({0, 0}, {1, 1});
+  const poly::NearZone zone(b, 1e-4);
+  auto length = [](const std::vector<std::vector<Vec2>>& lines) {
+    double len = 0;
+    for (const auto& l : lines)
+      for (size_t i = 1; i < l.size(); ++i) len += (l[i] - l[i - 1]).norm();
+    return len;
+  };
+  const MultiPolygon2 side = poly::box({1, 0}, {2, 1}), offset = poly::box({1, 0.5}, {2, 1.5});
+  EXPECT_NEAR(length(zone.shared_with(side)), 1.0, 1e-3);
+  EXPECT_NEAR(length(zone.shared_with(offset)), 0.5, 1e-3);
+  EXPECT_TRUE(zone.shared_with(poly::box({1.01, 0}, {2, 1})).empty());
+  EXPECT_TRUE(zone.shared_with(poly::box({5, 5}, {6, 6})).empty());
+  // the same lines as the one-off call
+  EXPECT_EQ(zone.shared_with(offset), poly::shared_boundary(offset, b, 1e-4));
+}

@@ -104,10 +104,14 @@ std::vector<Ring3> footprint_rings(const BatchModel& model) {
 // every wall point within kWallPointReachM of a parcel against the nearest
 // wall; then the same by the judge's rulers.
 void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
-                         const ParcelClipper::IndexLists& roof_lists, BatchReport& report) {
+                         const SceneSource& scenes, BatchReport& report) {
   const std::vector<Face> roofs = world_faces(report.model, {ElementType::Roof});
   const std::vector<Face> walls = world_faces(report.model, {ElementType::Wall, ElementType::PartyWall});
-  const ParcelClipper clipper(in.layer, clip);
+  // inside() reads the parcels as they are: no buffer to build.
+  ClipParams exact = clip;
+  exact.overhang_buffer_m = 0;
+  const ParcelClipper clipper(in.layer, exact);
+  const ParcelClipper::IndexLists& roof_lists = scenes.roof_lists;
   std::vector<Vec3> roof_in;
   std::vector<char> taken(in.roof.size(), 0);
   for (size_t k = 0; k < roof_lists.size(); ++k)
@@ -116,11 +120,15 @@ void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
         taken[i] = 1;
         roof_in.push_back(in.roof[i]);
       }
+  // The scenes' wall lists reach kWallPointReachM unless the overhang buffer reaches further.
   ClipParams near = clip;
   near.overhang_buffer_m = kWallPointReachM;
+  const bool scenes_reach = clip.overhang_buffer_m <= kWallPointReachM;
+  const ParcelClipper::IndexLists wall_lists =
+      scenes_reach ? ParcelClipper::IndexLists{} : ParcelClipper(in.layer, near).clip(in.wall);
   std::vector<Vec3> wall_near;
   std::vector<char> seen(in.wall.size(), 0);
-  for (const auto& list : ParcelClipper(in.layer, near).clip(in.wall))
+  for (const auto& list : scenes_reach ? scenes.wall_lists : wall_lists)
     for (size_t k : list)
       if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
   const std::vector<double> roof_d = distances_to(roof_in, roofs);
@@ -157,7 +165,7 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
   model_parcels(todo, scenes, cfg, sink, settings, report);
   report.model = sink.end();
   report.timings.reconstruct_s = seconds_since(t_start) - report.timings.ingest_s;
-  any_model_deviation(in, cfg.clip, scenes.roof_lists, report);
+  any_model_deviation(in, cfg.clip, scenes, report);
   return report;
 }
 

@@ -60,7 +60,10 @@ std::vector<V> insert_on_edges(const std::vector<V>& ring, const std::vector<V>&
     double len2 = ab.squaredNorm();
     if (len2 < tol * tol) continue;
     std::vector<std::pair<double, V>> inner;
+    // A vertex within tol of the edge lies in its box grown by tol (2 tol: rounding).
+    const V lo = a.cwiseMin(b).array() - 2 * tol, hi = a.cwiseMax(b).array() + 2 * tol;
     for (const auto& v : verts) {
+      if ((v.array() < lo.array()).any() || (v.array() > hi.array()).any()) continue;
       double t = (v - a).dot(ab) / len2;
       if (t <= 1e-9 || t >= 1 - 1e-9) continue;
       if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)

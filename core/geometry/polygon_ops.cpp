@@ -253,15 +253,23 @@ MultiPolygon2 box(const Vec2& lo, const Vec2& hi) {
   return {Polygon2{{lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}}, {}}};
 }
 
-std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,
-                                               double tolerance) {
-  auto ga = to_geos(a), gb = to_geos(b);
-  auto ba = ga->getBoundary();
-  auto near_b = gb->buffer(tolerance, 2);
+struct NearZone::Impl {
+  GeomPtr zone;
+};
+
+NearZone::NearZone(const MultiPolygon2& b, double tolerance) : impl_(std::make_unique<Impl>()) {
+  impl_->zone = to_geos(b)->buffer(tolerance, 2);
+}
+NearZone::~NearZone() = default;
+NearZone::NearZone(NearZone&&) noexcept = default;
+NearZone& NearZone::operator=(NearZone&&) noexcept = default;
+
+std::vector<std::vector<Vec2>> NearZone::shared_with(const MultiPolygon2& a) const {
+  auto ba = to_geos(a)->getBoundary();
   std::vector<std::vector<Vec2>> out;
   GeomPtr shared;
   try {
-    shared = ba->intersection(near_b.get());
+    shared = ba->intersection(impl_->zone.get());
   } catch (const std::exception&) {
     return out;
   }
@@ -274,6 +282,11 @@ std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const Mul
     if (line.size() >= 2) out.push_back(std::move(line));
   }
   return out;
+}
+
+std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,
+                                               double tolerance) {
+  return NearZone(b, tolerance).shared_with(a);
 }
 
 MultiPolygon2 planar_faces(const MultiPolygon2& shapes, double grid) {

@@ -2,6 +2,7 @@
 // 2D polygon logic for the reconstruction, done by GEOS (kept out of this
 // header so stages only see plain Polygon2 data). Results are normalised:
 // outer rings counter-clockwise, holes clockwise, empty pieces dropped.
+#include <memory>
 #include <vector>
 
 #include "core/types.h"
@@ -39,9 +40,24 @@ bool covers(const MultiPolygon2& a, const Vec2& p);
 // Distance from p to the polygon (0 inside).
 double distance(const MultiPolygon2& a, const Vec2& p);
 MultiPolygon2 box(const Vec2& min, const Vec2& max);
-// Shared boundary of two polygons as line pieces (each a polyline).
+// Shared boundary of two polygons as line pieces (each a polyline): a's
+// boundary within `tolerance` of b.
 std::vector<std::vector<Vec2>> shared_boundary(const MultiPolygon2& a, const MultiPolygon2& b,
                                                double tolerance);
+// The same against one b many times: b's zone is built once (shared_with(a)
+// equals shared_boundary(a, b, tolerance)).
+class NearZone {
+ public:
+  NearZone(const MultiPolygon2& b, double tolerance);
+  ~NearZone();
+  NearZone(NearZone&&) noexcept;
+  NearZone& operator=(NearZone&&) noexcept;
+  std::vector<std::vector<Vec2>> shared_with(const MultiPolygon2& a) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 // Faces of the planar subdivision made by all rings of the given polygons:
 // the boundaries are noded together and polygonized, so two faces that meet
 // share the very same vertices along their common edge. With grid > 0 the

@@ -1,7 +1,7 @@
 #include "core/reconstruct/reconstruct.h"
 
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <deque>
 #include <mutex>
@@ -35,25 +35,32 @@ constexpr double kPartitionCellSpacings = 1.5;
 constexpr double kMinPartitionCellM = 0.1;
 constexpr double kMaxPartitionCellM = 0.25;
 
+// Each stage's CPU time on the calling thread (a parcel runs on one thread):
+// other parcels and other processes sharing the cores do not inflate it.
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 class StageClock {
  public:
   explicit StageClock(std::vector<Timing>& out) : out_(out) {}
   void lap(const std::string& stage) {
-    auto now = std::chrono::steady_clock::now();
-    double s = std::chrono::duration<double>(now - last_).count();
+    const double now = thread_cpu_seconds();
+    const double s = now - last_;
+    last_ = now;
     for (auto& t : out_)
       if (t.stage == stage) {
         t.seconds += s;
-        last_ = now;
         return;
       }
     out_.push_back({stage, s});
-    last_ = now;
   }
 
  private:
   std::vector<Timing>& out_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+  double last_ = thread_cpu_seconds();
 };
 
 Vec2 plan(const Vec3& p) { return p.head<2>(); }

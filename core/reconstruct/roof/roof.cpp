@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/label_grid.h"
@@ -41,6 +42,23 @@ double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
     for (size_t i = 1; i < l.size(); ++i) len += (l[i] - l[i - 1]).norm();
   return len;
 }
+
+// Each region's near zone (poly::NearZone at kSharedTol), built on first use
+// and dropped when the region changes: the same shared boundaries as
+// poly::shared_boundary without buffering a region once per pair.
+class ZoneCache {
+ public:
+  explicit ZoneCache(const std::vector<MultiPolygon2>& regions) : regions_(regions), zones_(regions.size()) {}
+  double shared_length(const MultiPolygon2& a, size_t j) {
+    if (!zones_[j]) zones_[j] = std::make_unique<poly::NearZone>(regions_[j], kSharedTol);
+    return polyline_length(zones_[j]->shared_with(a));
+  }
+  void changed(size_t j) { zones_[j].reset(); }
+
+ private:
+  const std::vector<MultiPolygon2>& regions_;
+  std::vector<std::unique_ptr<poly::NearZone>> zones_;
+};
 
 // Label grid -> one region per component.
 std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
@@ -98,6 +116,7 @@ void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, 
   }
   MultiPolygon2 gaps = poly::subtract({outline}, poly::unite_all(regions));
   for (auto& g : gaps) orphans.push_back(g);
+  ZoneCache zones(regions);
   for (const auto& o : orphans) {
     if (area(o) < kOrphanDust) continue;
     int best = -1;
@@ -105,12 +124,12 @@ void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, 
     Box ob = box_of({o});
     for (size_t i = 0; i < regions.size(); ++i) {
       if (!ob.near(box_of(regions[i]), kBoxMargin)) continue;
-      double len = polyline_length(poly::shared_boundary({o}, regions[i], kSharedTol));
+      double len = zones.shared_length({o}, i);
       if (len > best_len) best_len = len, best = int(i);
     }
     for (size_t i = 0; best < 0 && i < regions.size(); ++i)  // touching only at a corner
       if (!poly::shared_boundary({o}, regions[i], kCornerTouchTol).empty()) best = int(i);
-    if (best >= 0) regions[best] = poly::unite(regions[best], {o});
+    if (best >= 0) regions[best] = poly::unite(regions[best], {o}), zones.changed(size_t(best));
   }
 }
 
@@ -322,10 +341,11 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     fix_coverage(in.outline, regions, kMinCoverPart);
     // Longest shared boundaries first: they are the most reliable lines.
     std::vector<std::tuple<double, int, int>> pairs;
+    ZoneCache zones(regions);
     for (size_t i = 0; i < k; ++i)
       for (size_t j = i + 1; j < k; ++j) {
         if (!box_of(regions[i]).near(box_of(regions[j]), kBoxMargin)) continue;
-        double len = polyline_length(poly::shared_boundary(regions[i], regions[j], kSharedTol));
+        double len = zones.shared_length(regions[i], j);
         if (len > kMinSharedLength) pairs.emplace_back(len, int(i), int(j));
       }
     std::sort(pairs.rbegin(), pairs.rend());
@@ -355,6 +375,7 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
 
 void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec2>& points,
                       const std::vector<int>& region_of_point) {
+  ZoneCache zones(regions);
   for (size_t i = 0; i < regions.size(); ++i) {
     if (regions[i].size() < 2) continue;
     double biggest = 0;
@@ -368,13 +389,16 @@ void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec
       }
       std::vector<int> votes(regions.size(), 0);  // the fragment's points, by their region
       const MultiPolygon2 piece{part};
+      const Box pb = box_of(piece);  // a point outside the box is not covered
       for (size_t k = 0; k < points.size(); ++k)
-        if (region_of_point[k] >= 0 && poly::covers(piece, points[k])) ++votes[size_t(region_of_point[k])];
+        if (region_of_point[k] >= 0 && pb.near(Box{points[k], points[k]}, 0) && poly::covers(piece, points[k]))
+          ++votes[size_t(region_of_point[k])];
       int best = -1;
       double best_len = 0;
       for (size_t j = 0; j < regions.size(); ++j) {
         if (j == i) continue;
-        double len = polyline_length(poly::shared_boundary(piece, regions[j], kSharedTol));
+        if (!pb.near(box_of(regions[j]), kBoxMargin)) continue;  // further apart than kSharedTol: no boundary shared
+        double len = zones.shared_length(piece, j);
         if (len <= 0) continue;  // not a neighbour
         if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len))
           best_len = len, best = int(j);
@@ -384,8 +408,10 @@ void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec
         continue;
       }
       regions[size_t(best)] = poly::unite(regions[size_t(best)], piece);
+      zones.changed(size_t(best));
     }
     regions[i] = keep;
+    zones.changed(i);
   }
 }
 

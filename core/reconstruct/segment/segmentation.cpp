@@ -1,6 +1,7 @@
 #include "core/reconstruct/segment/segmentation.h"
 
 #include "core/reconstruct/planes/ransac.h"
+#include "core/reconstruct/segment/coplanar.h"
 #include "core/reconstruct/segment/neighbours.h"
 
 #include <pcl/features/normal_3d_omp.h>
@@ -117,34 +118,6 @@ std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
   rg.extract(regions);
   neighbours = rg.take_neighbours();
   return regions;
-}
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(std::abs(a.dot(b)), 0.0, 1.0)) * 180.0 / M_PI;
-}
-
-// Merges coplanar regions (over-segmentation from noise) of one roof.
-void merge_coplanar(const std::vector<Vec3>& pts, std::vector<RoofComponent>& comps,
-                    double tol) {
-  bool merged = true;
-  while (merged) {
-    merged = false;
-    for (size_t i = 0; i < comps.size() && !merged; ++i) {
-      for (size_t j = i + 1; j < comps.size() && !merged; ++j) {
-        const auto& a = comps[i].fit;
-        const auto& b = comps[j].fit;
-        if (angle_deg(a.plane.n, b.plane.n) > 6.0) continue;
-        if (std::abs(a.plane.distance(b.centroid)) > tol ||
-            std::abs(b.plane.distance(a.centroid)) > tol)
-          continue;
-        auto& dst = comps[i].points;
-        dst.insert(dst.end(), comps[j].points.begin(), comps[j].points.end());
-        comps[i].fit = fit_plane_robust(pts, dst, tol);
-        comps.erase(comps.begin() + long(j));
-        merged = true;
-      }
-    }
-  }
 }
 
 // Gives every roof point to the component whose plane fits it best among the
