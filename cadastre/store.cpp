@@ -96,8 +96,8 @@ void Store::Impl::prepare() {
   ins_element = sql::Stmt(
       db,
       "INSERT INTO building_element (geom, building_fid, element_index, element_type, area, "
-      "plan_area, slope_deg, azimuth_deg, sigma_area, support_points, rmse, wall_evidence) "
-      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?)");
+      "plan_area, slope_deg, azimuth_deg, sigma_area, support_points, rmse, wall_evidence, sigma_shared) "
+      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
   ins_vu = sql::Stmt(db,
                      "INSERT INTO vm_valuationunit (baunit_id, spatialunit_id, parcel_id, zone, "
                      "quality, land_area, land_area_source) VALUES (?,?,?,?,?,?,?)");
@@ -191,7 +191,7 @@ std::int64_t Store::Impl::write_building(
     ins_element.bind_blob(gpkg_faces_blob(e.faces, off, srs)).bind(fid).bind(i)
         .bind(to_string(e.type)).bind(e.area).bind(e.plan_area).bind(e.slope_deg)
         .bind(e.azimuth_deg).bind(e.sigma_area).bind(e.support_points).bind(e.rmse)
-        .bind(to_string(e.evidence)).run();
+        .bind(to_string(e.evidence)).bind(e.sigma_shared).run();
     elements[{b.id, i}] = db.last_id();
   }
   return fid;

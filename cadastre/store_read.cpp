@@ -89,9 +89,10 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
                "terrain_z, storeys, solid_valid, solid_problem, roof_dev_n, roof_dev_max, "
                "roof_dev_mean, roof_dev_std, roof_dev_rmse, wall_dev_n, wall_dev_max, wall_dev_mean, "
                "wall_dev_std, wall_dev_rmse, " + lod + " FROM building WHERE spatialunit_id=? ORDER BY building_index");
+  const std::string shared = store_schema::has_column(db, "building_element", "sigma_shared") ? "sigma_shared" : "0";
   sql::Stmt qe(db,
                "SELECT geom, element_type, area, plan_area, slope_deg, azimuth_deg, sigma_area, "
-               "support_points, rmse, wall_evidence FROM building_element WHERE building_fid=? "
+               "support_points, rmse, wall_evidence, " + shared + " FROM building_element WHERE building_fid=? "
                "ORDER BY element_index");
   std::vector<Building> out;
   qb.bind(su);
@@ -127,6 +128,7 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
       e.support_points = int(qe.get_int(7));
       e.rmse = qe.get_double(8);
       e.evidence = evidence_from(qe.get_text(9));
+      e.sigma_shared = qe.is_null(10) ? 0.0 : qe.get_double(10);
       b.elements.push_back(std::move(e));
     }
     qe.reset();

@@ -76,7 +76,7 @@ CREATE TABLE IF NOT EXISTS building_element (fid INTEGER PRIMARY KEY, geom MULTI
   element_index INTEGER NOT NULL,
   element_type TEXT NOT NULL CHECK (element_type IN ('roof','wall','party_wall','ground','outer_ceiling')),
   area DOUBLE, plan_area DOUBLE, slope_deg DOUBLE, azimuth_deg DOUBLE, sigma_area DOUBLE,
-  support_points INTEGER, rmse DOUBLE, wall_evidence TEXT,
+  support_points INTEGER, rmse DOUBLE, wall_evidence TEXT, sigma_shared DOUBLE,
   UNIQUE (building_fid, element_index));
 CREATE TABLE IF NOT EXISTS vm_valuationunit (fid INTEGER PRIMARY KEY,
   baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
@@ -124,6 +124,7 @@ struct AddedColumn {
 const AddedColumn kAddedColumns[] = {
     {"building", "lod", "TEXT"},
     {"building", "lod_note", "TEXT"},
+    {"building_element", "sigma_shared", "DOUBLE"},
 };
 
 struct Layer {

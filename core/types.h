@@ -118,6 +118,10 @@ struct Element {
   double slope_deg = 0;
   double azimuth_deg = 0;   // direction the surface faces, clockwise from grid north
   double sigma_area = 0;    // 1-sigma uncertainty of area, m2
+  // The part of sigma_area (signed) that moves with the same error of the
+  // building's other elements of this type (one assumed overhang, one noise
+  // fitted to all roof edges): totals add it linearly, the rest in quadrature.
+  double sigma_shared = 0;  // m2
   int support_points = 0;   // points that supported the plane
   double rmse = 0;          // plane-fit RMSE, m
   WallEvidence evidence = WallEvidence::None;

@@ -57,28 +57,40 @@ TEST(EnvelopeElements, RoofElementsOnePerRegionWithFaces) {
   const std::vector<std::vector<Face>> faces{{on_plane(rect(0, 0, 4, 5).outer, south)},
                                              {on_plane(rect(4, 0, 8, 5).outer, flat)},
                                              {}};  // region 2: no piece of it left
-  const std::vector<Element> elements = roof_elements(roof, fits, 0.2, faces);
+  std::vector<OutlineEdge> edges(4);
+  const std::vector<Vec2> c{{0, 0}, {9, 0}, {9, 5}, {0, 5}};
+  for (size_t i = 0; i < 4; ++i) edges[i].a = c[i], edges[i].b = c[(i + 1) % 4];
+  RoofEdgeNoise noise;
+  noise.noise = 0.03, noise.density = 40;
+  const std::vector<Element> elements = roof_elements(roof, fits, edges, noise, faces);
   ASSERT_EQ(elements.size(), 2u);
   EXPECT_EQ(elements[0].type, ElementType::Roof);
   EXPECT_NEAR(elements[0].slope_deg, 45, 1e-9);
   EXPECT_NEAR(elements[0].azimuth_deg, 180, 1e-9);
   EXPECT_EQ(elements[0].support_points, 100);
   EXPECT_NEAR(elements[0].area, 20 * std::sqrt(2.0), 1e-9);
-  // Flat: only the boundary's placing counts, a quarter of the spacing
-  // over half the perimeter.
-  EXPECT_NEAR(elements[1].sigma_area, 0.5 * 18 * 0.25 * 0.2, 1e-12);
-  const double tilt = 20 * std::sqrt(2.0) * 1 * 0.01, edge = 0.5 * 18 * 0.25 * 0.2;
-  EXPECT_NEAR(elements[0].sigma_area, std::hypot(tilt, edge), 1e-9);
+  // Flat: only its outline edges count (4 m of the south and north edges, the
+  // 5 m west one is region 2's neighbour's, not the outline's), each on its
+  // own plus the shift the roof's outline shares (24 of its 28 m read).
+  const double own2 = 2 * std::pow(4 * noise.edge(9), 2), shared = 8 * noise.common(24);
+  EXPECT_NEAR(elements[1].sigma_area, std::sqrt(own2 + shared * shared), 1e-12);
+  EXPECT_NEAR(elements[1].sigma_shared, shared, 1e-12);
+  // Region 0 reaches the west edge too; lifted by 1 / cos 45, and the tilt.
+  const double own2_0 = 2 * std::pow(4 * noise.edge(9), 2) + std::pow(5 * noise.edge(5), 2);
+  const double tilt = 20 * std::sqrt(2.0) * 1 * 0.01, shared0 = std::sqrt(2.0) * 13 * noise.common(24);
+  EXPECT_NEAR(elements[0].sigma_area, std::sqrt(2 * own2_0 + tilt * tilt + shared0 * shared0), 1e-9);
 }
 
 TEST(EnvelopeElements, GroundAndOuterCeilingUncertainties) {
   const Face ground{{{0, 0, 0}, {0, 8, 0}, {10, 8, 0}, {10, 0, 0}}, {}};
-  const Element g = ground_element(ground, 2.25);
+  SharedSigma walls;
+  walls.add(1.2, 0.9);
+  const Element g = ground_element(ground, walls);
   EXPECT_EQ(g.type, ElementType::Ground);
   EXPECT_NEAR(g.area, 80, 1e-9);
   EXPECT_NEAR(g.sigma_area, 1.5, 1e-12);
-  const Element oc = outer_ceiling({ground}, rect(-1, -1, 11, 9), 0.2, 2.25);
+  EXPECT_NEAR(g.sigma_shared, 0.9, 1e-12);
+  const Element oc = outer_ceiling({ground}, walls);
   EXPECT_EQ(oc.type, ElementType::OuterCeiling);
-  const double edge = 44 * 0.25 * 0.2;  // the outline's perimeter placed to a quarter spacing
-  EXPECT_NEAR(oc.sigma_area, std::sqrt(2.25 + edge * edge), 1e-12);
+  EXPECT_NEAR(oc.sigma_area, 1.5, 1e-12);
 }

@@ -143,7 +143,9 @@ TEST(EnvelopeWallEvidence, NoWallSeenTakesTheDefaultOverhang) {
   for (const OutlineEdge& e : measure_edges(in)) {
     EXPECT_EQ(e.evidence, WallEvidence::Default);
     EXPECT_DOUBLE_EQ(e.overhang, 0.4);
-    EXPECT_DOUBLE_EQ(e.sigma, kUnseenSpread);
+    // One assumed overhang for every wall: its error is theirs together.
+    EXPECT_DOUBLE_EQ(e.sigma, 0.0);
+    EXPECT_DOUBLE_EQ(e.sigma_shared, kUnseenSpread);
   }
 }
 

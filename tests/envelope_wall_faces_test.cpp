@@ -113,7 +113,7 @@ TEST(EnvelopeWallFaces, FacadesOnePerOutlineEdgeWithTheirEvidence) {
   // pieces are one element. The roof piece is noded with it (simple_pieces).
   const Polygon2 fp{{{6, 1}, {11, 1}, {11, 9}, {1, 9}, {1, 1}}, {}};
   const Face roof{{{1, 1, 3}, {6, 1, 3}, {11, 1, 3}, {11, 9, 3}, {1, 9, 3}}, {}};
-  const Facades f = facade_walls(fp, edges, 0, {roof});
+  const Facades f = facade_walls(fp, edges, 0, {roof}, RoofEdgeNoise{});
   EXPECT_EQ(f.faces.size(), 5u);
   ASSERT_EQ(f.elements.size(), 4u);
   double walls = 0, party = 0;
@@ -125,7 +125,8 @@ TEST(EnvelopeWallFaces, FacadesOnePerOutlineEdgeWithTheirEvidence) {
     if (e.faces.size() == 2) EXPECT_NEAR(e.azimuth_deg, 180, 1e-9);  // the south wall, both pieces
   }
   // The ground area's variance from each wall's position: (length * sigma)^2.
-  EXPECT_NEAR(f.sigma_ground2, 5 * 5 * 0.01 + 8 * 8 * 0.01 + 10 * 10 * 0.01 + 8 * 8 * 0.01 + 5 * 5 * 0.01, 1e-12);
+  EXPECT_NEAR(f.ground.own2, 5 * 5 * 0.01 + 8 * 8 * 0.01 + 10 * 10 * 0.01 + 8 * 8 * 0.01 + 5 * 5 * 0.01, 1e-12);
+  EXPECT_EQ(f.ground.shared, 0.0);
 }
 
 TEST(EnvelopeWallFaces, StepWallElementsAndSliversFoldedIntoTheNearestWall) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/config/config.h"
 #include "tests/store_fixtures.h"
 #include "valuation/valuation.h"
@@ -71,6 +73,22 @@ TEST(Valuation, HandComputedCostApproach) {
   EXPECT_DOUBLE_EQ(v.taxable, 53600);
   EXPECT_DOUBLE_EQ(v.tax, 53.6);
   EXPECT_DOUBLE_EQ(v.sigma_tax, 0.4);
+}
+
+TEST(Valuation, SharedSigmaPartsOfOneTypeAddLinearly) {
+  // Two walls set back from their roof edges by one assumed overhang: 6 of
+  // each one's 10 m^2 sigma is that overhang's, shared; 8 is its own.
+  Parcel parcel = test::square_parcel(0, "P1", Vec2(0, 0), 10);
+  ParcelResult r;
+  r.status = ParcelStatus::Ok;
+  Building b = two_elements();
+  b.elements[1].sigma_area = 10, b.elements[1].sigma_shared = 6;
+  b.elements.push_back(b.elements[1]);
+  r.buildings = {b};
+  ParcelValuation v = value_parcel(parcel, r, params());
+  // roof 300; walls: own 50 x 8 twice in quadrature, shared 50 x (6 + 6).
+  const double walls = std::hypot(400 * std::sqrt(2.0), 300.0 * 2);
+  EXPECT_NEAR(v.sigma_building_cost, std::hypot(300.0, walls), 1e-9);
 }
 
 TEST(Valuation, OfficialAreaOverridesZoneQualityAge) {

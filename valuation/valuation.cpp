@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "core/error.h"
 #include "core/geometry/geometry.h"
@@ -89,14 +91,24 @@ ParcelValuation value_parcel(const Parcel& parcel, const ParcelResult& result,
 
   if (result.status == ParcelStatus::Failed) v.note = "building not modelled: " + result.reason;
   for (const Building& b : result.buildings) {
-    for (int i = 0; i < int(b.elements.size()); ++i)
+    // Within a building the elements' shared sigma parts (one assumed
+    // overhang, one fitted roof noise) add linearly per type; buildings
+    // and the rest in quadrature.
+    std::map<std::string, SharedSigma> cost_sigma;
+    for (int i = 0; i < int(b.elements.size()); ++i) {
+      const Element& e = b.elements[size_t(i)];
       v.items.push_back(element_item(b, i, factor, v.quality, p));
-    if (p.gross_floor_cost_per_m2 > 0) v.items.push_back(gross_floor_item(b, factor, v.quality, p));
+      const CostItem& c = v.items.back();
+      const double own = std::sqrt(std::max(0.0, e.sigma_area * e.sigma_area - e.sigma_shared * e.sigma_shared));
+      cost_sigma[c.element_type].add(c.unit_cost * own, c.unit_cost * e.sigma_shared);
+    }
+    if (p.gross_floor_cost_per_m2 > 0) {
+      v.items.push_back(gross_floor_item(b, factor, v.quality, p));
+      cost_sigma["gross_floor"].add(v.items.back().sigma_amount, 0);
+    }
+    for (const auto& [type, sigma] : cost_sigma) v.sigma_building_cost = quadrature(v.sigma_building_cost, sigma.total());
   }
-  for (const CostItem& c : v.items) {
-    v.building_cost += c.amount;
-    v.sigma_building_cost = quadrature(v.sigma_building_cost, c.sigma_amount);
-  }
+  for (const CostItem& c : v.items) v.building_cost += c.amount;
 
   v.depreciation_share = std::min(p.max_depreciation, p.depreciation_per_year * v.age_years);
   v.depreciation = v.building_cost * v.depreciation_share;

@@ -9,6 +9,7 @@
 #include "cadastre/report/report_parts.h"
 #include "cadastre/store.h"
 #include "core/error.h"
+#include "core/geometry/geometry.h"
 #include "core/text.h"
 #include "valuation/valuation.h"
 
@@ -80,12 +81,14 @@ std::map<std::string, const ParcelValuation*> by_parcel(const std::vector<Parcel
 
 std::map<ElementType, TypeTotal> type_totals(const ParcelResult& r) {
   std::map<ElementType, TypeTotal> t;
-  for (const Building& b : r.buildings)
+  for (const Building& b : r.buildings) {
+    std::map<ElementType, SharedSigma> sigma;  // within a building errors may be shared
     for (const Element& e : b.elements) {
-      TypeTotal& x = t[e.type];
-      x.area += e.area;
-      x.sigma = std::hypot(x.sigma, e.sigma_area);
+      t[e.type].area += e.area;
+      sigma[e.type].add(e);
     }
+    for (const auto& [type, s] : sigma) t[type].sigma = std::hypot(t[type].sigma, s.total());
+  }
   return t;
 }
 

@@ -87,25 +87,38 @@ std::vector<Vec2> points_along(const std::vector<Vec2>& line, double step) {
   return out;
 }
 
+double SharedSigma::total() const { return std::sqrt(std::max(0.0, own2) + shared * shared); }
+
+void SharedSigma::add(const Element& e) {
+  own2 += e.sigma_area * e.sigma_area - e.sigma_shared * e.sigma_shared;
+  shared += e.sigma_shared;
+}
+
 BuildingTotals totals(const Building& b) {
   BuildingTotals t;
-  auto add = [](double& sum, double& sigma, const Element& e) {
+  SharedSigma s_roof, s_wall, s_party, s_ground, s_ceiling;
+  auto add = [](double& sum, SharedSigma& sigma, const Element& e) {
     sum += e.area;
-    sigma = std::sqrt(sigma * sigma + e.sigma_area * e.sigma_area);
+    sigma.add(e);
   };
   for (const auto& e : b.elements) {
     switch (e.type) {
       case ElementType::Roof:
-        add(t.roof, t.sigma_roof, e);
+        add(t.roof, s_roof, e);
         t.roof_plan += e.plan_area;
         ++t.roof_planes;
         break;
-      case ElementType::Wall: add(t.wall, t.sigma_wall, e); break;
-      case ElementType::PartyWall: add(t.party_wall, t.sigma_party_wall, e); break;
-      case ElementType::Ground: add(t.ground, t.sigma_ground, e); break;
-      case ElementType::OuterCeiling: add(t.outer_ceiling, t.sigma_outer_ceiling, e); break;
+      case ElementType::Wall: add(t.wall, s_wall, e); break;
+      case ElementType::PartyWall: add(t.party_wall, s_party, e); break;
+      case ElementType::Ground: add(t.ground, s_ground, e); break;
+      case ElementType::OuterCeiling: add(t.outer_ceiling, s_ceiling, e); break;
     }
   }
+  t.sigma_roof = s_roof.total();
+  t.sigma_wall = s_wall.total();
+  t.sigma_party_wall = s_party.total();
+  t.sigma_ground = s_ground.total();
+  t.sigma_outer_ceiling = s_ceiling.total();
   return t;
 }
 

@@ -76,8 +76,17 @@ std::vector<V> insert_on_edges(const std::vector<V>& ring, const std::vector<V>&
   return out;
 }
 
+// The sigma of a sum of one building's elements: their sigma_shared parts
+// add linearly (one error moves them all), the rest in quadrature.
+struct SharedSigma {
+  double own2 = 0, shared = 0;
+  void add(const Element& e);
+  void add(double own, double shared_part) { own2 += own * own, shared += shared_part; }
+  double total() const;
+};
+
 // Element totals of one building, as reported everywhere (summary, store,
-// report, exports). sigma_* combine the element sigmas in quadrature.
+// report, exports). sigma_* combine the element sigmas as SharedSigma does.
 struct BuildingTotals {
   double roof = 0, roof_plan = 0, wall = 0, party_wall = 0, ground = 0, outer_ceiling = 0;
   double sigma_roof = 0, sigma_wall = 0, sigma_party_wall = 0, sigma_ground = 0,

@@ -5,12 +5,13 @@
 #include <utility>
 
 #include "core/geometry/geometry.h"
+#include "core/reconstruct/envelope/common.h"
 
 namespace c3d::envelope {
 
-// A roof region's boundary is placed to within this fraction of the roof
-// point spacing (a hull edge lies between its points and the next ones).
-constexpr double kBoundarySigmaPerSpacing = 0.25;
+// A roof region's boundary lies on an outline edge where both its ends are
+// this close to the edge's line (a weld tolerance, far below any error).
+constexpr double kOnEdge = 0.02;  // m
 
 Element make_element(ElementType type, std::vector<Face> faces) {
   Element e;
@@ -40,9 +41,32 @@ const Face& widest_face(const Element& e) {
                            [](const Face& x, const Face& y) { return area(x) < area(y); });
 }
 
+namespace {
+
+// Length of `plan`'s boundary lying on the (free) outline edge e.
+double length_on(const MultiPolygon2& plan, const OutlineEdge& e) {
+  const Vec2 d = (e.b - e.a).normalized();
+  const double len = (e.b - e.a).norm();
+  auto on = [&](const Vec2& p) {
+    const double t = d.dot(p - e.a);
+    return std::abs(outward(d).dot(p - e.a)) < kOnEdge && t > -kOnEdge && t < len + kOnEdge;
+  };
+  double l = 0;
+  for (const auto& part : plan)
+    for (size_t i = 0; i < part.outer.size(); ++i) {
+      const Vec2 &p = part.outer[i], &q = part.outer[(i + 1) % part.outer.size()];
+      if (on(p) && on(q)) l += (q - p).norm();
+    }
+  return l;
+}
+
+}  // namespace
+
 std::vector<Element> roof_elements(const std::vector<RoofRegion>& roof, const std::vector<PlaneFit>& fits,
-                                   double spacing, const std::vector<std::vector<Face>>& by_region) {
+                                   const std::vector<OutlineEdge>& edges, const RoofEdgeNoise& noise,
+                                   const std::vector<std::vector<Face>>& by_region) {
   std::vector<Element> out;
+  const double common = noise.common(sampled_perimeter(edges));
   for (size_t r = 0; r < roof.size(); ++r) {
     if (by_region[r].empty()) continue;
     Element e = make_element(ElementType::Roof, by_region[r]);
@@ -52,27 +76,39 @@ std::vector<Element> roof_elements(const std::vector<RoofRegion>& roof, const st
     e.azimuth_deg = pl.azimuth_deg();
     e.support_points = fit.inliers;
     e.rmse = fit.rmse;
-    double per = 0;
-    for (const auto& part : roof[r].plan) per += perimeter(part.outer);
-    double tilt = e.area * std::tan(pl.slope_deg() * M_PI / 180) * fit.sigma_normal;
-    double edge = 0.5 * per * kBoundarySigmaPerSpacing * spacing;
-    e.sigma_area = std::sqrt(tilt * tilt + edge * edge);
+    // Its plan errs with the outline edges it reaches (each on its own, and
+    // by the shift all edges share); a boundary with another region is the
+    // two planes' intersection, placed by their fits, and a party edge is the
+    // parcel boundary. Lifted onto the plane: area / plan area. The tilt
+    // part: the fitted normal's error times the area's change with it.
+    const double lift = e.plan_area > 0 ? e.area / e.plan_area : 1.0;
+    SharedSigma sigma;
+    double reach = 0;
+    for (const auto& edge : edges) {
+      if (edge.party) continue;
+      const double l = length_on(roof[r].plan, edge);
+      sigma.add(lift * l * noise.edge((edge.b - edge.a).norm()), 0);
+      reach += l;
+    }
+    sigma.add(e.area * std::tan(pl.slope_deg() * M_PI / 180) * fit.sigma_normal, lift * reach * common);
+    e.sigma_area = sigma.total();
+    e.sigma_shared = sigma.shared;
     out.push_back(std::move(e));
   }
   return out;
 }
 
-Element ground_element(const Face& ground, double sigma_ground2) {
+Element ground_element(const Face& ground, const SharedSigma& sigma) {
   Element g = make_element(ElementType::Ground, {ground});
-  g.sigma_area = std::sqrt(sigma_ground2);
+  g.sigma_area = sigma.total();
+  g.sigma_shared = sigma.shared;
   return g;
 }
 
-Element outer_ceiling(const std::vector<Face>& soffits, const Polygon2& outline, double spacing,
-                      double sigma_ground2) {
+Element outer_ceiling(const std::vector<Face>& soffits, const SharedSigma& sigma) {
   Element oc = make_element(ElementType::OuterCeiling, soffits);
-  double edge = perimeter(outline.outer) * kBoundarySigmaPerSpacing * spacing;
-  oc.sigma_area = std::sqrt(sigma_ground2 + edge * edge);
+  oc.sigma_area = sigma.total();
+  oc.sigma_shared = sigma.shared;
   return oc;
 }
 

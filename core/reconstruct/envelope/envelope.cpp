@@ -24,12 +24,13 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   const Polygon2 fp = without_specks(footprint_from_edges(edges, in.outline, in.default_overhang, apart));
   b.terrain_z = mean_terrain(fp, in.terrain);
   const RoofFaces roof = lift_roof(simple_pieces(roof_pieces(in.roof, fp), fp), in.roof);
-  b.elements = roof_elements(in.roof, in.fits, in.spacing, roof.by_region);
+  const RoofEdgeNoise noise = roof_edge_noise(in);
+  b.elements = roof_elements(in.roof, in.fits, edges, noise, roof.by_region);
 
   // The shell: the walls along the footprint, the step walls between roof
   // levels, the ground floor and the roof inside the walls, in this order
   // (the weld keeps the first of close vertices).
-  Facades facades = facade_walls(fp, edges, b.terrain_z, roof.inside);
+  Facades facades = facade_walls(fp, edges, b.terrain_z, roof.inside, noise);
   std::vector<Face> solid = std::move(facades.faces);
   for (Element& e : facades.elements) b.elements.push_back(std::move(e));
   StepWalls steps = step_wall_elements(roof.inside, roof.inside_region);
@@ -37,11 +38,11 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
   fold_sliver_steps(steps.elements, b.elements);
 
   const Face ground{flat(fp.outer, b.terrain_z, true), {}};
-  b.elements.push_back(ground_element(ground, facades.sigma_ground2));
+  b.elements.push_back(ground_element(ground, facades.ground));
   solid.push_back(ground);
   solid.insert(solid.end(), roof.inside.begin(), roof.inside.end());
   if (!roof.soffits.empty())
-    b.elements.push_back(outer_ceiling(roof.soffits, in.outline, in.spacing, facades.sigma_ground2));
+    b.elements.push_back(outer_ceiling(roof.soffits, facades.eaves));
 
   weld_shell(solid, b.elements);
   b.solid = std::move(solid);

@@ -59,11 +59,15 @@ constexpr double kWallFootClearance = 0.3;  // m
 constexpr double kOnWallCos = 0.999;
 constexpr double kOnWallDist = 0.01;  // m
 // How well each kind of wall position is known (sigma, m).
-constexpr double kPartySigma = 0.05;      // a party edge: the parcel boundary, surveyed to centimetres
-constexpr double kMeasuredSigma = 0.02;   // floor of a measured wall: more than its fit's rms/sqrt(n) says
+constexpr double kPartySigma = 0.01;      // a party edge: on the parcel boundary; held there to 1.1 cm rms (sample towns)
 constexpr double kContinuedSigma = 0.05;  // floor of a facade seen only on the neighbours
 constexpr double kStepSigma = 0.05;       // an unseen wall carried on under a roof step
-constexpr double kMinSpread = 0.05;       // floor of the seen overhangs' scatter (a few alike walls)
+// Floor of the seen overhangs' scatter where fewer than kMinScatterWalls
+// walls show it: two alike overhangs say little of how a third differs. From
+// more, their scatter about the facade's overhang (their roof edges' noise
+// included) is the unseen walls' error (area_sigma.cpp).
+constexpr double kMinSpread = 0.05;
+constexpr size_t kMinScatterWalls = 3;
 constexpr double kMadToSigma = 1.4826;    // median absolute deviation -> sigma of a normal distribution
 // fit_wall: a wall is a peak of the wall points' offsets from the edge.
 constexpr double kMinWallEdge = 0.8;   // m: a shorter edge holds too few points to show a wall
@@ -315,7 +319,7 @@ std::vector<OutlineEdge> outline_edges(const EnvelopeInput& in) {
     e.a = ring[i];
     e.b = ring[(i + 1) % ring.size()];
     e.party = i < in.party_edge.size() && in.party_edge[i];
-    if (e.party) e.evidence = WallEvidence::ParcelBoundary, e.sigma = kPartySigma;
+    if (e.party) e.evidence = WallEvidence::ParcelBoundary, e.sigma = kPartySigma, e.sigma_shared = 0;
   }
   return edges;
 }
@@ -335,8 +339,11 @@ std::vector<SeenWall> measure_own_walls(const EnvelopeInput& in, std::vector<Out
     e.evidence = WallEvidence::Measured;
     e.support = fit.support;
     // A wall seen outside the outline stays under the roof at the outline:
-    // its distance to the points it stands for is part of its error.
-    e.sigma = kMeasuredSigma + fit.rms / std::sqrt(double(fit.support)) + std::max(0.0, fit.offset);
+    // its distance to the points it stands for is part of its error; the
+    // footprint built on it keeps its vertices to kGrowSimplify (uniform).
+    e.sigma = std::hypot(fit.rms / std::sqrt(double(fit.support)), kGrowSimplify / std::sqrt(3.0)) +
+              std::max(0.0, fit.offset);
+    e.sigma_shared = 0;
     seen.push_back({i, direction(e), {e.overhang, (e.b - e.a).norm()}});
   }
   return seen;
@@ -364,6 +371,7 @@ void continue_neighbours_facades(const EnvelopeInput& in, std::vector<OutlineEdg
     e.evidence = WallEvidence::Propagated;
     e.support = fit.support;
     e.sigma = kContinuedSigma + fit.rms / std::sqrt(double(fit.support));
+    e.sigma_shared = 0;
   }
 }
 
@@ -407,7 +415,8 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
     }
     std::vector<Weighted> dev;
     for (const auto& w : seen) dev.push_back({std::abs(w.overhang.value - facade[w.edge]), w.overhang.weight});
-    spread = std::max(kMinSpread, kMadToSigma * weighted_median(dev));
+    spread = kMadToSigma * weighted_median(dev);
+    if (seen.size() < kMinScatterWalls) spread = std::max(kMinSpread, spread);
     fill = WallEvidence::Propagated;
   }
   for (size_t i = 0; i < edges.size(); ++i) {
@@ -416,7 +425,11 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
       const bool step = continues_step(e, in.roof);
       e.overhang = step ? 0.0 : facade[i];
       e.evidence = step ? WallEvidence::Propagated : fill;
-      e.sigma = step ? kStepSigma : spread;
+      // Taken from the seen walls, each unseen wall errs on its own; the one
+      // default or pooled overhang errs for all of them together.
+      const bool own = step || (fill == WallEvidence::Propagated && !seen.empty());
+      e.sigma = step ? kStepSigma : own ? spread : 0.0;
+      e.sigma_shared = own ? 0.0 : spread;
     }
   }
   if (log::enabled(log::Level::Debug))

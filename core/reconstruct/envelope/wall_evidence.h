@@ -15,11 +15,15 @@ namespace c3d::envelope {
 constexpr double kUnseenSpread = 0.3;  // m
 
 // One roof-outline edge (outer[i] -> outer[i+1]) with the wall under it: the
-// wall stands `overhang` inside the edge, known to within `sigma`.
+// wall stands `overhang` inside the edge, known to within `sigma` (a measured
+// or party wall: its position; one set back from the edge: its overhang, the
+// edge's own error aside, area_sigma.h) and `sigma_shared` (an overhang the
+// building's unseen walls all took: its error is theirs together).
 struct OutlineEdge {
   Vec2 a, b;
   double overhang = 0;
-  double sigma = kUnseenSpread;  // of the wall position, m
+  double sigma = 0;         // m
+  double sigma_shared = kUnseenSpread;  // m
   int support = 0;
   bool party = false;
   WallEvidence evidence = WallEvidence::Default;

@@ -28,11 +28,14 @@ constexpr double kLevelTol = 1e-6;  // m
 // degrees; any other is a worse source than one that far away.
 constexpr double kSourceParallelCos = 0.98;
 constexpr double kNotParallel = 100.0;  // m added to a non-parallel edge's distance
-// A wall's area is known to its top (the roof's eave line) within this.
-constexpr double kWallTopSigma = 0.05;  // m
 // A step wall's area is known to this times its square root (its two roof
 // planes' heights along the step).
 constexpr double kStepWallSigma = 0.05;  // m
+// A step wall lower than this on average is as likely two planes' junction
+// modelled apart (a cross gable's valley: 0.5-2 m^2 of sawtooth, 0.3-0.7 m
+// high on average in the sample towns) as a step between levels (those rise
+// by a storey, 3.7-5.4 m there): its whole area is in doubt.
+constexpr double kDoubtfulStepHeight = 1.0;  // m
 
 namespace {
 
@@ -44,6 +47,51 @@ double vertex_gap(const Element& a, const Element& b) {
       for (const auto& fb : b.faces)
         for (const auto& q : fb.ring) best = std::min(best, (p - q).norm());
   return best;
+}
+
+// The walls of one outline edge and the sigma of their area.
+struct Facade {
+  const OutlineEdge* src;
+  std::vector<Face> faces;
+  SharedSigma sigma;
+};
+
+// Each footprint wall's position error, into the facades' areas (as
+// wall_area_sensitivity books it), the ground's and the hanging roof's; the
+// terrain level under all walls, and the roof plane's height over each.
+void add_position_sigmas(const Ring2& fp, const std::vector<Face>& walls, const std::vector<const OutlineEdge*>& src,
+                         const std::vector<int>& facade_of, double ground_z, const std::vector<Face>& inside,
+                         const RoofEdgeNoise& noise, const std::vector<OutlineEdge>& edges,
+                         std::vector<Facade>& facades, Facades& out) {
+  const size_t m = fp.size();
+  const double perimeter = sampled_perimeter(edges);
+  for (size_t i = 0; i < m; ++i) {
+    if (facade_of[i] < 0) continue;
+    const WallPositionError err = wall_position_error(*src[i], noise, perimeter);
+    const double len = (fp[(i + 1) % m] - fp[i]).norm();
+    out.ground.add(len * err.wall, len * err.wall_shared);
+    out.eaves.add(len * err.eave, len * err.eave_shared);
+    const WallSensitivity g = wall_area_sensitivity(fp, i, walls[i], ground_z, inside);
+    double self = g.top;
+    for (const auto& [j, part] : {std::pair{(i + m - 1) % m, g.at_a}, std::pair{(i + 1) % m, g.at_b}}) {
+      if (facade_of[j] < 0 || src[j]->party == src[i]->party) self += part;
+      else facades[size_t(facade_of[j])].sigma.add(part * err.wall, part * err.wall_shared);
+    }
+    SharedSigma& s = facades[size_t(facade_of[i])].sigma;
+    s.add(std::hypot(self * err.wall, len * noise.plane_z), self * err.wall_shared + len * kTerrainSigma);
+  }
+}
+
+// Area over plan length of a vertical element (its faces' widest plan extents).
+double mean_height(const Element& e) {
+  double len = 0;
+  for (const auto& f : e.faces) {
+    double w = 0;
+    for (const auto& p : f.ring)
+      for (const auto& q : f.ring) w = std::max(w, (p - q).head<2>().norm());
+    len += w;
+  }
+  return len > 0 ? e.area / len : 0;
 }
 
 }  // namespace
@@ -194,38 +242,41 @@ const OutlineEdge& source_edge(const std::vector<OutlineEdge>& edges, const Vec2
 }
 
 Facades facade_walls(const Polygon2& fp, const std::vector<OutlineEdge>& edges, double ground_z,
-                     const std::vector<Face>& inside) {
+                     const std::vector<Face>& inside, const RoofEdgeNoise& noise) {
   // Walls along the footprint, from the terrain up to the roof underside: one
   // element per outline edge they stand under (a notch in the footprint does
   // not split a facade into separate elements).
   Facades out;
-  std::vector<std::pair<const OutlineEdge*, std::vector<Face>>> facades;
-  for (size_t i = 0; i < fp.outer.size(); ++i) {
-    Vec2 a = fp.outer[i], c = fp.outer[(i + 1) % fp.outer.size()];
-    Face f = wall_under(a, c, ground_z, inside);
-    if (f.ring.size() < 3) continue;
-    const OutlineEdge* src = &source_edge(edges, a, c);
-    out.sigma_ground2 += std::pow((c - a).norm() * src->sigma, 2);
-    out.faces.push_back(f);
-    if (facades.empty() || facades.back().first != src) facades.push_back({src, {}});
-    facades.back().second.push_back(std::move(f));
+  const size_t m = fp.outer.size();
+  std::vector<Face> walls(m);
+  std::vector<const OutlineEdge*> src(m, nullptr);
+  std::vector<int> facade_of(m, -1);
+  std::vector<Facade> facades;
+  for (size_t i = 0; i < m; ++i) {
+    walls[i] = wall_under(fp.outer[i], fp.outer[(i + 1) % m], ground_z, inside);
+    if (walls[i].ring.size() < 3) continue;
+    src[i] = &source_edge(edges, fp.outer[i], fp.outer[(i + 1) % m]);
+    if (facades.empty() || facades.back().src != src[i]) facades.push_back({src[i], {}, {}});
+    facade_of[i] = int(facades.size()) - 1;
+    out.faces.push_back(walls[i]);
+    facades.back().faces.push_back(walls[i]);
   }
-  if (facades.size() > 1 && facades.front().first == facades.back().first) {  // wraps round
-    auto& last = facades.back().second;
-    facades.front().second.insert(facades.front().second.begin(), last.begin(), last.end());
+  if (facades.size() > 1 && facades.front().src == facades.back().src) {  // wraps round
+    Facade& last = facades.back();
+    facades.front().faces.insert(facades.front().faces.begin(), last.faces.begin(), last.faces.end());
+    for (int& f : facade_of)
+      if (f == int(facades.size()) - 1) f = 0;
     facades.pop_back();
   }
-  for (auto& [src, faces] : facades) {
-    double len = 0;
-    for (const auto& f : faces) len += (f.ring[1] - f.ring[0]).head<2>().norm();  // ground edge
-    Element e = make_element(src->party ? ElementType::PartyWall : ElementType::Wall, std::move(faces));
-    e.evidence = src->evidence;
-    e.support_points = src->support;
+  add_position_sigmas(fp.outer, walls, src, facade_of, ground_z, inside, noise, edges, facades, out);
+  for (auto& [source, faces, sigma] : facades) {
+    Element e = make_element(source->party ? ElementType::PartyWall : ElementType::Wall, std::move(faces));
+    e.evidence = source->evidence;
+    e.support_points = source->support;
     e.azimuth_deg = azimuth_of(widest_face(e));
     e.slope_deg = 90.0;
-    double height = e.area / std::max(len, 1e-9);
-    double s_top = kWallTopSigma, s_len = src->sigma;
-    e.sigma_area = std::sqrt(std::pow(len * s_top, 2) + std::pow(height * s_len, 2));
+    e.sigma_area = sigma.total();
+    e.sigma_shared = sigma.shared;
     out.elements.push_back(std::move(e));
   }
   return out;
@@ -238,7 +289,7 @@ StepWalls step_wall_elements(const std::vector<Face>& inside, const std::vector<
     Element e = make_element(ElementType::Wall, std::move(faces));
     e.evidence = WallEvidence::RoofStep;
     e.slope_deg = 90.0;
-    e.sigma_area = kStepWallSigma * std::sqrt(e.area);
+    e.sigma_area = mean_height(e) < kDoubtfulStepHeight ? e.area : kStepWallSigma * std::sqrt(e.area);
     e.azimuth_deg = azimuth_of(widest_face(e));
     out.elements.push_back(std::move(e));
   }

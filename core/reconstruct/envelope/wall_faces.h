@@ -7,6 +7,7 @@
 #include <map>
 #include <vector>
 
+#include "core/reconstruct/envelope/area_sigma.h"
 #include "core/reconstruct/envelope/wall_evidence.h"
 #include "core/types.h"
 
@@ -41,15 +42,16 @@ std::map<int, std::vector<Face>> step_walls(const std::vector<Face>& inside,
 const OutlineEdge& source_edge(const std::vector<OutlineEdge>& edges, const Vec2& a, const Vec2& b);
 
 // The walls along the footprint: their faces in footprint order (for the
-// shell), one element per outline edge they stand under, and the variance
-// their positions give the ground area.
+// shell), one element per outline edge they stand under (its area's sigma
+// from the walls' positions, area_sigma.h), and the sigma their positions give
+// the ground area and the hanging roof's (the outer ceiling's) depth.
 struct Facades {
   std::vector<Face> faces;
   std::vector<Element> elements;
-  double sigma_ground2 = 0;  // m^4
+  SharedSigma ground, eaves;  // m^2
 };
 Facades facade_walls(const Polygon2& fp, const std::vector<OutlineEdge>& edges, double ground_z,
-                     const std::vector<Face>& inside);
+                     const std::vector<Face>& inside, const RoofEdgeNoise& noise);
 
 // The step walls between the inside pieces: their faces (for the shell) and
 // one element per roof region above them.

@@ -234,7 +234,7 @@ std::pair<double, double> edge_mle(const EdgeSample& es, double sigma) {
 // corners belong to two edges); empty when too few to place it.
 EdgeSample sample_edge(const std::vector<Vec2>& points, const EdgeLine& l, double density) {
   EdgeSample es;
-  double margin = std::min(kEdgeEndMargin, kEdgeEndShare * (l.t1 - l.t0));
+  double margin = std::min(kEdgeEndMargin, kEdgeEndShare * (l.t1 - l.t0));  // as sampled_edge_length
   double t0 = l.t0 + margin, t1 = l.t1 - margin;
   if (t1 - t0 < kMinSampledEdge) return es;
   Vec2 n = outward(l.dir);
@@ -333,6 +333,10 @@ void refine_edges(const std::vector<Vec2>& points, std::vector<EdgeLine>& lines,
 }
 
 }  // namespace
+
+double sampled_edge_length(double length) {
+  return length - 2 * std::min(kEdgeEndMargin, kEdgeEndShare * length);
+}
 
 Polygon2 regularize_polygon(const Polygon2& poly, double min_edge) {
   const Ring2& ring = poly.outer;

@@ -19,6 +19,10 @@ struct OutlineOptions {
 // make a polygon.
 Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt);
 
+// The length of a straight roof edge of `length` whose points place it: its
+// ends belong to the corners (up to 0.5 m, or a fifth of it, each).
+double sampled_edge_length(double length);
+
 // Removes edges shorter than min_edge (chamfers, small jogs) and merges
 // collinear edges; returns the input when that would change it by > 5 %.
 Polygon2 regularize_polygon(const Polygon2& poly, double min_edge);
