@@ -218,7 +218,13 @@ std::vector<FacadePoints> facade_offsets(const EnvelopeInput& in, const std::vec
                                          const std::vector<Vec3>& points) {
   std::vector<FacadePoints> offsets(edges.size());
   if (edges.empty()) return offsets;
+  // A point farther than any wall may stand from the outline's box is
+  // farther from every edge: skip the scene's other buildings at once.
+  Vec2 lo = edges.front().a, hi = lo;
+  for (const auto& e : edges) lo = lo.cwiseMin(e.a), hi = hi.cwiseMax(e.a);
+  lo.array() -= kMaxOverhang, hi.array() += kMaxOverhang;
   for (const auto& p : points) {
+    if ((p.head<2>().array() < lo.array()).any() || (p.head<2>().array() > hi.array()).any()) continue;
     const size_t i = nearest_edge(edges, p.head<2>());
     const OutlineEdge& e = edges[i];
     const Vec2 d = direction(e), n = outward(d), q = p.head<2>() - e.a;
