@@ -45,13 +45,6 @@ PrismInput l_shape(const std::string& id = "L_b1") {
   return in;
 }
 
-double total(const Building& b, ElementType t) {
-  double a = 0;
-  for (const auto& e : b.elements)
-    if (e.type == t) a += e.area;
-  return a;
-}
-
 int count(const Building& b, ElementType t) {
   int n = 0;
   for (const auto& e : b.elements) n += e.type == t;
@@ -96,9 +89,9 @@ TEST(Lod12, PrismOfAnLShapeHasExactAreasAndVolume) {
   EXPECT_EQ(count(b, ElementType::Roof), 1);
   EXPECT_EQ(count(b, ElementType::Wall), 6);  // one per footprint edge
   EXPECT_EQ(count(b, ElementType::Ground), 1);
-  EXPECT_NEAR(total(b, ElementType::Roof), 56.0, 1e-9);
-  EXPECT_NEAR(total(b, ElementType::Ground), 56.0, 1e-9);
-  EXPECT_NEAR(total(b, ElementType::Wall), 36.0 * 7.0, 1e-9);
+  EXPECT_NEAR(totals(b).roof, 56.0, 1e-9);
+  EXPECT_NEAR(totals(b).ground, 56.0, 1e-9);
+  EXPECT_NEAR(totals(b).wall, 36.0 * 7.0, 1e-9);
   EXPECT_NEAR(b.volume, 56.0 * 7.0, 1e-9);
   EXPECT_NEAR(b.eave_height, 7.0, 1e-12);
   EXPECT_NEAR(b.ridge_height, 7.0, 1e-12);
@@ -117,8 +110,8 @@ TEST(Lod12, PartyEdgeGivesAPartyWall) {
   const Building b = lod12_prism(in);
   ASSERT_TRUE(b.solid_valid) << b.solid_problem;
   EXPECT_EQ(count(b, ElementType::PartyWall), 1);
-  EXPECT_NEAR(total(b, ElementType::PartyWall), 70.0, 1e-9);
-  EXPECT_NEAR(total(b, ElementType::Wall), 26.0 * 7.0, 1e-9);
+  EXPECT_NEAR(totals(b).party_wall, 70.0, 1e-9);
+  EXPECT_NEAR(totals(b).wall, 26.0 * 7.0, 1e-9);
 }
 
 TEST(Lod12, CourtyardKeepsItsHoleOrDropsIt) {
@@ -128,8 +121,8 @@ TEST(Lod12, CourtyardKeepsItsHoleOrDropsIt) {
   ASSERT_EQ(in.footprint.holes.size(), 1u);
   Building b = lod12_prism(in);
   ASSERT_TRUE(b.solid_valid) << b.solid_problem;
-  EXPECT_NEAR(total(b, ElementType::Roof), 84.0, 1e-9);
-  EXPECT_NEAR(total(b, ElementType::Wall), (40.0 + 16.0) * 7.0, 1e-9);
+  EXPECT_NEAR(totals(b).roof, 84.0, 1e-9);
+  EXPECT_NEAR(totals(b).wall, (40.0 + 16.0) * 7.0, 1e-9);
   EXPECT_NEAR(b.volume, 84.0 * 7.0, 1e-9);
   in.footprint = prism_footprint(yard, false);
   EXPECT_TRUE(in.footprint.holes.empty());

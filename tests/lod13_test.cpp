@@ -47,13 +47,6 @@ PrismInput two_level(std::vector<Vec3>& points) {
   return in;
 }
 
-double total(const Building& b, ElementType t) {
-  double a = 0;
-  for (const auto& e : b.elements)
-    if (e.type == t) a += e.area;
-  return a;
-}
-
 double polygon_iou(const Polygon2& a, const Polygon2& b) {
   const double both = area(poly::intersect({a}, {b})), either = area(poly::unite({a}, {b}));
   return either > 0 ? both / either : 0;
@@ -88,10 +81,10 @@ TEST(Lod13, TwoLevelBuildingIsAValidStackOfPrisms) {
   ASSERT_EQ(sum.iou.size(), 1u);
   EXPECT_GE(sum.iou[0], 0.95);
   // The tower's walls lie within a spacing of x = 12: areas and volume to that.
-  EXPECT_NEAR(total(b, ElementType::Roof), 200.0, 1e-6);  // flat parts: plan = footprint
-  EXPECT_NEAR(total(b, ElementType::Ground), 200.0, 1e-6);
+  EXPECT_NEAR(totals(b).roof, 200.0, 1e-6);  // flat parts: plan = footprint
+  EXPECT_NEAR(totals(b).ground, 200.0, 1e-6);
   EXPECT_NEAR(b.volume, 120 * 4.0 + 80 * 10.0, 30.0);
-  EXPECT_NEAR(total(b, ElementType::Wall), 34 * 4.0 + 26 * 10.0 + 10 * 6.0, 5.0);  // outer walls + the step
+  EXPECT_NEAR(totals(b).wall, 34 * 4.0 + 26 * 10.0 + 10 * 6.0, 5.0);  // outer walls + the step
   int steps = 0;
   for (const auto& e : b.elements) steps += e.evidence == WallEvidence::RoofStep;
   EXPECT_GE(steps, 1);

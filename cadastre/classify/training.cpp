@@ -7,6 +7,7 @@
 
 #include "cadastre/parcels.h"
 #include "core/classify/classify.h"
+#include "core/geometry/geometry.h"
 #include "core/io/dtm_io.h"
 #include "core/io/point_io.h"
 #include "core/log.h"
@@ -51,22 +52,9 @@ PointClass sample_label(std::uint8_t cls, PointTag tag) {
   return PointClass::Other;
 }
 
-bool in_ring(const Ring2& r, const Vec2& p) {
-  bool in = false;
-  for (size_t i = 0, j = r.size() - 1; i < r.size(); j = i++)
-    if ((r[i].y() > p.y()) != (r[j].y() > p.y()) &&
-        p.x() < (r[j].x() - r[i].x()) * (p.y() - r[i].y()) / (r[j].y() - r[i].y()) + r[i].x())
-      in = !in;
-  return in;
-}
-
 bool in_parcel(const Parcel& parcel, const Vec2& p) {
-  for (const auto& poly : parcel.shape) {
-    if (!in_ring(poly.outer, p)) continue;
-    bool in_hole = false;
-    for (const auto& h : poly.holes) in_hole = in_hole || in_ring(h, p);
-    if (!in_hole) return true;
-  }
+  for (const auto& poly : parcel.shape)
+    if (in_polygon_plan(poly, p)) return true;
   return false;
 }
 

@@ -185,4 +185,11 @@ double quantile_of_sorted(const std::vector<double>& sorted, double q) {
   return sorted[lo] + (at - double(lo)) * (sorted[hi] - sorted[lo]);
 }
 
+bool in_polygon_plan(const Polygon2& poly, const Vec2& p) {
+  if (poly.outer.size() < 3 || !in_ring_plan(poly.outer, p)) return false;
+  for (const auto& h : poly.holes)
+    if (h.size() >= 3 && in_ring_plan(h, p)) return false;
+  return true;
+}
+
 }  // namespace c3d

@@ -28,6 +28,22 @@ std::optional<Vec2> intersect_lines(const Vec2& p, const Vec2& d, const Vec2& q,
 // straight stretch may have two, a staircase one per step).
 std::vector<Vec2> points_along(const std::vector<Vec2>& line, double step);
 
+// Whether p lies inside `ring` in plan (even-odd crossings; a Ring3 is read
+// by its x and y). No GEOS call: for tests per point in a loop.
+template <class Ring>
+bool in_ring_plan(const Ring& ring, const Vec2& p) {
+  bool in = false;
+  for (size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
+    if ((ring[i].y() > p.y()) != (ring[j].y() > p.y()) &&
+        p.x() < (ring[j].x() - ring[i].x()) * (p.y() - ring[i].y()) / (ring[j].y() - ring[i].y()) + ring[i].x())
+      in = !in;
+  return in;
+}
+
+// Whether p lies inside the polygon in plan: in its outer ring, in no hole
+// (rings of fewer than 3 vertices hold nothing).
+bool in_polygon_plan(const Polygon2& poly, const Vec2& p);
+
 // Largest distance of a face's vertices (holes too) from their least-squares plane.
 double planarity_deviation(const Face& f);
 

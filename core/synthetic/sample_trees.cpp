@@ -93,45 +93,53 @@ void one_tree(SampleTown& town, const SampleOptions& opt, Rng& rng, const Vec3& 
   }
 }
 
+// Terrain height (local) under local plan point p.
+double terrain_at(const SampleTown& town, const Vec2& p) {
+  const Vec2 w = town.frame.to_world(p);
+  return town.dtm.height_at(w.x(), w.y()) - town.frame.origin.z();
+}
+
+// Per parcel, about `per_parcel` objects on its open land: each from up to 50
+// draws in all of `place(parcel, rect)`, which draws a spot and says whether
+// it put an object there.
+template <class Place>
+void on_open_land(const SampleTown& town, const std::vector<TownParcel>& tp, Rng& rng, double per_parcel,
+                  Place place) {
+  for (size_t pi = 0; pi < town.parcels.size(); ++pi) {
+    const long wanted = rng.count(per_parcel);
+    for (long placed = 0, tries = 0; placed < wanted && tries < 50; ++tries) placed += place(pi, tp[pi].rect);
+  }
+}
+
 }  // namespace
 
 void sample_detail::sample_trees(SampleTown& town, const SampleOptions& opt,
                                  const std::vector<TownParcel>& tp, double town_angle) {
   Rng rng(opt.seed ^ kTreeStream);
   const Placement toloc{Vec2::Zero(), town_angle};
-  for (size_t pi = 0; pi < town.parcels.size(); ++pi) {
-    const Rect& r = tp[pi].rect;
-    const long trees = rng.count(opt.trees_per_parcel);
-    for (long t = 0, tries = 0; t < trees && tries < 50; ++tries) {
-      const Vec2 p = toloc.to_local(Vec2(rng.uniform(r.u0 + 1, r.u1 - 1), rng.uniform(r.v0 + 1, r.v1 - 1)));
-      if (on_any_roof(town, pi, p)) continue;
-      const Vec2 w = town.frame.to_world(p);
-      one_tree(town, opt, rng, Vec3(p.x(), p.y(), town.dtm.height_at(w.x(), w.y()) - town.frame.origin.z()));
-      ++t;
-    }
-  }
+  on_open_land(town, tp, rng, opt.trees_per_parcel, [&](size_t pi, const Rect& r) {
+    const Vec2 p = toloc.to_local(Vec2(rng.uniform(r.u0 + 1, r.u1 - 1), rng.uniform(r.v0 + 1, r.v1 - 1)));
+    if (on_any_roof(town, pi, p)) return false;
+    one_tree(town, opt, rng, Vec3(p.x(), p.y(), terrain_at(town, p)));
+    return true;
+  });
 }
 
 void sample_detail::sample_sheds(SampleTown& town, const SampleOptions& opt,
                                  const std::vector<TownParcel>& tp, double town_angle) {
   Rng rng(opt.seed ^ kShedStream);
   const Placement toloc{Vec2::Zero(), town_angle};
-  for (size_t pi = 0; pi < town.parcels.size(); ++pi) {
-    const Rect& r = tp[pi].rect;
-    const long sheds = rng.count(opt.sheds_per_parcel);
-    for (long k = 0, tries = 0; k < sheds && tries < 50; ++tries) {
-      const Vec2 size(rng.uniform(2.0, 4.0), rng.uniform(1.8, 3.0));
-      const Vec2 c(rng.uniform(r.u0 + 2.5, r.u1 - 2.5), rng.uniform(r.v0 + 2.5, r.v1 - 2.5));
-      bool free = true;  // the whole shed on open land, a step clear of every roof
-      for (double a : {-1.0, 0.0, 1.0})
-        for (double b : {-1.0, 0.0, 1.0})
-          free = free && !on_any_roof(town, pi, toloc.to_local(c + Vec2(a * (size.x() / 2 + 1), b * (size.y() / 2 + 1))));
-      if (!free) continue;
-      const Vec2 p = toloc.to_local(c), w = town.frame.to_world(p);
-      one_shed(town, opt, rng, p, town.dtm.height_at(w.x(), w.y()) - town.frame.origin.z(), size, town_angle);
-      ++k;
-    }
-  }
+  on_open_land(town, tp, rng, opt.sheds_per_parcel, [&](size_t pi, const Rect& r) {
+    const Vec2 size(rng.uniform(2.0, 4.0), rng.uniform(1.8, 3.0));
+    const Vec2 c(rng.uniform(r.u0 + 2.5, r.u1 - 2.5), rng.uniform(r.v0 + 2.5, r.v1 - 2.5));
+    for (double a : {-1.0, 0.0, 1.0})  // the whole shed on open land, a step clear of every roof
+      for (double b : {-1.0, 0.0, 1.0})
+        if (on_any_roof(town, pi, toloc.to_local(c + Vec2(a * (size.x() / 2 + 1), b * (size.y() / 2 + 1)))))
+          return false;
+    const Vec2 p = toloc.to_local(c);
+    one_shed(town, opt, rng, p, terrain_at(town, p), size, town_angle);
+    return true;
+  });
 }
 
 }  // namespace c3d

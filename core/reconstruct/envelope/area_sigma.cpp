@@ -97,21 +97,12 @@ double end_height(const Face& f, const Vec2& p, double ground_z) {
   return top - ground_z;
 }
 
-bool in_plan(const Ring3& r, const Vec2& p) {
-  bool in = false;
-  for (size_t i = 0, j = r.size() - 1; i < r.size(); j = i++)
-    if ((r[i].y() > p.y()) != (r[j].y() > p.y()) &&
-        p.x() < (r[j].x() - r[i].x()) * (p.y() - r[i].y()) / (r[j].y() - r[i].y()) + r[i].x())
-      in = !in;
-  return in;
-}
-
 // Rise of the roof underside per metre outward across edge a -> b, from the
 // inside piece just inside its middle (0 where none is found).
 double rise_outward(const Vec2& a, const Vec2& b, const std::vector<Face>& inside) {
   const Vec2 n = outward((b - a).normalized()), p = 0.5 * (a + b) - kProbeInside * n;
   for (const auto& f : inside) {
-    if (f.ring.size() < 3 || !in_plan(f.ring, p)) continue;
+    if (f.ring.size() < 3 || !in_ring_plan(f.ring, p)) continue;
     const Vec3 u = unit_normal(f);
     if (std::abs(u.z()) < 1e-6) return 0;
     return -(u.x() * n.x() + u.y() * n.y()) / u.z();

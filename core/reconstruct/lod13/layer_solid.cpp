@@ -58,7 +58,7 @@ struct Subdivision {
 // their parents, and siblings do not overlap); -1 off the footprint.
 int layer_at(const std::vector<LayerPiece>& layers, const Vec2& q) {
   for (size_t k = layers.size(); k-- > 0;)
-    if (inside(layers[k].outline, q)) return int(k);
+    if (in_polygon_plan(layers[k].outline, q)) return int(k);
   return -1;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <deque>
 
+#include "core/geometry/geometry.h"
 #include "core/reconstruct/lod13/raster.h"
 
 namespace c3d::lod13 {
@@ -145,7 +146,7 @@ HeightGrid height_grid(const Polygon2& footprint, const std::vector<Vec3>& point
   g.points.assign(n, 0);
   std::vector<bool> known(n, false);
   for (int i = 0; i < int(n); ++i)
-    if (inside(footprint, g.centre(i))) g.z[size_t(i)] = -1e300;
+    if (in_polygon_plan(footprint, g.centre(i))) g.z[size_t(i)] = -1e300;
   for (const auto& p : points) {
     const int c = g.cell_of(p.head<2>());
     if (c < 0 || !g.on_footprint(c)) continue;

@@ -65,7 +65,7 @@ double cell_size(const Polygon2& footprint, size_t points) {
 double raster_iou(const HeightGrid& g, const std::vector<bool>& occupied, const Polygon2& candidate) {
   long both = 0, either = 0;
   for (int i = 0; i < g.nx * g.ny; ++i) {
-    const bool in = lod13::inside(candidate, g.centre(i)), occ = occupied[size_t(i)];
+    const bool in = in_polygon_plan(candidate, g.centre(i)), occ = occupied[size_t(i)];
     both += in && occ;
     either += in || occ;
   }
@@ -210,7 +210,7 @@ PieceSupport support_of(const std::vector<LayerPiece>& pieces, const std::vector
   long n = 0;
   for (const auto& p : points)
     for (size_t k = pieces.size(); k-- > 0;)
-      if (lod13::inside(pieces[k].outline, p.head<2>())) {
+      if (in_polygon_plan(pieces[k].outline, p.head<2>())) {
         const double d2 = (p.z() - pieces[k].z) * (p.z() - pieces[k].z);
         ++s.points[k], sum2[k] += d2, all += d2, ++n;
         break;

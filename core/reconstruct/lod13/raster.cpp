@@ -3,20 +3,6 @@
 #include <algorithm>
 
 namespace c3d::lod13 {
-namespace {
-
-bool inside_ring(const Ring2& r, const Vec2& q) {
-  bool in = false;
-  for (size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
-    const Vec2 &a = r[i], &b = r[j];
-    if ((a.y() > q.y()) != (b.y() > q.y()) &&
-        q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x())
-      in = !in;
-  }
-  return in;
-}
-
-}  // namespace
 
 std::vector<int> neighbours8(int nx, int ny, int i) {
   std::vector<int> out;
@@ -53,13 +39,6 @@ std::vector<std::vector<int>> connected_patches(int nx, int ny, const std::vecto
     out.push_back(std::move(patch));
   }
   return out;
-}
-
-bool inside(const Polygon2& p, const Vec2& q) {
-  if (p.outer.size() < 3 || !inside_ring(p.outer, q)) return false;
-  for (const auto& h : p.holes)
-    if (h.size() >= 3 && inside_ring(h, q)) return false;
-  return true;
 }
 
 }  // namespace c3d::lod13

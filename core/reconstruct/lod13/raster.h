@@ -14,7 +14,4 @@ std::vector<int> neighbours8(int nx, int ny, int i);
 // patches touching at a corner would pinch the shell there).
 std::vector<std::vector<int>> connected_patches(int nx, int ny, const std::vector<int>& cells);
 
-// Point in polygon (even-odd over the outer ring and the holes).
-bool inside(const Polygon2& p, const Vec2& q);
-
 }  // namespace c3d::lod13
