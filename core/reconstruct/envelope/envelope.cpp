@@ -11,6 +11,7 @@
 #include "core/reconstruct/envelope/roof_faces.h"
 #include "core/reconstruct/envelope/roof_pieces.h"
 #include "core/reconstruct/envelope/shell.h"
+#include "core/reconstruct/envelope/slivers.h"
 #include "core/reconstruct/envelope/wall_evidence.h"
 #include "core/reconstruct/envelope/wall_faces.h"
 
@@ -45,6 +46,7 @@ Building build_building(const EnvelopeInput& in, FootprintApart* apart) {
     b.elements.push_back(outer_ceiling(roof.soffits, facades.eaves));
 
   weld_shell(solid, b.elements);
+  straighten_slivers(solid, b.elements);
   b.solid = std::move(solid);
   if (log::enabled(log::Level::Debug)) debug_open_edges(b);
   return b;
