@@ -161,8 +161,8 @@ TEST(Validate, CollinearWallTopPiecesAreNotACrossing) {
 TEST(PolygonRules, ThinFaceCanTiltOnTheExportGrid) {
   // A roof face of a Cimahi house (parcels laid out on an 18 m grid): three
   // near-collinear vertices along its north edge form a triangle under 1 mm
-  // thick, which the rules pass over; rounded to CityJSON's 0.1 mm grid it is
-  // thicker than 1 mm and tilted, and `validate` rejects the face there.
+  // thick that lies flat; rounded to CityJSON's 0.1 mm grid it is tilted,
+  // and `validate` rejects the face there.
   const Face face{{{32.938274782570005, 80.261119695303648, 789.91594052795597},
                    {33.538592362529215, 76.034388426364799, 791.66262839905494},
                    {33.576039830877257, 76.007004576426354, 791.66254261953998},

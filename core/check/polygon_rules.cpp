@@ -88,7 +88,7 @@ bool check_polygon(const Face& f, const PolygonRules& rules, VertexSnap& snap,
     issues.push_back({kNonPlanarDistancePlane, "", msg});
     return false;
   }
-  if (tilted_triangle(f, n, rules.normals_tol_deg, rules.snap_tol)) {
+  if (tilted_triangle(f, n, rules.normals_tol_deg)) {
     issues.push_back({kNonPlanarNormalsDeviation, "", "triangle normal deviates from the polygon's"});
     return false;
   }

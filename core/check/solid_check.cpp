@@ -363,12 +363,11 @@ bool vertex_inside_a_face(const std::vector<Vec3>& pts, const Soup& tris) {
 
 }  // namespace
 
-bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg, double min_thickness) {
+bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg) {
   const double cos_tol = std::cos(tol_deg * M_PI / 180);
   for (const auto& t : triangulate(face)) {
     const Vec3 tn = (t.b - t.a).cross(t.c - t.a);
-    const double longest = std::max({(t.b - t.a).norm(), (t.c - t.b).norm(), (t.a - t.c).norm()});
-    if (tn.norm() < 1e-12 || tn.norm() / std::max(longest, 1e-12) < min_thickness) continue;
+    if (tn.norm() < 1e-12) continue;
     if (tn.normalized().dot(normal) < cos_tol) return true;
   }
   return false;

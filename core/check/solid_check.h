@@ -28,9 +28,9 @@ struct IndexedTriangles {
 IndexedTriangles triangulate_indexed(const Face& face);
 std::vector<Triangle> triangulate(const std::vector<Face>& faces);
 // Whether a triangle of the face's triangulation leans more than tol_deg from
-// `normal` (val3dity's 204). Triangles thinner than min_thickness (m) are
-// skipped: their vertices are only known to that precision, so their normal is noise.
-bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg, double min_thickness);
+// `normal` (val3dity's 204). Every triangle counts, however thin, as it does
+// for val3dity: the envelope leaves none thin enough to tilt (slivers.h).
+bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg);
 
 struct SolidProblem {
   std::string code;     // see check_solid

@@ -130,7 +130,7 @@ bool move_keeps_faces_flat(const std::vector<Face>& faces, const std::vector<siz
       for (Vec3& p : ring_of(moved, r))
         if (key(p) == v) p = to;
     const Vec3 n = unit_normal(faces[f]);
-    if (tilted_triangle(moved, n, kMovedTiltDeg, 0) || tilted_triangle(on_export_grid(moved), n, kMovedTiltDeg, 0))
+    if (tilted_triangle(moved, n, kMovedTiltDeg) || tilted_triangle(on_export_grid(moved), n, kMovedTiltDeg))
       return false;
   }
   return true;
