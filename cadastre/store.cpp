@@ -263,7 +263,8 @@ void Store::end_run() {
     sql::Stmt upd(db, std::string("UPDATE run SET finished=") + kNow +
                           ", parcels_ok=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='ok'),"
                           " parcels_empty=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='empty'),"
-                          " parcels_failed=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='failed')"
+                          " parcels_failed=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='failed'),"
+                          " parcels_suspect=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='suspect')"
                           " WHERE fid=?1");
     upd.bind(impl_->run_id).run();
   }

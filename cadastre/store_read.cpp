@@ -39,6 +39,7 @@ WallEvidence evidence_from(const std::string& s) {
 ParcelStatus status_from(const std::string& s) {
   if (s == "ok") return ParcelStatus::Ok;
   if (s == "failed") return ParcelStatus::Failed;
+  if (s == "suspect") return ParcelStatus::Suspect;
   return ParcelStatus::Empty;
 }
 

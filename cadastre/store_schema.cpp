@@ -95,11 +95,6 @@ CREATE TABLE IF NOT EXISTS vm_cost_item (fid INTEGER PRIMARY KEY,
   building_id TEXT, element_index INTEGER, element_type TEXT NOT NULL, quality TEXT,
   area DOUBLE, sigma_area DOUBLE, unit_cost DOUBLE, amount DOUBLE, sigma_amount DOUBLE,
   support_points INTEGER, rmse DOUBLE);
-CREATE TABLE IF NOT EXISTS parcel_job (fid INTEGER PRIMARY KEY, parcel_id TEXT NOT NULL UNIQUE,
-  layer_index INTEGER,
-  status TEXT NOT NULL CHECK (status IN ('pending','ok','empty','failed')),
-  reason TEXT, inputs_key TEXT, run_id INTEGER REFERENCES run(fid),
-  roof_points INTEGER, wall_points INTEGER, timings TEXT, updated DATETIME);
 CREATE INDEX IF NOT EXISTS ix_run_input_run ON run_input(run_id);
 CREATE INDEX IF NOT EXISTS ix_rrr_baunit ON la_rrr(baunit_id);
 CREATE INDEX IF NOT EXISTS ix_rrr_party ON la_rrr(party_id);
@@ -111,8 +106,30 @@ CREATE INDEX IF NOT EXISTS ix_val_vu ON vm_valuation(valuationunit_id);
 CREATE INDEX IF NOT EXISTS ix_val_run ON vm_valuation(run_id);
 CREATE INDEX IF NOT EXISTS ix_ci_val ON vm_cost_item(valuation_id);
 CREATE INDEX IF NOT EXISTS ix_ci_element ON vm_cost_item(element_fid);
-CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);
 )SQL";
+
+// The job table by itself: stores written before `suspect` existed get it
+// rebuilt with the wider status check (migrate_parcel_job).
+const char* kParcelJobColumns = R"SQL( (fid INTEGER PRIMARY KEY, parcel_id TEXT NOT NULL UNIQUE,
+  layer_index INTEGER,
+  status TEXT NOT NULL CHECK (status IN ('pending','ok','empty','failed','suspect')),
+  reason TEXT, inputs_key TEXT, run_id INTEGER REFERENCES run(fid),
+  roof_points INTEGER, wall_points INTEGER, timings TEXT, updated DATETIME))SQL";
+
+void create_parcel_job(sql::Db& db) {
+  bool old_check = false;
+  {
+    sql::Stmt q(db, "SELECT sql FROM sqlite_master WHERE type='table' AND name='parcel_job'");
+    old_check = q.step() && q.get_text(0).find("'suspect'") == std::string::npos;
+  }
+  if (old_check) {
+    db.exec(std::string("CREATE TABLE parcel_job_v2") + kParcelJobColumns + ";"
+            "INSERT INTO parcel_job_v2 SELECT * FROM parcel_job; DROP TABLE parcel_job;"
+            "ALTER TABLE parcel_job_v2 RENAME TO parcel_job;");
+  }
+  db.exec(std::string("CREATE TABLE IF NOT EXISTS parcel_job") + kParcelJobColumns +
+          "; CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);");
+}
 
 // Columns added to a table after stores were written with it: a store
 // written before gets them on opening, so its later parcels record them too.
@@ -125,6 +142,7 @@ const AddedColumn kAddedColumns[] = {
     {"building", "lod", "TEXT"},
     {"building", "lod_note", "TEXT"},
     {"building_element", "sigma_shared", "DOUBLE"},
+    {"run", "parcels_suspect", "INTEGER"},
 };
 
 struct Layer {
@@ -213,6 +231,7 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
   }
   const int srs = register_srs(db, crs_wkt, epsg);
   db.exec(kLadmSchema);
+  create_parcel_job(db);
   for (const AddedColumn& c : kAddedColumns)
     if (!has_column(db, c.table, c.column))
       db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN " + c.column + " " + c.type);

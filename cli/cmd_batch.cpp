@@ -62,6 +62,20 @@ void print_timings(const BatchReport& r, double total_s, const std::string& out)
               total_s);
 }
 
+// The last line: every parcel's status as the store holds it. Failed or
+// suspect parcels exit kExitPartial (docs/plausibility.md).
+int print_counts(const BatchModel& model, bool quiet) {
+  size_t n[4] = {0, 0, 0, 0};
+  for (const auto& r : model.results) ++n[size_t(r.status)];
+  const size_t ok = n[size_t(ParcelStatus::Ok)], empty = n[size_t(ParcelStatus::Empty)];
+  const size_t failed = n[size_t(ParcelStatus::Failed)], suspect = n[size_t(ParcelStatus::Suspect)];
+  const std::string line = "parcels: " + std::to_string(ok) + " ok, " + std::to_string(empty) + " empty, " +
+                           std::to_string(failed) + " failed, " + std::to_string(suspect) + " suspect";
+  if (!quiet) std::cout << line << "\n";
+  else if (failed + suspect > 0) std::cerr << line << "\n";  // --quiet still says so
+  return failed + suspect > 0 ? kExitPartial : kExitOk;
+}
+
 int run(BatchOptions opt) {
   const auto t_start = std::chrono::steady_clock::now();
   if (opt.quiet) log::set_level(log::Level::Warn);
@@ -79,7 +93,7 @@ int run(BatchOptions opt) {
     print_outputs(written, store_path);
     print_timings(report, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), opt.out);
   }
-  return report.failed > 0 ? kExitPartial : kExitOk;
+  return print_counts(report.model, opt.quiet);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 #pragma once
 // Each sub-command lives in its own cli/cmd_<name>.cpp and registers itself here.
 // Exit codes (documented in README): 0 ok, 1 bad input / failed command,
-// 2 usage error, 3 batch finished but some parcels failed.
+// 2 usage error, 3 batch finished but some parcels failed or are suspect.
 #include <CLI/CLI.hpp>
 
 namespace c3d::cli {

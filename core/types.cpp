@@ -32,6 +32,7 @@ const char* to_string(ParcelStatus s) {
     case ParcelStatus::Ok: return "ok";
     case ParcelStatus::Empty: return "empty";
     case ParcelStatus::Failed: return "failed";
+    case ParcelStatus::Suspect: return "suspect";
   }
   return "?";
 }

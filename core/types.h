@@ -158,7 +158,9 @@ struct Timing {
   double seconds = 0;
 };
 
-enum class ParcelStatus { Ok, Empty, Failed };
+// Suspect: modelled, but a figure lies outside the plausible bounds
+// (cadastre/batch/plausibility.h); reported with its reason, never valued.
+enum class ParcelStatus { Ok, Empty, Failed, Suspect };
 const char* to_string(ParcelStatus s);
 
 struct ParcelResult {

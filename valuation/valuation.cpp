@@ -89,8 +89,11 @@ ParcelValuation value_parcel(const Parcel& parcel, const ParcelResult& result,
     factor = q->second;
   }
 
-  if (result.status == ParcelStatus::Failed) v.note = "building not modelled: " + result.reason;
-  for (const Building& b : result.buildings) {
+  if (result.status == ParcelStatus::Failed) v.note = "land only, building not modelled: " + result.reason;
+  // A suspect model is shown but not priced: its figures await an officer's review.
+  const bool suspect = result.status == ParcelStatus::Suspect;
+  if (suspect) v.note = "land only, building not valued (suspect): " + result.reason;
+  for (const Building& b : suspect ? std::vector<Building>{} : result.buildings) {
     // Within a building the elements' shared sigma parts (one assumed
     // overhang, one fitted roof noise) add linearly per type; buildings
     // and the rest in quadrature.

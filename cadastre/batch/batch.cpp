@@ -7,11 +7,11 @@
 #include <thread>
 
 #include "cadastre/batch/batch_inputs.h"
+#include "cadastre/batch/plausibility.h"
 #include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/scenes.h"
 #include "core/evaluate/evaluate.h"
 #include "core/log.h"
-#include "valuation/valuation.h"
 
 namespace c3d {
 namespace {
@@ -52,8 +52,11 @@ void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, c
   auto worker = [&] {
     for (size_t k = next++; k < todo.size(); k = next++) {
       const size_t i = todo[k];
-      ParcelResult r = reconstruct_parcel(make_scene(scenes, i), cfg.reconstruction);
-      ParcelValuation v = value_parcel(parcels[i], r, cfg.valuation);
+      const std::string gap = unreachable(*scenes.inputs, i);
+      ParcelResult r = gap.empty() ? reconstruct_parcel(make_scene(scenes, i), cfg.reconstruction)
+                                   : failed_parcel(i, parcels[i].id, gap);
+      check_model(r, scenes.frame.origin.z());
+      ParcelValuation v = value_checked(parcels[i], r, cfg.valuation);
       std::lock_guard<std::mutex> lock(sink_mutex);
       const auto t_write = Clock::now();
       sink.write_parcel(i, r, v);
@@ -63,6 +66,10 @@ void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, c
       if (r.status == ParcelStatus::Failed) {
         ++report.failed;
         log::error("parcel " + r.parcel_id + " failed: " + r.reason);
+      }
+      if (r.status == ParcelStatus::Suspect) {
+        ++report.suspect;
+        log::warn("parcel " + r.parcel_id + " suspect: " + r.reason);
       }
       if (settings.progress) settings.progress(report.reconstructed, todo.size());
     }

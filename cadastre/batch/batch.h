@@ -73,6 +73,7 @@ struct BatchReport {
   BatchTimings timings;
   std::vector<std::string> warnings;  // about the inputs (also logged)
   size_t parcels = 0, reconstructed = 0, failed = 0;  // failed among the reconstructed
+  size_t suspect = 0;  // among the reconstructed: modelled outside the plausible bounds
   // Every roof point inside any parcel against the nearest roof of any model,
   // and every wall point within kWallPointReachM of a parcel against the
   // nearest wall: the models' fit, free of which parcel a point counted for.

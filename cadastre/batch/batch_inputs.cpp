@@ -43,7 +43,29 @@ void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, 
   }
 }
 
+// Parcels the clouds or the DTM do not reach fail one by one; reaching none
+// is an error naming the file (a wrong CRS, a wrong tile).
+void check_reach(const BatchInputs& inputs, const LoadedInputs& in) {
+  const auto& parcels = in.layer.parcels;
+  if (!parcels.empty() && std::none_of(parcels.begin(), parcels.end(),
+                                       [&](const Parcel& p) { return in.coverage.near(p.shape); }))
+    throw InputError(inputs.clouds.empty() ? inputs.walls.front() : inputs.clouds.front(),
+                     "no point lies within " + std::to_string(int(kCoverageReachM)) + " m of any parcel of " +
+                         in.layer.source + " (points " + in.coverage.extent() + "): check the CRS and the files");
+  if (std::all_of(parcels.begin(), parcels.end(),
+                  [&](const Parcel& p) { return !dtm_gap(in.dtm, p, in.layer.source).empty(); }))
+    check_dtm_covers(in.dtm, in.layer);
+}
+
 }  // namespace
+
+std::string unreachable(const LoadedInputs& in, size_t i) {
+  const Parcel& p = in.layer.parcels[i];
+  if (!in.coverage.near(p.shape))
+    return "no points of the cloud within " + std::to_string(int(kCoverageReachM)) + " m of the parcel";
+  const std::string gap = dtm_gap(in.dtm, p, in.layer.source);
+  return gap.empty() ? gap : "DTM " + in.dtm.source + " " + gap;
+}
 
 std::vector<std::string> BatchInputs::files() const {
   std::vector<std::string> out = clouds;
@@ -69,8 +91,10 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
   if (!inputs.classifier_model.empty())
     classify_clouds(inputs.classifier_model, clouds, n_class_clouds, have_dtm ? &in.dtm : nullptr, cfg.classes,
                     in.warnings);
+  for (auto& c : clouds) keep_plausible_elevations(c, in.warnings);
   std::vector<Vec3> ground;
   for (size_t i = 0; i < clouds.size(); ++i) {
+    in.coverage.add(clouds[i].points);
     if (i < n_class_clouds) split_classes(clouds[i], cfg.classes, in, ground);
     else in.wall.insert(in.wall.end(), clouds[i].points.begin(), clouds[i].points.end());
     clouds[i].points.clear();
@@ -81,10 +105,11 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
       throw InputError("--dtm", "no DTM given and no ground-class points to build one from");
     in.dtm = dtm_from_points(ground, in.crs_wkt, 1.0, DtmCell::Min, "ground-class points");
   }
-  check_dtm_covers(in.dtm, in.layer);
+  check_dtm_elevations(in.dtm, in.warnings);
   if (in.roof.empty() && in.wall.empty())
     throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
                      "no roof or wall points (check the class mapping)");
+  check_reach(inputs, in);
   return in;
 }
 

@@ -64,7 +64,7 @@ void write_summary(const BatchReport& report, const std::string& path) {
   const BatchTimings& timings = report.timings;
   json parcels = json::array();
   std::vector<Deviation> roof_devs, wall_devs;
-  int ok = 0, empty = 0, failed = 0;
+  int ok = 0, empty = 0, failed = 0, suspect = 0;
   for (size_t i = 0; i < model.parcels.size(); ++i) {
     const ParcelResult& r = model.results[i];
     json buildings = json::array();
@@ -76,6 +76,7 @@ void write_summary(const BatchReport& report, const std::string& path) {
     ok += r.status == ParcelStatus::Ok;
     empty += r.status == ParcelStatus::Empty;
     failed += r.status == ParcelStatus::Failed;
+    suspect += r.status == ParcelStatus::Suspect;
     parcels.push_back({{"parcel_index", i},
                        {"parcel_id", model.parcels[i].id},
                        {"status", to_string(r.status)},
@@ -90,6 +91,7 @@ void write_summary(const BatchReport& report, const std::string& path) {
             {"parcels_ok", ok},
             {"parcels_empty", empty},
             {"parcels_failed", failed},
+            {"parcels_suspect", suspect},
             {"pooled_roof_deviation", to_json(pool(roof_devs))},
             {"pooled_wall_deviation", to_json(pool(wall_devs))},
             {"any_model_roof_deviation", to_json(report.any_model_roof)},

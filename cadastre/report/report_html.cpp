@@ -19,7 +19,7 @@ h1{font-size:22px;margin-bottom:4px}h2{font-size:18px;border-bottom:2px solid #a
 h3{font-size:15px;margin:4px 0}
 .meta{color:#666;font-size:12px}
 .cards{display:flex;gap:12px;flex-wrap:wrap}.card{border:1px solid #ccc;border-radius:6px;padding:8px 14px;min-width:120px}
-.card b{display:block;font-size:20px}.ok{color:#2e7d32}.empty{color:#777}.failed{color:#c62828}
+.card b{display:block;font-size:20px}.ok{color:#2e7d32}.empty{color:#777}.failed{color:#c62828}.suspect{color:#e65100}
 table{border-collapse:collapse;font-size:12px;margin:6px 0}th,td{border:1px solid #ccc;padding:3px 6px}
 th{background:#f3ede8;text-align:left}td.n{text-align:right;white-space:nowrap}
 .charts{display:flex;gap:24px;flex-wrap:wrap}.small{font-size:10px}svg text{font-size:12px;fill:#222}
@@ -28,13 +28,14 @@ th{background:#f3ede8;text-align:left}td.n{text-align:right;white-space:nowrap}
 )CSS";
 
 std::string summary_html(const BatchModel& m, const std::vector<ParcelValuation>& vals) {
-  int ok = 0, empty = 0, failed = 0;
+  int ok = 0, empty = 0, failed = 0, suspect = 0;
   std::string problems;
   for (size_t i = 0; i < m.results.size(); ++i) {
     const ParcelResult& r = m.results[i];
     ok += r.status == ParcelStatus::Ok;
     empty += r.status == ParcelStatus::Empty;
     failed += r.status == ParcelStatus::Failed;
+    suspect += r.status == ParcelStatus::Suspect;
     if (r.status != ParcelStatus::Ok)
       problems += fmt("<tr><td>%s</td><td class=\"%s\">%s</td><td>%s</td></tr>",
                       html_escape(r.parcel_id).c_str(), to_string(r.status), to_string(r.status),
@@ -42,7 +43,12 @@ std::string summary_html(const BatchModel& m, const std::vector<ParcelValuation>
   }
   double land = 0, building = 0, njop = 0, tax = 0, s_njop = 0, s_tax = 0;
   std::string currency = vals.empty() ? "" : vals.front().currency;
+  int unvalued = 0;  // money left out (NULL): implausible even as land only
   for (const auto& v : vals) {
+    if (!std::isfinite(v.njop) || !std::isfinite(v.tax)) {
+      ++unvalued;
+      continue;
+    }
     land += v.land_value;
     building += v.building_value;
     njop += v.njop;
@@ -53,8 +59,9 @@ std::string summary_html(const BatchModel& m, const std::vector<ParcelValuation>
   std::string s = "<div class=\"cards\">";
   s += fmt("<div class=\"card\">Parcels<b>%zu</b></div>", m.parcels.size());
   s += fmt("<div class=\"card ok\">Modelled<b>%d</b></div><div class=\"card empty\">Empty<b>%d</b>"
-           "</div><div class=\"card failed\">Failed<b>%d</b></div>",
-           ok, empty, failed);
+           "</div><div class=\"card failed\">Failed<b>%d</b></div><div class=\"card suspect\">Suspect<b>%d</b></div>",
+           ok, empty, failed, suspect);
+  if (unvalued) s += fmt("<div class=\"card failed\">Not valued<b>%d</b></div>", unvalued);
   s += fmt("<div class=\"card\">Land value (%s)<b>%s</b></div>", currency.c_str(), money(land).c_str());
   s += fmt("<div class=\"card\">Building value (%s)<b>%s</b></div>", currency.c_str(),
            money(building).c_str());
@@ -63,8 +70,9 @@ std::string summary_html(const BatchModel& m, const std::vector<ParcelValuation>
   s += fmt("<div class=\"card\">PBB tax (%s)<b>%s</b>&plusmn; %s</div></div>", currency.c_str(),
            money(tax).c_str(), money(s_tax).c_str());
   if (!problems.empty())
-    s += "<h3>Parcels without a model</h3><table><tr><th>Parcel</th><th>Status</th><th>Reason"
-         "</th></tr>" + problems + "</table>";
+    s += "<h3>Parcels without a valued model</h3><p>Failed and suspect parcels are valued as land "
+         "only until an officer reviews them (docs/plausibility.md).</p><table><tr><th>Parcel</th>"
+         "<th>Status</th><th>Reason</th></tr>" + problems + "</table>";
   return s;
 }
 

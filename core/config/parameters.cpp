@@ -41,6 +41,13 @@ Accessor parcel_id_field() {
 Range between(double min, double max) { return {min, max, {}, false}; }
 Range at_least(double min) { return {min, kUnbounded, {}, false}; }
 Range one_of(std::vector<std::string> names) { return {0, kUnbounded, std::move(names), false}; }
+// Money per m2 (unit costs, land prices): the costliest land, about 5e5 USD/m2,
+// is 2e10 in the currency with the most units per dollar (rial): 1e12 leaves
+// room for any price and refuses a typo like 1e308 (an infinite NJOP).
+constexpr double kMaxPricePerM2 = 1e12;
+// Whole money amounts: a double counts every currency unit only below 2^53.
+constexpr double kMaxAmount = 9.0e15;
+const Range kPrice = between(0, kMaxPricePerM2);
 const Range kCodes = between(0, 255);
 const Range kAnyText = {};
 const Range kNonEmpty = {0, kUnbounded, {}, true};
@@ -165,7 +172,7 @@ std::vector<Parameter> valuation_scalars() {
        kAnyText, "valuation", Need::OffWhenAbsent,
        field([](auto& c) -> auto& { return c.valuation.default_quality; })},
       {"valuation.gross_floor_cost_per_m2", Kind::Real, "currency/m2",
-       "Extra cost per m2 of gross floor area (0 = element costs only)", at_least(0), "valuation",
+       "Extra cost per m2 of gross floor area (0 = element costs only)", kPrice, "valuation",
        Need::OffWhenAbsent,
        field([](auto& c) -> auto& { return c.valuation.gross_floor_cost_per_m2; })},
   };
@@ -175,7 +182,7 @@ std::vector<Parameter> valuation_tables() {
   return {
       {"valuation.unit_cost", Kind::NumberMap, "currency/m2",
        "Replacement cost per m2 of element area (DBKB-style component costs, 2024 level)",
-       {0, kUnbounded, element_type_names(), false}, "valuation", Need::Required,
+       {0, kMaxPricePerM2, element_type_names(), false}, "valuation", Need::Required,
        field([](auto& c) -> auto& { return c.valuation.unit_cost; }),
        {{"roof", "clay-tile roof incl. timber/steel truss, per m2 sloped area"},
         {"wall", "plastered, painted brick wall, per m2 (both sides finished)"},
@@ -183,13 +190,13 @@ std::vector<Parameter> valuation_tables() {
         {"ground", "ground slab with ceramic floor tiles"},
         {"outer_ceiling", "eave soffit (gypsum / GRC board)"}}},
       {"valuation.quality_factor", Kind::NumberMap, "-",
-       "Construction quality classes: factor on the unit costs", at_least(0), "valuation",
+       "Construction quality classes: factor on the unit costs", between(0, 100), "valuation",
        Need::OffWhenAbsent, field([](auto& c) -> auto& { return c.valuation.quality_factor; }),
        {{"permanent", "brick / concrete"},
         {"semi_permanent", "half brick, half timber"},
         {"temporary", "timber, bamboo"}}},
       {"valuation.land_price", Kind::NumberMap, "currency/m2",
-       "Zona Nilai Tanah (land value zones): land price per m2", at_least(0), "valuation",
+       "Zona Nilai Tanah (land value zones): land price per m2", kPrice, "valuation",
        Need::Required, field([](auto& c) -> auto& { return c.valuation.land_price; }),
        {{"ZNT-A", "main road frontage"},
         {"ZNT-B", "residential street"},
@@ -199,7 +206,7 @@ std::vector<Parameter> valuation_tables() {
        between(0, 1), "valuation", Need::Required,
        field([](auto& c) -> auto& { return c.valuation.tax_rate; })},
       {"valuation.tax.njoptkp", Kind::Real, "currency", "Non-taxable NJOP per taxpayer",
-       at_least(0), "valuation", Need::Required,
+       between(0, kMaxAmount), "valuation", Need::Required,
        field([](auto& c) -> auto& { return c.valuation.tax_exemption; })},
       {"valuation.parcels", Kind::ParcelOverrides, "-",
        "Per-parcel facts the parcel layer does not carry: zone, quality, age_years", at_least(0),

@@ -275,22 +275,27 @@ Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt,
   return dtm;
 }
 
-void check_dtm_covers(const Dtm& dtm, const ParcelLayer& parcels) {
-  auto check_ring = [&](const Parcel& parcel, const Ring2& ring) {
-    for (const Vec2& v : ring) {
+std::string dtm_gap(const Dtm& dtm, const Parcel& parcel, const std::string& layer_source) {
+  for (const Polygon2& poly : parcel.shape)
+    for (const Vec2& v : poly.outer) {
       if (dtm.covers(v.x(), v.y())) continue;
       std::ostringstream msg;
       msg.precision(3);
       msg << std::fixed << "does not cover parcel " << parcel.id << " (record " << parcel.index
-          << " of " << parcels.source << "): vertex (" << v.x() << ", " << v.y()
+          << " of " << layer_source << "): vertex (" << v.x() << ", " << v.y()
           << ") lies outside the DTM extent x " << dtm.x0 - 0.5 * dtm.dx << ".."
           << dtm.x0 + (dtm.nx - 0.5) * dtm.dx << ", y " << dtm.y0 + (dtm.ny - 0.5) * dtm.dy << ".."
           << dtm.y0 - 0.5 * dtm.dy;
-      throw InputError(dtm.source, msg.str());
+      return msg.str();
     }
-  };
-  for (const Parcel& p : parcels.parcels)
-    for (const Polygon2& poly : p.shape) check_ring(p, poly.outer);
+  return {};
+}
+
+void check_dtm_covers(const Dtm& dtm, const ParcelLayer& parcels) {
+  for (const Parcel& p : parcels.parcels) {
+    const std::string gap = dtm_gap(dtm, p, parcels.source);
+    if (!gap.empty()) throw InputError(dtm.source, gap);
+  }
 }
 
 }  // namespace c3d

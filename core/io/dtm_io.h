@@ -22,6 +22,10 @@ Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt,
                     double cell_m = 1.0, DtmCell stat = DtmCell::Min,
                     const std::string& source = "ground points");
 
+// Why the DTM cannot give the parcel its terrain: the first vertex outside
+// the grid, or "" when it covers the parcel.
+std::string dtm_gap(const Dtm& dtm, const Parcel& parcel, const std::string& layer_source);
+
 // Throws InputError naming the DTM file and the first parcel with a vertex
 // outside the grid.
 void check_dtm_covers(const Dtm& dtm, const ParcelLayer& parcels);

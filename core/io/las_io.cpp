@@ -19,6 +19,19 @@ namespace {
 
 // ---------------------------------------------------------------- LAS ----
 
+// Header scales and offsets a real survey can have. Geographic LAS use 1e-7
+// (degrees); below 1e-9 the 32-bit records span under +-2.1 units, no survey.
+// Above 1 unit the coordinates are coarser than any building. No projected or
+// geocentric coordinate exceeds 1e9 (Web Mercator reaches 2e7 m).
+constexpr double kMinLasScale = 1e-9, kMaxLasScale = 1.0;
+constexpr double kMaxLasOffset = 1e9;
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 // Point record sizes per format 0-10 (LAS 1.4 R15, table 7ff).
 constexpr std::array<int, 11> kLasRecordSize = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 
@@ -73,10 +86,19 @@ LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf
   if (h.record_length < kLasRecordSize[h.format])
     throw InputError(path, "point record length " + std::to_string(h.record_length) +
                                " is too short for point format " + std::to_string(h.format));
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 3; ++i) {
+    const std::string axis(1, "XYZ"[i]);
     if (!std::isfinite(h.scale[i]) || !std::isfinite(h.offset[i]) || h.scale[i] == 0)
-      throw InputError(path, "NaN/inf or zero scale/offset in the LAS header, coordinates would be "
+      throw InputError(path, "NaN/inf or zero " + axis + " scale/offset in the LAS header, coordinates would be "
                              "NaN/inf");
+    if (h.scale[i] < kMinLasScale || h.scale[i] > kMaxLasScale)
+      throw InputError(path, "implausible " + axis + " scale " + number_text(h.scale[i]) +
+                                 " in the LAS header (must be positive, " + number_text(kMinLasScale) + ".." +
+                                 number_text(kMaxLasScale) + ")");
+    if (std::abs(h.offset[i]) > kMaxLasOffset)
+      throw InputError(path, "implausible " + axis + " offset " + number_text(h.offset[i]) +
+                                 " in the LAS header (beyond +-" + number_text(kMaxLasOffset) + ")");
+  }
   if (h.point_offset < h.header_size || h.point_offset > buf.size())
     throw InputError(path, "truncated LAS file: point data offset " +
                                std::to_string(h.point_offset) + " lies beyond the end of the file (" +
