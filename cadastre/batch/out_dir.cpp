@@ -31,10 +31,10 @@ OutDirLock::OutDirLock(const std::string& out_dir) {
     throw InputError(out_dir, "another cadastre3d batch (pid " + holder +
                                   ") is writing to this folder; wait for it or choose another --out");
   }
+  // The pid only words a refused batch's message: failing to write it is harmless.
   const std::string me = std::to_string(::getpid()) + "\n";
-  if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, me.data(), me.size(), 0) < 0) {
-    // The pid is only for the message of a refused second batch.
-  }
+  [[maybe_unused]] const bool written =
+      ::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, me.data(), me.size(), 0) == ssize_t(me.size());
 }
 
 OutDirLock::~OutDirLock() {
