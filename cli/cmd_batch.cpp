@@ -58,8 +58,9 @@ void print_outputs(const WrittenOutputs& w, const std::string& store_path) {
 
 void print_timings(const BatchReport& r, double total_s, const std::string& out) {
   const BatchTimings& t = r.timings;
-  std::cout << "batch: " << r.parcels << " parcels (" << status_counts(r.model) << ") in " << total_s
-            << " s; outputs in " << out << "\n";
+  std::cout << "batch: " << r.parcels << " parcels";
+  if (r.model.parcels.size() != r.parcels) std::cout << "; the store holds " << r.model.parcels.size();  // --resume
+  std::cout << " (" << status_counts(r.model) << ") in " << total_s << " s; outputs in " << out << "\n";
   std::printf("timing: ingest+clip %.3f s, reconstruction %.3f s, store writes %.3f s, "
               "summary+report+exports %.3f s, total %.3f s\n",
               t.ingest_s, t.reconstruct_s - t.sink_s, t.sink_s, total_s - t.ingest_s - t.reconstruct_s,

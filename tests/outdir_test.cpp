@@ -130,6 +130,9 @@ TEST(OutDir, AnotherDataSetIntoAFolderWithAStoreIsRefusedUnlessResumeOrOverwrite
   EXPECT_EQ(rc, 0) << log;
   // Both towns number their parcels alike: this run's replace the stored ones of the same id.
   EXPECT_EQ(parcels_in_summary(out), 6u) << "--resume keeps the store and adds this run's parcels";
+  log = run(batch_args(dir + "/b", out) + " --resume", &rc);
+  EXPECT_EQ(rc, 0) << log;
+  EXPECT_TRUE(has(log, "batch: 4 parcels; the store holds 6 (")) << log;
   log = run(batch_args(dir + "/a", out) + " --resume --overwrite", &rc);
   EXPECT_EQ(rc, 2) << log;
 }
@@ -191,6 +194,7 @@ TEST(OutDir, AFullDiskIsACleanErrorTheStoreStaysWholeAndResumeCompletesIt) {
   const std::string log = read_file(dir + "/full.log");
   EXPECT_EQ(rc, 1) << log;
   EXPECT_TRUE(has(log, "cadastre3d: error: " + store + ": ")) << log;
+  EXPECT_TRUE(has(log, "(is the disk full?)")) << log;
   EXPECT_FALSE(has(log, "terminate")) << log;
   {
     Sqlite db(store);
