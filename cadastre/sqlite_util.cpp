@@ -30,8 +30,18 @@ Db& Db::operator=(Db&& o) noexcept {
   return *this;
 }
 
+namespace {
+
+// SQLite's words for a failed write, and what a user can do about it.
+std::string write_hint(sqlite3* db) {
+  const int code = sqlite3_errcode(db);
+  return code == SQLITE_FULL || code == SQLITE_IOERR ? " (is the disk full?)" : "";
+}
+
+}  // namespace
+
 void Db::fail(const std::string& what) const {
-  throw InputError(path_, what + ": " + sqlite3_errmsg(db_));
+  throw InputError(path_, what + ": " + sqlite3_errmsg(db_) + write_hint(db_));
 }
 
 void Db::exec(const std::string& sql) {
@@ -39,7 +49,7 @@ void Db::exec(const std::string& sql) {
   if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
     std::string msg = err ? err : "?";
     sqlite3_free(err);
-    throw InputError(path_, "SQL failed: " + msg + " [" + sql.substr(0, 120) + "]");
+    throw InputError(path_, "SQL failed: " + msg + write_hint(db_) + " [" + sql.substr(0, 120) + "]");
   }
 }
 

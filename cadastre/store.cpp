@@ -255,12 +255,12 @@ void Store::write_parcel(const Parcel& parcel, const ParcelResult& result,
   tx.commit();
 }
 
-void Store::end_run() {
+void Store::end_run(bool finished) {
   if (!impl_) return;
   auto& db = impl_->db;
   sql::Transaction tx(db);
   if (impl_->run_id) {
-    sql::Stmt upd(db, std::string("UPDATE run SET finished=") + kNow +
+    sql::Stmt upd(db, std::string("UPDATE run SET finished=") + (finished ? kNow : "NULL") +
                           ", parcels_ok=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='ok'),"
                           " parcels_empty=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='empty'),"
                           " parcels_failed=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='failed'),"
@@ -271,6 +271,11 @@ void Store::end_run() {
   store_schema::update_extents(db);
   tx.commit();
   impl_->run_id = 0;
+}
+
+void mark_run_finished(const std::string& path) {
+  sql::Db db(path, false);
+  db.exec(std::string("UPDATE run SET finished=") + kNow + " WHERE fid=(SELECT max(fid) FROM run)");
 }
 
 void Store::close() {

@@ -60,8 +60,10 @@ class Store {
   void write_parcel(const Parcel& parcel, const ParcelResult& result,
                     const ParcelValuation& valuation, const LocalFrame& frame,
                     const std::string& inputs_key = "");
-  // Closes the run record (end time, counts) and refreshes layer extents.
-  void end_run();
+  // Closes the run record (counts; the end time unless !finished, when the
+  // caller sets it with mark_run_finished once its outputs are in place) and
+  // refreshes layer extents.
+  void end_run(bool finished = true);
   void close();
   bool is_open() const;
   int srs_id() const;
@@ -70,6 +72,10 @@ class Store {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// Sets the end time of the store's latest run: a batch calls it last, once
+// every output is in place, so a set `finished` means a complete output folder.
+void mark_run_finished(const std::string& path);
 
 // Everything the report and the exports need, read back from a store alone.
 // Parcels in layer order; building geometry in local coordinates of the frame

@@ -7,11 +7,13 @@
 #include <set>
 
 #include "cadastre/batch/batch.h"
+#include "cadastre/batch/out_dir.h"
 #include "cadastre/batch/outputs.h"
 #include "cadastre/batch/store_sink.h"
 #include "cli/commands.h"
 #include "cli/progress.h"
 #include "core/log.h"
+#include "ifc_citygml/export.h"
 
 namespace fs = std::filesystem;
 
@@ -27,6 +29,7 @@ struct BatchOptions {
   bool optimize = false;
   std::string device;  // optimizer device: auto | cpu | vulkan
   bool quiet = false;
+  bool overwrite = false;                  // replace what a batch wrote into OUT before
   bool classify = false;                   // classify the clouds first (core/classify)
   std::string model = C3D_DEFAULT_MODEL;   // the classifier's model
 };
@@ -55,7 +58,9 @@ void print_outputs(const WrittenOutputs& w, const std::string& store_path) {
 
 void print_timings(const BatchReport& r, double total_s, const std::string& out) {
   const BatchTimings& t = r.timings;
-  std::cout << "batch: " << r.parcels << " parcels in " << total_s << " s; outputs in " << out << "\n";
+  std::cout << "batch: " << r.parcels << " parcels";
+  if (r.model.parcels.size() != r.parcels) std::cout << "; the store holds " << r.model.parcels.size();  // --resume
+  std::cout << " in " << total_s << " s; outputs in " << out << "\n";
   std::printf("timing: ingest+clip %.3f s, reconstruction %.3f s, store writes %.3f s, "
               "summary+report+exports %.3f s, total %.3f s\n",
               t.ingest_s, t.reconstruct_s - t.sink_s, t.sink_s, total_s - t.ingest_s - t.reconstruct_s,
@@ -82,13 +87,17 @@ int run(BatchOptions opt) {
   const Config cfg = effective_config(opt);
   if (opt.classify) opt.inputs.classifier_model = opt.model;
   fs::create_directories(opt.out);
+  const OutDirLock lock(opt.out);  // one batch per OUT at a time
+  if (opt.overwrite) remove_batch_outputs(opt.out);
   const std::string store_path = (fs::path(opt.out) / "cadastre.gpkg").string();
-  StoreSink sink(store_path);
-  Progress progress("reconstruct", opt.quiet);
-  opt.settings.progress = [&](size_t done, size_t total) { progress.show(done, total); };
+  StoreSink sink(store_path, opt.settings.resume);
+  Progress progress(opt.quiet);
+  opt.settings.progress = [&](const char* stage, size_t done, size_t total) { progress.show(stage, done, total); };
   const BatchReport report = run_batch(opt.inputs, cfg, sink, opt.settings);
+  const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats,
+                                               [&](size_t done, size_t total) { progress.show("outputs", done, total); });
   progress.done();
-  const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats);
+  mark_run_finished(store_path);  // last: a finished run has every output in place
   if (!opt.quiet) {
     print_outputs(written, store_path);
     print_timings(report, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), opt.out);
@@ -117,10 +126,17 @@ void register_batch(CLI::App& app) {
   cmd->add_option("--out", opt->out, "Output directory")->required();
   cmd->add_option("--config", opt->config, "TOML config (default: built-in, see config/)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--jobs", opt->settings.jobs, "Parallel parcels (default: all cores)");
+  cmd->add_option("--jobs", opt->settings.jobs, "Parallel parcels (default: all cores; at most 4 per core)")
+      ->check(CLI::Range(1, 1 << 20));  // 0 and negatives are errors; many: clamped with a warning
   cmd->add_option("--formats", opt->formats, "Exports: gml (CityGML 2.0) gml3 (CityGML 3.0) cityjson ifc obj step")
-      ->delimiter(',');
-  cmd->add_flag("--resume", opt->settings.resume, "Skip parcels already stored from the same inputs and settings");
+      ->delimiter(',')
+      ->check(CLI::IsMember(export_format_names()));
+  auto* resume = cmd->add_flag("--resume", opt->settings.resume,
+                               "Skip parcels already stored from the same inputs and settings; keep a "
+                               "store of another run in OUT and add this run's parcels");
+  cmd->add_flag("--overwrite", opt->overwrite,
+                "Replace what an earlier batch wrote into OUT (store, report, exports, previews)")
+      ->excludes(resume);
   cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");
   cmd->add_option("--device", opt->device, "Optimizer device: auto, cpu or vulkan")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));

@@ -1,31 +1,39 @@
 #pragma once
-// A one-line progress bar on stderr for long work (only when stderr is a terminal,
-// so logs and CI output stay clean).
+// The batch's progress on stderr (words and pace: ProgressMeter): a bar on a
+// terminal, log lines otherwise, so logs and CI output stay short.
 #include <unistd.h>
 
 #include <cstdio>
 #include <string>
 
+#include "cadastre/batch/progress_meter.h"
+
 namespace c3d::cli {
 
 class Progress {
  public:
-  Progress(std::string label, bool quiet) : label_(std::move(label)), show_(!quiet && isatty(2)) {}
-  void show(size_t done, size_t total) {
-    if (!show_) return;
-    shown_ = true;
-    int width = 30, filled = total ? int(width * done / total) : width;
-    std::fprintf(stderr, "\r%s [%.*s%*s] %zu/%zu", label_.c_str(), filled,
-                 "##############################", width - filled, "", done, total);
+  explicit Progress(bool quiet) : quiet_(quiet), tty_(isatty(2) != 0) {}
+  ~Progress() { done(); }
+
+  void show(const std::string& stage, size_t done, size_t total) {
+    if (quiet_) return;
+    bool log_due = false;
+    const std::string text = meter_.update(stage, done, total, &log_due);
+    if (!tty_) {
+      if (log_due) std::fprintf(stderr, "cadastre3d: %s\n", text.c_str());
+      return;
+    }
+    const int width = 30, filled = int(width * meter_.share());
+    std::fprintf(stderr, "\r[%.*s%*s] %s   ", filled, "##############################", width - filled, "",
+                 text.c_str());
+    if (done >= total) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   }
-  void done() {
-    if (shown_) std::fprintf(stderr, "\n");
-  }
+  void done() { meter_.end_stage(); }
 
  private:
-  std::string label_;
-  bool show_ = false, shown_ = false;
+  bool quiet_, tty_;
+  ProgressMeter meter_;
 };
 
 }  // namespace c3d::cli

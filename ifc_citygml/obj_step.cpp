@@ -27,6 +27,7 @@
 #include <stdexcept>
 
 #include "core/geometry/geometry.h"
+#include "core/io/file_names.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
 
@@ -35,7 +36,8 @@ namespace fs = std::filesystem;
 namespace c3d {
 namespace {
 
-std::string file_safe(const std::string& s) {
+// An OBJ object or group name (not a file name: see file_stem_for_id).
+std::string obj_name(const std::string& s) {
   std::string out;
   for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_') ? c : '_';
   return out.empty() ? "unnamed" : out;
@@ -50,10 +52,10 @@ void write_obj(const BatchModel& m, const ParcelResult& r, const std::string& pa
      << ")" << (m.epsg > 0 ? ", EPSG:" + std::to_string(m.epsg) : std::string()) << "\n";
   long base = 1;  // OBJ indices are 1-based and file-global
   for (const auto& b : r.buildings) {
-    os << "o " << file_safe(b.id) << "\n";
+    os << "o " << obj_name(b.id) << "\n";
     for (size_t e = 0; e < b.elements.size(); ++e) {
       const Element& el = b.elements[e];
-      os << "g " << file_safe(b.id) << "_" << to_string(el.type) << "_" << e << "\n";
+      os << "g " << obj_name(b.id) << "_" << to_string(el.type) << "_" << e << "\n";
       for (const auto& f : el.faces) {
         exp::Triangles t = exp::triangulate(f);
         for (const auto& p : t.points)
@@ -133,7 +135,7 @@ std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std
   std::vector<std::string> files;
   for (const auto& r : model.results) {
     if (r.buildings.empty()) continue;
-    std::string path = (fs::path(dir) / (file_safe(r.parcel_id) + ".obj")).string();
+    std::string path = (fs::path(dir) / (file_stem_for_id(r.parcel_id) + ".obj")).string();
     write_obj(model, r, path);
     files.push_back(path);
   }
@@ -161,7 +163,7 @@ std::vector<std::string> write_step_per_building(const BatchModel& model, const 
       STEPControl_Writer writer;
       if (writer.Transfer(solid, STEPControl_AsIs) != IFSelect_RetDone)
         throw std::runtime_error("building " + b.id + ": STEP transfer failed");
-      std::string path = (fs::path(dir) / (file_safe(b.id) + ".step")).string();
+      std::string path = (fs::path(dir) / (file_stem_for_id(b.id) + ".step")).string();
       if (writer.Write(path.c_str()) != IFSelect_RetDone)
         throw std::runtime_error(path + ": cannot write");
       files.push_back(path);

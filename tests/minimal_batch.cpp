@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   c3d::StoreSink store(std::string(argv[4]) + "/cadastre.gpkg");
   const c3d::BatchReport report = c3d::run_batch(inputs, cfg, store);
   c3d::write_outputs(report, store.path(), argv[4], cfg, {"cityjson"});
+  c3d::mark_run_finished(store.path());  // last: every output is in place
   std::printf("%zu parcels, %zu failed\n", report.parcels, report.failed);
   return report.failed > 0 ? 3 : 0;
 }

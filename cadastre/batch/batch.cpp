@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <mutex>
 #include <thread>
 
@@ -43,14 +44,31 @@ std::vector<size_t> parcels_to_model(BatchSink& sink, const BatchRun& run, bool 
   return todo;
 }
 
-// Models the parcels on `jobs` threads; the sink is written under one lock.
+// Threads to start: `jobs` (0: one per core), at most kMaxJobsPerCore per core
+// (with a warning) and no more than there are parcels.
+int job_count(int jobs, size_t parcels) {
+  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  if (jobs <= 0) jobs = cores;
+  if (jobs > kMaxJobsPerCore * cores) {
+    log::warn("--jobs " + std::to_string(jobs) + " is more than " + std::to_string(kMaxJobsPerCore) +
+              " per core; using " + std::to_string(kMaxJobsPerCore * cores) + " (" + std::to_string(cores) +
+              " cores)");
+    jobs = kMaxJobsPerCore * cores;
+  }
+  return int(std::min<size_t>(size_t(jobs), std::max<size_t>(parcels, 1)));
+}
+
+// Models the parcels on threads; the sink is written under one lock. The
+// first exception (a store write failing, the disk full) stops every worker
+// and is rethrown here; the failed parcel's transaction has rolled back.
 void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, const Config& cfg,
                    BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
   const auto& parcels = scenes.inputs->layer.parcels;
   std::atomic<size_t> next{0};
   std::mutex sink_mutex;
+  std::exception_ptr error;
   auto worker = [&] {
-    for (size_t k = next++; k < todo.size(); k = next++) {
+    for (size_t k = next++; k < todo.size(); k = next++) try {
       const size_t i = todo[k];
       const std::string gap = unreachable(*scenes.inputs, i);
       ParcelResult r = gap.empty() ? reconstruct_parcel(make_scene(scenes, i), cfg.reconstruction)
@@ -58,6 +76,7 @@ void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, c
       check_model(r, scenes.frame.origin.z());
       ParcelValuation v = value_checked(parcels[i], r, cfg.valuation);
       std::lock_guard<std::mutex> lock(sink_mutex);
+      if (error) return;
       const auto t_write = Clock::now();
       sink.write_parcel(i, r, v);
       report.timings.sink_s += seconds_since(t_write);
@@ -71,13 +90,19 @@ void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, c
         ++report.suspect;
         log::warn("parcel " + r.parcel_id + " suspect: " + r.reason);
       }
-      if (settings.progress) settings.progress(report.reconstructed, todo.size());
+      if (settings.progress) settings.progress("reconstruct", report.reconstructed, todo.size());
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(sink_mutex);
+      if (!error) error = std::current_exception();
+      next = todo.size();
+      return;
     }
   };
-  const int jobs = settings.jobs > 0 ? settings.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::thread> pool;
+  const int jobs = job_count(settings.jobs, todo.size());
   for (int k = 0; k < jobs; ++k) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
 }
 
 std::vector<Face> world_faces(const BatchModel& model, const std::vector<ElementType>& types) {
@@ -158,21 +183,32 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
                       const BatchSettings& settings) {
   const auto t_start = Clock::now();
   BatchReport report;
+  auto progress = [&](const char* stage, size_t done, size_t total) {
+    if (settings.progress) settings.progress(stage, done, total);
+  };
+  progress("ingest", 0, 3);
   const LoadedInputs in = load_inputs(inputs, cfg);
+  progress("ingest", 1, 3);
   report.warnings = in.warnings;
   for (const auto& w : in.warnings) log::warn(w);
   report.parcels = in.layer.parcels.size();
   const LocalFrame frame = frame_of(in.layer);
   const SceneSource scenes = prepare_scenes(in, cfg.clip, frame);
   report.timings.ingest_s = seconds_since(t_start);
+  progress("ingest", 2, 3);
 
   const BatchRun run = describe_run(in, inputs, cfg, frame);
+  progress("ingest", 3, 3);
   sink.begin(run);
   const std::vector<size_t> todo = parcels_to_model(sink, run, settings.resume);
   model_parcels(todo, scenes, cfg, sink, settings, report);
+  progress("store", 0, 1);
   report.model = sink.end();
+  progress("store", 1, 1);
   report.timings.reconstruct_s = seconds_since(t_start) - report.timings.ingest_s;
+  progress("deviation", 0, 1);
   any_model_deviation(in, cfg.clip, scenes, report);
+  progress("deviation", 1, 1);
   return report;
 }
 

@@ -6,7 +6,8 @@
 //   BatchInputs in{{"cloud.las"}, {}, "parcels.gpkg", "dtm.tif"};
 //   StoreSink sink("out/cadastre.gpkg");
 //   BatchReport r = run_batch(in, default_config(), sink);
-//   write_outputs(r, "out", cfg, {"cityjson"});
+//   write_outputs(r, sink.path(), "out", cfg, {"cityjson"});
+//   mark_run_finished(sink.path());
 #include <functional>
 #include <map>
 #include <string>
@@ -36,10 +37,16 @@ struct BatchInputs {
 
 // How the batch runs; none of it changes a result.
 struct BatchSettings {
-  int jobs = 0;         // parallel parcels; 0: all cores
+  int jobs = 0;         // parallel parcels; 0: all cores; more than kMaxJobsPerCore per core: clamped
   bool resume = false;  // skip parcels the sink already holds from the same key
-  std::function<void(size_t done, size_t total)> progress;  // after each parcel
+  // Stage "ingest" (steps: inputs read, points clipped, inputs hashed), "reconstruct" (after
+  // each parcel modelled and stored), "store" (every parcel read back, one
+  // step), "deviation" (one step).
+  std::function<void(const char* stage, size_t done, size_t total)> progress;
 };
+
+// More threads than this per core only add memory and contention.
+constexpr int kMaxJobsPerCore = 4;
 
 // What a sink learns before the first parcel.
 struct BatchRun {

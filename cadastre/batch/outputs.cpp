@@ -5,11 +5,15 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "core/evaluate/evaluate.h"
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
+#include "cadastre/batch/out_dir.h"
 #include "cadastre/report/report.h"
+#include "core/error.h"
+#include "core/io/file_names.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -106,30 +110,63 @@ void write_summary(const BatchReport& report, const std::string& path) {
             {"parcels", parcels}};
   std::ofstream f(path);
   f << j.dump(2) << "\n";
-  if (!f) throw std::runtime_error(path + ": cannot write");
+  if (!f.flush()) throw InputError(path, "cannot write");
 }
 
-WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_path,
-                             const std::string& out_dir, const Config& cfg,
-                             const std::vector<std::string>& formats) {
-  const BatchModel& model = report.model;
-  WrittenOutputs out;
-  out.summary = (fs::path(out_dir) / "summary.json").string();
-  write_summary(report, out.summary);
-  write_report_from_store(model, store_path, out_dir, cfg);
-  out.report = (fs::path(out_dir) / "report.html").string();
-  out.exports = export_formats(model, out_dir, formats);
-  // One picture per parcel with buildings, coloured by element type.
-  out.preview_dir = (fs::path(out_dir) / "preview").string();
-  fs::create_directories(out.preview_dir);
+namespace {
+
+// The same relative path under `to` as `path` has under `from`.
+std::string moved(const std::string& path, const std::string& from, const std::string& to) {
+  return (fs::path(to) / fs::relative(path, from)).string();
+}
+
+// One standalone picture per parcel with buildings, coloured by element type,
+// named by file_stem_for_id (an id can neither leave the folder nor share a file).
+void write_previews(const BatchModel& model, const std::string& dir, const std::function<void()>& step) {
+  fs::create_directories(dir);
   for (size_t i = 0; i < model.parcels.size(); ++i) {
     if (model.results[i].buildings.empty()) continue;
-    std::ofstream svg(fs::path(out.preview_dir) / (model.parcels[i].id + ".svg"));
+    const fs::path path = fs::path(dir) / (file_stem_for_id(model.parcels[i].id) + ".svg");
+    std::ofstream svg(path, std::ios::binary);
     std::string pic = parcel_svg(model.parcels[i], model.results[i], model.frame, 720, 520);
     // Inline in the report it needs no namespace; a standalone file does.
     if (pic.rfind("<svg ", 0) == 0) pic.insert(5, "xmlns=\"http://www.w3.org/2000/svg\" ");
     svg << pic;
+    if (!svg.flush()) throw InputError(path.string(), "cannot write the preview");
+    step();
   }
+}
+
+}  // namespace
+
+WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_path,
+                             const std::string& out_dir, const Config& cfg,
+                             const std::vector<std::string>& formats, const OutputProgress& progress) {
+  const BatchModel& model = report.model;
+  size_t done = 0, total = 2 + formats.size();
+  for (const auto& r : model.results) total += !r.buildings.empty();
+  auto step = [&] {
+    if (progress) progress(++done, total);
+  };
+  // Everything is written under OUT/.staging, then each file is renamed into
+  // place: a killed batch leaves no half-written file in OUT.
+  const std::string stage = staging_dir(out_dir);
+  fs::remove_all(stage);
+  fs::create_directories(stage);
+  write_summary(report, (fs::path(stage) / "summary.json").string());
+  step();
+  write_report_from_store(model, store_path, stage, cfg, false, true);
+  step();
+  WrittenOutputs out;
+  for (const auto& f : formats) {
+    for (const auto& p : export_formats(model, stage, {f})) out.exports.push_back(moved(p, stage, out_dir));
+    step();
+  }
+  write_previews(model, (fs::path(stage) / "preview").string(), step);
+  publish_staged(stage, out_dir);
+  out.summary = (fs::path(out_dir) / "summary.json").string();
+  out.report = (fs::path(out_dir) / "report.html").string();
+  out.preview_dir = (fs::path(out_dir) / "preview").string();
   return out;
 }
 

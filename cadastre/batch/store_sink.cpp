@@ -1,10 +1,29 @@
 #include "cadastre/batch/store_sink.h"
 
 #include <filesystem>
+#include <set>
 
+#include "core/error.h"
 #include "core/io/crs.h"
 
 namespace c3d {
+namespace {
+
+// Refuses a store holding a parcel this run would not write with the same key:
+// another data set, other settings or other inputs. A rerun of the same run
+// (or a killed one's leftovers) passes.
+void refuse_other_run(const std::string& path, const std::vector<std::string>& keys) {
+  const std::set<std::string> ours(keys.begin(), keys.end());
+  size_t other = 0;
+  for (const JobRecord& j : load_jobs(path)) other += ours.count(j.inputs_key) == 0;
+  if (other > 0)
+    throw InputError(path, "holds " + std::to_string(other) +
+                               " parcel(s) of another run (other inputs, settings or parcels); "
+                               "--resume keeps them and adds this run's, --overwrite replaces "
+                               "the folder's outputs, or choose another --out");
+}
+
+}  // namespace
 
 void StoreSink::begin(const BatchRun& run) {
   parcels_ = run.parcels;
@@ -12,6 +31,7 @@ void StoreSink::begin(const BatchRun& run) {
   frame_ = run.frame;
   const auto dir = std::filesystem::path(path_).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
+  if (!keep_other_runs_ && std::filesystem::exists(path_)) refuse_other_run(path_, keys_);
   store_.open(path_, run.crs_wkt, epsg_of(run.crs_wkt));
   store_.begin_run(run.parameters, run.inputs, run.frame);
   store_.mark_pending(*parcels_, keys_);
@@ -26,7 +46,7 @@ void StoreSink::write_parcel(size_t i, const ParcelResult& result, const ParcelV
 }
 
 BatchModel StoreSink::end() {
-  store_.end_run();
+  store_.end_run(false);  // finished: mark_run_finished, once the outputs are in place
   store_.close();
   return load_batch_model(path_);
 }

@@ -11,7 +11,11 @@ namespace c3d {
 
 class StoreSink : public BatchSink {
  public:
-  explicit StoreSink(std::string path) : path_(std::move(path)) {}
+  // keep_other_runs: a store already at `path` may hold another run's parcels
+  // (other inputs, settings or layer: --resume); without it such a store is
+  // refused (InputError) before anything is written to it.
+  explicit StoreSink(std::string path, bool keep_other_runs = false)
+      : path_(std::move(path)), keep_other_runs_(keep_other_runs) {}
   const std::string& path() const { return path_; }
 
   void begin(const BatchRun& run) override;
@@ -21,6 +25,7 @@ class StoreSink : public BatchSink {
 
  private:
   std::string path_;
+  bool keep_other_runs_ = false;
   Store store_;
   const std::vector<Parcel>* parcels_ = nullptr;
   std::vector<std::string> keys_;

@@ -6,6 +6,7 @@
 
 #include "cadastre/clip.h"
 #include "core/error.h"
+#include "core/text.h"
 
 namespace c3d {
 namespace {
@@ -75,7 +76,7 @@ void write_clip_csv(const std::string& path, const ParcelLayer& layer, const Cli
   csv << "parcel_index,parcel_id,in_parcel,in_buffer,roof,wall\n";
   for (size_t p = 0; p < counts.parcels.size(); ++p) {
     const ParcelPointCount& r = counts.parcels[p];
-    csv << p << ",\"" << layer.parcels[p].id << "\"," << r.in_parcel << "," << r.in_buffer << "," << r.roof << ","
+    csv << p << "," << csv_text_cell(layer.parcels[p].id) << "," << r.in_parcel << "," << r.in_buffer << "," << r.roof << ","
         << r.wall << "\n";
   }
   if (!csv) throw InputError(path, "cannot write the CSV file");

@@ -62,13 +62,6 @@ std::string money(double v) {
 
 std::string html_escape(const std::string& s) { return escape_markup(s); }
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 std::string pm(double v, double sigma, const char* unit) {
   return fmt("%.2f&nbsp;&plusmn;&nbsp;%.2f%s", v, sigma, unit);
 }
@@ -114,7 +107,8 @@ void write_report_from_store(const std::string& store_path, const std::string& o
 }
 
 void write_report_from_store(const BatchModel& model, const std::string& store_path,
-                             const std::string& out_dir, const Config& cfg, bool revalue) {
+                             const std::string& out_dir, const Config& cfg, bool revalue,
+                             bool own_run) {
   std::vector<ParcelValuation> vals =
       revalue ? value_batch(model, cfg.valuation) : load_valuations(store_path);
   ReportInfo info;
@@ -123,7 +117,9 @@ void write_report_from_store(const BatchModel& model, const std::string& store_p
   if (!runs.empty()) {
     const RunRecord& r = runs.back();
     info.run_note = r.tool_version + ", run " + std::to_string(r.id) + " started " + r.started +
-                    (r.finished.empty() ? " (not finished)" : ", finished " + r.finished) + ", " +
+                    (!r.finished.empty() ? ", finished " + r.finished
+                     : own_run        ? std::string(", finished with these outputs")
+                                      : std::string(" (not finished)")) + ", " +
                     std::to_string(r.inputs.size()) + " input file(s) with SHA-256 in the store";
   }
   if (revalue) info.run_note += (info.run_note.empty() ? "" : "; ") +

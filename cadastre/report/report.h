@@ -36,7 +36,9 @@ void write_report(const std::string& out_dir, const BatchModel& model,
 void write_report_from_store(const std::string& store_path, const std::string& out_dir,
                              const Config& cfg, bool revalue = false);
 // The same with the model already read from that store (the batch has it).
+// own_run: the batch writing its own report, before it marks its run finished.
 void write_report_from_store(const BatchModel& model, const std::string& store_path,
-                             const std::string& out_dir, const Config& cfg, bool revalue = false);
+                             const std::string& out_dir, const Config& cfg, bool revalue = false,
+                             bool own_run = false);
 
 }  // namespace c3d

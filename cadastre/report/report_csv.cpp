@@ -4,6 +4,7 @@
 
 #include "cadastre/report/report.h"
 #include "cadastre/report/report_parts.h"
+#include "core/text.h"
 
 namespace c3d {
 
@@ -25,12 +26,14 @@ class CsvRow {
   CsvRow() {
     for (const char* c : kCsvColumns) cells_[c];
   }
+  // Text from the data, guarded against formula injection.
   CsvRow& set(const char* col, const std::string& v) {
-    cells_.at(col) = csv_field(v);
+    cells_.at(col) = csv_text_cell(v);
     return *this;
   }
   CsvRow& num(const char* col, double v, const char* f = "%.2f") {
-    return std::isfinite(v) ? set(col, fmt(f, v)) : *this;
+    if (std::isfinite(v)) cells_.at(col) = csv_cell(fmt(f, v));
+    return *this;
   }
   std::string line() const {
     std::string s;

@@ -23,7 +23,6 @@ std::string fmt(const char* f, ...);
 // Money with thousands separators, no decimals (IDR has no minor unit in use).
 std::string money(double v);
 std::string html_escape(const std::string& s);
-std::string csv_field(const std::string& s);
 // "v ± sigma unit" for HTML, two decimals.
 std::string pm(double v, double sigma, const char* unit = "");
 std::map<std::string, const ParcelValuation*> by_parcel(const std::vector<ParcelValuation>& v);

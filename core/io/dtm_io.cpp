@@ -55,7 +55,10 @@ void idw_fill(std::vector<float>& z, int nx, int ny, const std::string& source) 
   band->SetNoDataValue(kNoData);
   if (band->RasterIO(GF_Write, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
     throw InputError(source, "cannot fill NoData (in-memory raster write failed)");
-  GDALFillNodata(band, nullptr, std::max(nx, ny), 0, 0, nullptr, nullptr, nullptr);
+  // Its work rasters in memory too: by default GDAL writes them as GeoTIFFs in
+  // the current directory, and a killed batch would leave them there.
+  const char* const fill_options[] = {"TEMP_FILE_DRIVER=MEM", nullptr};
+  GDALFillNodata(band, nullptr, std::max(nx, ny), 0, 0, const_cast<char**>(fill_options), nullptr, nullptr);
   if (band->RasterIO(GF_Read, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
     throw InputError(source, "cannot fill NoData (in-memory raster read failed)");
   std::vector<char> valid(z.size());
