@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "core/evaluate/evaluate.h"
+#include "core/io/crs.h"
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
 #include "cadastre/report/report.h"
@@ -86,6 +87,7 @@ void write_summary(const BatchReport& report, const std::string& path) {
   for (const auto& [k, v] : timings.stages) stages[k] = v;
   json j = {{"tool", "cadastre3d " C3D_VERSION},
             {"crs_epsg", model.epsg},
+            {"areas_crs", areas_crs_text(model.crs_wkt)},
             {"parcels_total", model.parcels.size()},
             {"parcels_ok", ok},
             {"parcels_empty", empty},
