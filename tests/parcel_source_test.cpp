@@ -87,6 +87,9 @@ TEST(ParcelSource, NonUtf8AndNulIdsAreRefused) {
   EXPECT_NE(error_of([&] { read_parcels(latin1, parcel_fields("NIB")); })
                 .find("latin1.geojson: feature FID 1: parcel id 'B\\xE9' is not UTF-8 (byte 1)"),
             std::string::npos);
+  features[1].first = "\"NIB\":\"B\xED\xA0\x80\"";  // a UTF-16 surrogate written as UTF-8
+  const std::string surrogate = write_layer("surrogate.geojson", features);
+  EXPECT_NE(error_of([&] { read_parcels(surrogate, parcel_fields("NIB")); }).find("is not UTF-8"), std::string::npos);
   features[1].first = "\"NIB\":\"B\\u0000X\"";
   const std::string nul = write_layer("nul.geojson", features);
   EXPECT_NE(error_of([&] { read_parcels(nul, parcel_fields("NIB")); }).find("nul.geojson: holds a NUL character at byte"),
