@@ -32,6 +32,7 @@ struct BatchOptions {
   bool overwrite = false;                  // replace what a batch wrote into OUT before
   bool classify = false;                   // classify the clouds first (core/classify)
   std::string model = C3D_DEFAULT_MODEL;   // the classifier's model
+  std::string id_field;                    // --id-field: the parcel id field instead of the config's
 };
 
 // The configuration the batch runs with: the file's, then the command line's overrides.
@@ -39,6 +40,7 @@ Config effective_config(const BatchOptions& opt) {
   Config cfg = opt.config.empty() ? default_config() : load_config(opt.config);
   cfg.reconstruction.optimize = cfg.reconstruction.optimize || opt.optimize;
   if (!opt.device.empty()) cfg.reconstruction.optimize_device = opt.device;
+  if (!opt.id_field.empty()) cfg.fields.id = opt.id_field, cfg.fields.id_required = true;
   return cfg;
 }
 
@@ -118,9 +120,18 @@ void register_batch(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--walls", opt->inputs.walls, "Wall-only point cloud(s) from a terrestrial scanner")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--parcels", opt->inputs.parcels, "Parcel layer (any OGR vector source)")
-      ->required()
-      ->check(CLI::ExistingPath);
+  cmd->add_option("--parcels", opt->inputs.parcels,
+                  "Parcel layer: any OGR vector source, a file, folder or connection string (PG:..., /vsizip/...)")
+      ->required();
+  cmd->add_option("--layer", opt->inputs.parcel_selection.layer, "The parcels' layer in a source with several");
+  cmd->add_option("--where", opt->inputs.parcel_selection.where, "Only parcels matching this OGR SQL filter");
+  cmd->add_option("--bbox", opt->inputs.parcel_selection.bbox,
+                  "Only parcels meeting xmin,ymin,xmax,ymax, in the parcel layer's own CRS")
+      ->delimiter(',')
+      ->expected(4);
+  cmd->add_option("--id-field", opt->id_field, "Parcel id field (default: the config's [parcel_fields] id)");
+  cmd->add_option("--crs", opt->inputs.crs,
+                  "Working CRS for areas, e.g. EPSG:32748 (default: chosen as docs/inputs.md says)");
   cmd->add_option("--dtm", opt->inputs.dtm, "Terrain model (any GDAL raster); default: from ground points")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Output directory")->required();

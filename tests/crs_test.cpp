@@ -1,6 +1,8 @@
 // CRS identification, comparison, reprojection and reconciliation of inputs.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/io/crs.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
@@ -165,6 +167,92 @@ TEST(Crs, ParcelsInDegreesWithNoCloudInMetresIsAnError) {
     EXPECT_NE(m.find("not in metres"), std::string::npos) << m;
     EXPECT_NE(m.find("EPSG:32748"), std::string::npos) << m;  // the UTM zone over the layer
   }
+}
+
+// Issue 35: a Web-Mercator layer measured areas 2 % too large at Cimahi.
+TEST(CrsPolicy, ArealScaleTellsWebMercatorFromUtm) {
+  const double lon = 107.54, lat = -6.87;  // Cimahi
+  EXPECT_NEAR(areal_scale_at(wkt_from_epsg(3857), lon, lat), 1.0 / std::pow(std::cos(lat * M_PI / 180), 2), 0.01);
+  EXPECT_GT(areal_scale_at(wkt_from_epsg(3857), lon, lat), 1.01);
+  EXPECT_NEAR(areal_scale_at(wkt_from_epsg(32748), lon, lat), 1.0, 0.002);
+  EXPECT_EQ(areal_scale_at(wkt_from_epsg(4326), lon, lat), 0.0);  // not projected
+  EXPECT_EQ(epsg_of(utm_wkt_at(lon, lat)), 32748);
+  EXPECT_EQ(epsg_of(utm_wkt_at(5.1, 52.1)), 32631);
+  EXPECT_EQ(areas_crs_text(wkt_from_epsg(32748)), "EPSG:32748 (WGS 84 / UTM zone 48S)");
+}
+
+// The Cimahi square of 100 m^2 as a layer in `epsg`.
+ParcelLayer square_layer(int epsg) {
+  const MultiPolygon2 square = poly::box({781850, 9240000}, {781860, 9240010});
+  ParcelLayer parcels;
+  parcels.source = "parcels.gpkg";
+  parcels.crs_wkt = wkt_from_epsg(epsg);
+  parcels.parcels.push_back(
+      Parcel{0, "P1", "", kNaN, reproject(square, wkt_from_epsg(32748), parcels.crs_wkt, "test"), ""});
+  return parcels;
+}
+
+TEST(CrsPolicy, WebMercatorLayerIsMeasuredInTheCloudsUtm) {
+  ParcelLayer parcels = square_layer(3857);
+  EXPECT_GT(area(parcels.parcels[0].shape), 101.0);  // what the layer claims: 1.5 % too much
+  std::vector<PointCloud> clouds = {cimahi_cloud("cloud.las", true)};
+  CrsReconciliation r = reconcile_crs(parcels, clouds);
+  EXPECT_EQ(epsg_of(r.crs_wkt), 32748);
+  EXPECT_NEAR(area(parcels.parcels[0].shape), 100.0, 0.01);
+  EXPECT_EQ(clouds[0].points[0], cimahi_cloud("cloud.las", true).points[0]);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("Pseudo-Mercator"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("off true at the data"), std::string::npos) << r.warnings[0];
+}
+
+TEST(CrsPolicy, EverythingInWebMercatorGoesToTheLocalUtmZone) {
+  ParcelLayer parcels = square_layer(3857);
+  PointCloud cloud = cimahi_cloud("cloud.las", true);
+  reproject(cloud, wkt_from_epsg(3857));
+  std::vector<PointCloud> clouds = {cloud};
+  CrsReconciliation r = reconcile_crs(parcels, clouds);
+  EXPECT_EQ(epsg_of(r.crs_wkt), 32748);
+  EXPECT_NEAR(area(parcels.parcels[0].shape), 100.0, 0.01);
+  EXPECT_NEAR(clouds[0].points[0].x(), 781855, 1e-3);
+  // A DTM left in Web Mercator is not warped here: the error says how.
+  ParcelLayer again = square_layer(3857);
+  std::vector<PointCloud> clouds2 = {cloud};
+  Dtm dtm;
+  dtm.source = "dtm.tif";
+  dtm.crs_wkt = wkt_from_epsg(3857);
+  try {
+    reconcile_crs(again, clouds2, &dtm);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gdalwarp -t_srs EPSG:32748"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CrsPolicy, DegreesEverywhereGoToTheLocalUtmZoneAndTheUserMayNameOne) {
+  ParcelLayer parcels = square_layer(4326);
+  PointCloud cloud = cimahi_cloud("cloud.las", true);
+  reproject(cloud, wkt_from_epsg(4326));
+  std::vector<PointCloud> clouds = {cloud};
+  CrsReconciliation r = reconcile_crs(parcels, clouds);
+  EXPECT_EQ(epsg_of(r.crs_wkt), 32748);
+  EXPECT_NEAR(area(parcels.parcels[0].shape), 100.0, 0.01);
+  // --crs: DGN95 / Indonesia TM-3 zone 48.2 (k = 0.9999, 1 degree off its meridian)
+  ParcelLayer named = square_layer(3857);
+  std::vector<PointCloud> clouds2 = {cimahi_cloud("cloud.las", true)};
+  r = reconcile_crs(named, clouds2, nullptr, user_crs_wkt("EPSG:23834", "--crs"));
+  EXPECT_EQ(epsg_of(r.crs_wkt), 23834);
+  EXPECT_NEAR(area(named.parcels[0].shape), 100.0, 0.2);  // the square is 100 m^2 in UTM, whose scale is 1.0011 here
+  for (const std::string& w : r.warnings) EXPECT_NE(w.rfind("--crs", 0), 0u) << w;
+  // Zone 49.2 is 5 degrees away: used as named, with a warning.
+  ParcelLayer far = square_layer(32748);
+  std::vector<PointCloud> clouds3 = {cimahi_cloud("cloud.las", true)};
+  r = reconcile_crs(far, clouds3, nullptr, user_crs_wkt("EPSG:23836", "--crs"));
+  EXPECT_EQ(epsg_of(r.crs_wkt), 23836);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("% off true at the data"), std::string::npos) << r.warnings[0];
+  EXPECT_EQ(r.warnings[0].rfind("--crs DGN95 / Indonesia TM-3 zone 49.2", 0), 0u) << r.warnings[0];
+  EXPECT_THROW(user_crs_wkt("EPSG:4326", "--crs"), InputError);
+  EXPECT_THROW(user_crs_wkt("not a crs", "--crs"), InputError);
 }
 
 }  // namespace

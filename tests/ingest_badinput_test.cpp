@@ -191,7 +191,7 @@ TEST(BadInput, CrsMismatch) {
   dtm.source = "dtm_zone49.tif";
   dtm.crs_wkt = wkt_from_epsg(32749);
   expect_input_error([&] { reconcile_crs(parcels, clouds, &dtm); }, "dtm_zone49.tif",
-                     "CRS WGS 84 / UTM zone 49S (EPSG:32749) differs from the parcels' WGS 84 / "
+                     "CRS WGS 84 / UTM zone 49S (EPSG:32749) differs from the working CRS WGS 84 / "
                      "UTM zone 48S (EPSG:32748)");
   PointCloud local;
   local.source = "local.las";

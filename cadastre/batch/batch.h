@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cadastre/parcels.h"
 #include "core/config/config.h"
 #include "core/evaluate/ruler.h"
 #include "core/io/sha256.h"
@@ -27,11 +28,14 @@ namespace c3d {
 struct BatchInputs {
   std::vector<std::string> clouds;
   std::vector<std::string> walls;
-  std::string parcels;  // any OGR vector source
+  std::string parcels;  // any OGR vector source: a file, folder or connection string
   std::string dtm;      // any GDAL raster; may be empty
   // A point classifier model (core/classify): when set, every --cloud is
   // classified before clipping and its own classes are replaced; empty: none.
   std::string classifier_model;
+  // Last, so that an initialiser {clouds, walls, parcels, dtm} keeps its meaning:
+  ParcelSelection parcel_selection;  // --layer, --where, --bbox
+  std::string crs;  // the working CRS the user names (docs/inputs.md); empty: chosen by the policy
   std::vector<std::string> files() const;  // every input file, in a fixed order
 };
 

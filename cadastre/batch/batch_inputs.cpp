@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "core/classify/classify.h"
+#include "cadastre/parcel_checks.h"
 #include "core/error.h"
+#include "core/gdal_messages.h"
 #include "core/io/crs.h"
 #include "core/io/point_io.h"
 #include "core/log.h"
@@ -76,18 +78,27 @@ std::vector<std::string> BatchInputs::files() const {
   return out;
 }
 
-LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
+namespace {
+
+// load_inputs without the GDAL message capture.
+LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
   LoadedInputs in;
-  in.layer = read_parcels(inputs.parcels, cfg.fields, &in.warnings);
+  in.layer = read_parcels(inputs.parcels, inputs.parcel_selection, cfg.fields, &in.warnings);
+  const ParcelSelection& sel = inputs.parcel_selection;
+  check_override_ids(cfg.valuation.parcels, in.layer, cfg.source, !sel.where.empty() || !sel.bbox.empty(),
+                     in.warnings);
   std::vector<PointCloud> clouds;
   for (const auto& f : inputs.clouds) clouds.push_back(read_point_cloud(f));
   const size_t n_class_clouds = clouds.size();
   for (const auto& f : inputs.walls) clouds.push_back(read_point_cloud(f));
   const bool have_dtm = !inputs.dtm.empty();
   if (have_dtm) in.dtm = read_dtm(inputs.dtm);
-  auto rec = reconcile_crs(in.layer, clouds, have_dtm ? &in.dtm : nullptr);
+  const std::string wanted = inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs");
+  auto rec = reconcile_crs(in.layer, clouds, have_dtm ? &in.dtm : nullptr, wanted);
   in.crs_wkt = rec.crs_wkt;
   in.warnings.insert(in.warnings.end(), rec.warnings.begin(), rec.warnings.end());
+  for (std::string& w : overlap_warnings(in.layer)) in.warnings.push_back(std::move(w));
+  log::info("areas in " + areas_crs_text(in.crs_wkt));
   if (!inputs.classifier_model.empty())
     classify_clouds(inputs.classifier_model, clouds, n_class_clouds, have_dtm ? &in.dtm : nullptr, cfg.classes,
                     in.warnings);
@@ -111,6 +122,17 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
                      "no roof or wall points (check the class mapping)");
   check_reach(inputs, in);
   return in;
+}
+
+}  // namespace
+
+LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
+  GdalMessages gdal;  // GDAL prints nothing; its last word joins the error
+  try {
+    return load_all(inputs, cfg);
+  } catch (const InputError& e) {
+    throw gdal.fold(e);
+  }
 }
 
 LocalFrame frame_of(const ParcelLayer& layer) {

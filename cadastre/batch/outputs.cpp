@@ -8,6 +8,7 @@
 #include <map>
 
 #include "core/evaluate/evaluate.h"
+#include "core/io/crs.h"
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
 #include "cadastre/batch/out_dir.h"
@@ -91,6 +92,7 @@ void write_summary(const BatchReport& report, const std::string& path) {
   for (const auto& [k, v] : timings.stages) stages[k] = v;
   json j = {{"tool", "cadastre3d " C3D_VERSION},
             {"crs_epsg", model.epsg},
+            {"areas_crs", areas_crs_text(model.crs_wkt)},
             {"parcels_total", model.parcels.size()},
             {"parcels_ok", ok},
             {"parcels_empty", empty},

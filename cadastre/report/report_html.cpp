@@ -6,6 +6,7 @@
 
 #include "cadastre/report/report.h"
 #include "cadastre/report/report_parts.h"
+#include "core/io/crs.h"
 
 namespace c3d {
 
@@ -194,8 +195,7 @@ std::string report_html(const BatchModel& m, const std::vector<ParcelValuation>&
   s += "<h1>" + html_escape(info.title) + "</h1><p class=\"meta\">";
   if (!info.source.empty()) s += "Source: " + html_escape(info.source) + ". ";
   if (!info.run_note.empty()) s += html_escape(info.run_note) + ". ";
-  if (m.epsg) s += fmt("CRS EPSG:%d. ", m.epsg);
-  s += "Areas in m&#178;, values in " + html_escape(vals.empty() ? "" : vals.front().currency) +
+  s += "Areas in m&#178; in " + html_escape(areas_crs_text(m.crs_wkt)) + ", values in " + html_escape(vals.empty() ? "" : vals.front().currency) +
        ".</p>";
   s += "<h2>Summary</h2>" + summary_html(m, vals);
   s += "<h2>Charts</h2><div class=\"charts\"><div><h3>Area by element type (all parcels)</h3>" +

@@ -1,6 +1,7 @@
 #include "core/io/crs.h"
 
 #include <ogr_spatialref.h>
+#include <proj.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,9 +16,12 @@ namespace {
 // Parses WKT (any dialect) or "EPSG:n"; never touches files or the network.
 bool parse(const std::string& text, OGRSpatialReference& srs) {
   if (text.empty()) return false;
-  if (srs.importFromWkt(text.c_str()) == OGRERR_NONE) return true;
+  CPLPushErrorHandler(CPLQuietErrorHandler);  // callers say what failed, in one line
+  bool ok = srs.importFromWkt(text.c_str()) == OGRERR_NONE;
   const char* opts[] = {"ALLOW_NETWORK_ACCESS=NO", "ALLOW_FILE_ACCESS=NO", nullptr};
-  return srs.SetFromUserInput(text.c_str(), opts) == OGRERR_NONE;
+  ok = ok || srs.SetFromUserInput(text.c_str(), opts) == OGRERR_NONE;
+  CPLPopErrorHandler();
+  return ok;
 }
 
 // Horizontal part only: a DTM carries a compound CRS (UTM + vertical) that is
@@ -178,106 +182,54 @@ bool is_metric(const std::string& wkt) {
   return parse_horizontal(wkt, srs) && srs.IsProjected() && std::abs(srs.GetLinearUnits() - 1.0) < 1e-9;
 }
 
-namespace {
-
-// "EPSG:327zz": the UTM zone over the layer's centre, for the error message.
-std::string utm_hint(const ParcelLayer& parcels) {
-  double lon = 0, lat = 0;
-  size_t n = 0;
-  for (const auto& p : parcels.parcels)
-    for (const auto& poly : p.shape)
-      for (const auto& v : poly.outer) lon += v.x(), lat += v.y(), ++n;
-  if (n == 0) return "<a projected CRS in metres>";
-  lon /= double(n), lat /= double(n);
-  if (std::abs(lon) > 180 || std::abs(lat) > 84) return "<a projected CRS in metres>";
-  const int zone = std::clamp(int(std::floor((lon + 180) / 6)) + 1, 1, 60);
-  return "EPSG:" + std::to_string((lat < 0 ? 32700 : 32600) + zone);
-}
-
-// Whether every vertex of the layer could be longitude, latitude.
-bool within_degrees(const ParcelLayer& parcels) {
-  for (const auto& p : parcels.parcels)
-    for (const auto& poly : p.shape)
-      for (const auto& v : poly.outer)
-        if (std::abs(v.x()) > 180 || std::abs(v.y()) > 90) return false;
-  return true;
-}
-
-// Measuring needs metres: a layer in degrees (GeoJSON is WGS 84 by its
-// standard) or in feet goes into the first clouds' CRS that is in metres. A
-// layer claiming degrees with coordinates no degrees can be (a GeoJSON in UTM
-// without a "crs" member, which GDAL reads as WGS 84) has no CRS known.
-void put_parcels_in_metres(ParcelLayer& parcels, const std::vector<PointCloud>& clouds,
-                           std::vector<std::string>& warnings) {
-  if (parcels.crs_wkt.empty() || is_metric(parcels.crs_wkt)) return;
+double areal_scale_at(const std::string& wkt, double lon_deg, double lat_deg) {
   OGRSpatialReference srs;
-  if (parse_horizontal(parcels.crs_wkt, srs) && srs.IsGeographic() && !within_degrees(parcels)) {
-    warnings.push_back(parcels.source + ": coordinates are not degrees, so its CRS " + describe(parcels.crs_wkt) +
-                       " is taken as unknown");
-    parcels.crs_wkt.clear();
-    return;
+  if (!parse_horizontal(wkt, srs) || !srs.IsProjected()) return 0;
+  char* text = nullptr;
+  const char* opts[] = {"FORMAT=WKT2_2019", nullptr};
+  srs.exportToWkt(&text, opts);
+  const std::string wkt2 = text ? text : "";
+  CPLFree(text);
+  PJ_CONTEXT* ctx = proj_context_create();
+  proj_log_level(ctx, PJ_LOG_NONE);  // a failure answers 0; PROJ need not print it
+  PJ* crs = proj_create(ctx, wkt2.c_str());
+  double scale = 0;
+  if (crs) {
+    PJ_FACTORS f = proj_factors(crs, proj_coord(proj_torad(lon_deg), proj_torad(lat_deg), 0, 0));
+    if (proj_context_errno(ctx) == 0 && std::isfinite(f.areal_scale)) scale = f.areal_scale;
+    proj_destroy(crs);
   }
-  for (const PointCloud& c : clouds) {
-    if (!is_metric(c.crs_wkt)) continue;
-    for (auto& p : parcels.parcels) p.shape = reproject(p.shape, parcels.crs_wkt, c.crs_wkt, parcels.source);
-    warnings.push_back(parcels.source + ": reprojected from " + describe(parcels.crs_wkt) + " to " +
-                       describe(c.crs_wkt) + " like " + c.source + " (areas are measured in metres)");
-    parcels.crs_wkt = c.crs_wkt;
-    return;
-  }
-  throw InputError(parcels.source, "CRS " + describe(parcels.crs_wkt) +
-                                       " is not in metres and no point cloud carries a CRS that is; "
-                                       "reproject the layer first, e.g. ogr2ogr -t_srs " + utm_hint(parcels) +
-                                       " parcels_utm.gpkg " + parcels.source);
+  proj_context_destroy(ctx);
+  return scale;
 }
 
-}  // namespace
+std::string utm_wkt_at(double lon_deg, double lat_deg) {
+  const int zone = std::clamp(int(std::floor((lon_deg + 180) / 6)) + 1, 1, 60);
+  return wkt_from_epsg((lat_deg < 0 ? 32700 : 32600) + zone);
+}
 
-CrsReconciliation reconcile_crs(ParcelLayer& parcels, std::vector<PointCloud>& clouds, Dtm* dtm) {
-  CrsReconciliation r;
-  put_parcels_in_metres(parcels, clouds, r.warnings);
-  r.crs_wkt = parcels.crs_wkt;
-  if (r.crs_wkt.empty()) {
-    // No reference: adopt the clouds' CRS, but only when they agree.
-    for (const PointCloud& c : clouds) {
-      if (c.crs_wkt.empty()) continue;
-      if (r.crs_wkt.empty()) {
-        r.crs_wkt = c.crs_wkt;
-        r.warnings.push_back(parcels.source + ": no CRS; assumed to be " + describe(c.crs_wkt) +
-                             " like " + c.source);
-      } else if (!same_crs(r.crs_wkt, c.crs_wkt)) {
-        throw InputError(c.source, "CRS " + describe(c.crs_wkt) + " differs from " +
-                                       describe(r.crs_wkt) + " and the parcel layer " +
-                                       parcels.source + " has no CRS to reproject to");
-      }
-    }
+std::string areas_crs_text(const std::string& wkt) {
+  if (wkt.empty()) return "the inputs' coordinates (no CRS)";
+  OGRSpatialReference srs;
+  const std::string name = parse_horizontal(wkt, srs) && srs.GetName() ? srs.GetName() : "unnamed CRS";
+  const int code = epsg_of(wkt);
+  return (code ? "EPSG:" + std::to_string(code) : std::string("no EPSG code")) + " (" + name + ")";
+}
+
+std::string user_crs_wkt(const std::string& text, const std::string& where) {
+  OGRSpatialReference srs;
+  if (!parse(text, srs)) throw InputError(where, "'" + text + "' is not a CRS (try EPSG:32748)");
+  char* out = nullptr;
+  if (srs.exportToWkt(&out) != OGRERR_NONE) {
+    CPLFree(out);
+    const char* opts[] = {"FORMAT=WKT2_2019", nullptr};
+    srs.exportToWkt(&out, opts);
   }
-  for (PointCloud& c : clouds) {
-    if (c.crs_wkt.empty()) {
-      if (!r.crs_wkt.empty())
-        r.warnings.push_back(c.source + ": no CRS; assumed to be " + describe(r.crs_wkt) +
-                             " like the parcels");
-      c.crs_wkt = r.crs_wkt;
-    } else if (!same_crs(c.crs_wkt, r.crs_wkt)) {
-      std::string from = describe(c.crs_wkt);
-      reproject(c, r.crs_wkt);
-      r.warnings.push_back(c.source + ": reprojected from " + from + " to " + describe(r.crs_wkt));
-    }
-  }
-  if (dtm) {
-    if (dtm->crs_wkt.empty()) {
-      if (!r.crs_wkt.empty())
-        r.warnings.push_back(dtm->source + ": no CRS; assumed to be " + describe(r.crs_wkt));
-    } else if (!r.crs_wkt.empty() && !same_crs(dtm->crs_wkt, r.crs_wkt)) {
-      int code = epsg_of(r.crs_wkt);
-      throw InputError(dtm->source,
-                       "CRS " + describe(dtm->crs_wkt) + " differs from the parcels' " +
-                           describe(r.crs_wkt) + "; warp it first, e.g. gdalwarp -t_srs " +
-                           (code ? "EPSG:" + std::to_string(code) : std::string("<parcels CRS>")) +
-                           " " + dtm->source + " dtm_reprojected.tif");
-    }
-  }
-  return r;
+  const std::string wkt = out ? out : "";
+  CPLFree(out);
+  if (!is_metric(wkt))
+    throw InputError(where, describe(wkt) + " is not a projected CRS in metres; areas need one");
+  return wkt;
 }
 
 }  // namespace c3d
