@@ -27,7 +27,7 @@ const Ring3 kCimahiRing{{1.10700, 0.71691, -0.01109}, {1.10170, 0.72111, -0.0105
                         {-0.69850, -0.25079, 0.01731}, {-0.08970, -0.74799, -0.03439}, {1.10820, 0.71591, -0.01119}};
 const Vec3 kApex = kCimahiRing[0];
 
-bool tilts_on_export(const Face& f) { return tilted_triangle(on_export_grid(f), unit_normal(f), 20); }
+bool tilts_on_export(const Face& f) { return tilted_triangle(on_export_grid(f), 20); }
 
 // That face, its plan scaled about the centre, as the top of a prism down to
 // z = -3 (walls per edge; one_wall: the two walls meeting under the apex are

@@ -207,3 +207,24 @@ TEST(PolygonRules, NeighboursUnderAMillimetreApartRepeatAcrossAGridBorder) {
   const Face apart{{{0, 0, 3}, {5.0012, 0, 3}, {5.0032, 0.5, 3}, {5, 4, 3}, {0, 4, 3}}, {}};
   EXPECT_TRUE(codes_of(apart).empty());
 }
+
+TEST(PolygonRules, AVertexUnderAMillimetreFromAnotherFacesTiltsItOnceSnapped) {
+  // A 2 mm wide flat strip, and a wall whose corner sits 0.9 mm above the
+  // strip's: val3dity merges the strip's corner into the wall's (read first).
+  const Face wall{{{0.15, 0.002, 0.0009}, {0.15, 0.002, -3}, {0.15, 1, -3}, {0.15, 1, 0}}, {}};
+  const Face strip{{{0, 0, 0}, {0.15, 0, 0}, {0.15, 0.002, 0}, {0, 0.002, 0}}, {}};
+  auto codes_of = [](const Face& f) {
+    VertexSnap snap(PolygonRules{}.snap_tol);
+    std::vector<std::vector<int>> rings;
+    std::vector<PolygonIssue> issues;
+    check_polygon(f, PolygonRules{}, snap, rings, issues);
+    std::vector<int> codes;
+    for (const auto& i : issues) codes.push_back(i.code);
+    return codes;
+  };
+  EXPECT_TRUE(codes_of(strip).empty());
+  const std::vector<Face> read = snapped_together({wall, strip}, PolygonRules{}.snap_tol);
+  EXPECT_EQ(read[1].ring[2], wall.ring[0]);
+  EXPECT_EQ(codes_of(read[1]), std::vector<int>{kNonPlanarNormalsDeviation});
+  EXPECT_EQ(read[0].ring, wall.ring);  // the first read keeps its own
+}

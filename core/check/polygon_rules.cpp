@@ -88,11 +88,38 @@ bool check_polygon(const Face& f, const PolygonRules& rules, VertexSnap& snap,
     issues.push_back({kNonPlanarDistancePlane, "", msg});
     return false;
   }
-  if (tilted_triangle(f, n, rules.normals_tol_deg)) {
+  if (tilted_triangle(f, rules.normals_tol_deg)) {
     issues.push_back({kNonPlanarNormalsDeviation, "", "triangle normal deviates from the polygon's"});
     return false;
   }
   return true;
+}
+
+std::vector<Face> snapped_together(std::vector<Face> faces, double tol) {
+  using Cell = std::array<long long, 3>;
+  std::map<Cell, std::vector<Vec3>> grid;  // cells of side tol: a close pair lies in neighbouring cells
+  auto snap = [&](Vec3& p) {
+    const Cell c{std::llround(std::floor(p.x() / tol)), std::llround(std::floor(p.y() / tol)),
+                 std::llround(std::floor(p.z() / tol))};
+    for (long long dx = -1; dx <= 1; ++dx)
+      for (long long dy = -1; dy <= 1; ++dy)
+        for (long long dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == grid.end()) continue;
+          for (const Vec3& q : it->second)
+            if ((q - p).norm() < tol) {
+              p = q;
+              return;
+            }
+        }
+    grid[c].push_back(p);
+  };
+  for (Face& f : faces) {
+    for (Vec3& v : f.ring) snap(v);
+    for (Ring3& h : f.holes)
+      for (Vec3& v : h) snap(v);
+  }
+  return faces;
 }
 
 }  // namespace c3d

@@ -64,4 +64,9 @@ struct PolygonIssue {
 bool check_polygon(const Face& f, const PolygonRules& rules, VertexSnap& snap,
                    std::vector<std::vector<int>>& rings, std::vector<PolygonIssue>& issues);
 
+// The faces as val3dity reads one surface: each vertex merged into the first
+// one it read within tol, across all the faces. A face that passes alone can
+// tilt or fold once a neighbour's vertex 0.9 mm away replaces its own.
+std::vector<Face> snapped_together(std::vector<Face> faces, double tol);
+
 }  // namespace c3d

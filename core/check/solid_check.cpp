@@ -363,13 +363,17 @@ bool vertex_inside_a_face(const std::vector<Vec3>& pts, const Soup& tris) {
 
 }  // namespace
 
-bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg) {
+bool tilted_triangle(const Face& face, double tol_deg) {
   const double cos_tol = std::cos(tol_deg * M_PI / 180);
+  std::vector<Vec3> normals;
   for (const auto& t : triangulate(face)) {
     const Vec3 tn = (t.b - t.a).cross(t.c - t.a);
     if (tn.norm() < 1e-12) continue;
-    if (tn.normalized().dot(normal) < cos_tol) return true;
+    normals.push_back(tn.normalized());
   }
+  for (size_t i = 0; i < normals.size(); ++i)
+    for (size_t j = i + 1; j < normals.size(); ++j)
+      if (normals[i].dot(normals[j]) < cos_tol) return true;
   return false;
 }
 

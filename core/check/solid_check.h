@@ -27,10 +27,11 @@ struct IndexedTriangles {
 };
 IndexedTriangles triangulate_indexed(const Face& face);
 std::vector<Triangle> triangulate(const std::vector<Face>& faces);
-// Whether a triangle of the face's triangulation leans more than tol_deg from
-// `normal` (val3dity's 204). Every triangle counts, however thin, as it does
-// for val3dity: the envelope leaves none thin enough to tilt (slivers.h).
-bool tilted_triangle(const Face& face, const Vec3& normal, double tol_deg);
+// Whether two triangles of the face's triangulation lean more than tol_deg
+// apart (val3dity's 204 compares each with the first it draws; any pair is
+// the same test whatever the order). Every triangle counts, however thin:
+// the envelope leaves none thin enough to tilt (slivers.h).
+bool tilted_triangle(const Face& face, double tol_deg);
 
 struct SolidProblem {
   std::string code;     // see check_solid

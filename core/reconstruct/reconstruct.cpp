@@ -78,19 +78,25 @@ struct ParcelContext {
 
 // Why a building's faces would fail validation ("" when they pass): the ring
 // and polygon rules `validate` applies, with its tolerances, to the faces as
-// computed and as the CityJSON export writes them (a thin triangle can tilt there).
+// computed, as the CityJSON export writes them (a thin triangle can tilt
+// there) and as val3dity reads them back (vertices within 1 mm merged).
 std::string face_defect(const Building& b) {
   const PolygonRules rules;  // validate's defaults
+  std::vector<Face> all;
+  std::vector<ElementType> type;
   for (const auto& e : b.elements)
-    for (const auto& face : e.faces)
-      for (const Face& f : {face, on_export_grid(face)}) {
-        VertexSnap snap(rules.snap_tol);
-        std::vector<std::vector<int>> rings;
-        std::vector<PolygonIssue> issues;
-        if (!check_polygon(f, rules, snap, rings, issues))
-          return std::string("a ") + to_string(e.type) + " face" + issues.front().where + ": " +
-                 issues.front().message;
-      }
+    for (const auto& face : e.faces) all.push_back(face), type.push_back(e.type);
+  std::vector<Face> exported;
+  for (const Face& f : all) exported.push_back(on_export_grid(f));
+  for (const auto& faces : {all, exported, snapped_together(exported, rules.snap_tol)})
+    for (size_t i = 0; i < faces.size(); ++i) {
+      VertexSnap snap(rules.snap_tol);
+      std::vector<std::vector<int>> rings;
+      std::vector<PolygonIssue> issues;
+      if (!check_polygon(faces[i], rules, snap, rings, issues))
+        return std::string("a ") + to_string(type[i]) + " face" + issues.front().where + ": " +
+               issues.front().message;
+    }
   return "";
 }
 

@@ -11,6 +11,8 @@
 #include "core/check/polygon_rules.h"
 #include "core/check/solid_check.h"
 #include "core/geometry/geometry.h"
+#include "core/reconstruct/envelope/common.h"
+#include "core/reconstruct/envelope/shell.h"
 
 namespace c3d::envelope {
 
@@ -22,6 +24,9 @@ constexpr double kSliverHeight = 1e-3;  // m
 constexpr double kSliverNudge = 5e-4;  // m
 // A bulging corner this close to its nearer neighbour merges into it.
 constexpr double kCollapseLength = 0.01;  // m
+// A vertex moved into a face stays this far from every other vertex (twice
+// the weld, so rounding cannot bring it within a validator's snap).
+constexpr double kClearance = 2 * kWeldTol;  // m
 // A move may tilt no triangle of the faces using the vertex by more than this
 // (half val3dity's 20 degrees).
 constexpr double kMovedTiltDeg = 10;
@@ -129,8 +134,7 @@ bool move_keeps_faces_flat(const std::vector<Face>& faces, const std::vector<siz
     for (size_t r = 0; r <= moved.holes.size(); ++r)
       for (Vec3& p : ring_of(moved, r))
         if (key(p) == v) p = to;
-    const Vec3 n = unit_normal(faces[f]);
-    if (tilted_triangle(moved, n, kMovedTiltDeg) || tilted_triangle(on_export_grid(moved), n, kMovedTiltDeg))
+    if (tilted_triangle(moved, kMovedTiltDeg) || tilted_triangle(on_export_grid(moved), kMovedTiltDeg))
       return false;
   }
   return true;
@@ -149,9 +153,13 @@ using Edits = std::map<Key, Edit>;
 // under it becomes a triangle), else a little into the face; a move that
 // would tilt a face using the vertex is not made.
 std::optional<Vec3> corner_move(const std::vector<Face>& faces, const std::vector<size_t>& users, const Key& v,
-                                const Straight& s) {
+                                const Straight& s, const std::vector<Vec3>& building) {
   const Vec3 at(std::get<0>(v), std::get<1>(v), std::get<2>(v));
   if ((s.nearer - at).norm() < kCollapseLength && move_keeps_faces_flat(faces, users, v, s.nearer)) return s.nearer;
+  // A validator snaps vertices closer than a millimetre into one (the weld
+  // keeps them apart): the moved vertex must stay clear of the building's others.
+  for (const Vec3& o : building)
+    if (o != at && (o - s.into).norm() < kClearance) return std::nullopt;
   if (move_keeps_faces_flat(faces, users, v, s.into)) return s.into;
   return std::nullopt;
 }
@@ -159,7 +167,7 @@ std::optional<Vec3> corner_move(const std::vector<Face>& faces, const std::vecto
 // Decides the edits of one round: a vertex whose every use is straight
 // between the same two neighbours (a run shared by two faces) goes; a
 // bulging one used elsewhere as a corner moves (corner_move).
-Edits plan_edits(const std::vector<Face>& faces) {
+Edits plan_edits(const std::vector<Face>& faces, const std::vector<Vec3>& building) {
   const std::vector<Straight> straight = straight_vertices(faces);
   std::map<Key, std::vector<const Straight*>> by_vertex;
   for (const Straight& s : straight)
@@ -179,7 +187,7 @@ Edits plan_edits(const std::vector<Face>& faces) {
     }
     for (const Straight* s : list)
       if (s->bulges) {
-        if (auto to = corner_move(faces, uses.at(v), v, *s)) edits[v] = Edit{*to, {}};
+        if (auto to = corner_move(faces, uses.at(v), v, *s, building)) edits[v] = Edit{*to, {}};
         break;
       }
   }
@@ -219,10 +227,10 @@ bool apply_edits(std::vector<Face>& faces, const Edits& edits) {
 
 // Rounds of plan + apply on `faces`, each round's edits also applied to the
 // copies in `copies` (keyed on the vertices as they were in that round).
-bool straighten(std::vector<Face>& faces, std::vector<Element>* copies) {
+bool straighten(std::vector<Face>& faces, std::vector<Element>* copies, const std::vector<Vec3>& building) {
   bool changed = false;
   for (int round = 0; round < kSliverRounds; ++round) {
-    const Edits edits = plan_edits(faces);
+    const Edits edits = plan_edits(faces, building);
     if (!apply_edits(faces, edits)) break;
     changed = true;
     if (copies)
@@ -234,10 +242,15 @@ bool straighten(std::vector<Face>& faces, std::vector<Element>* copies) {
 }  // namespace
 
 void straighten_slivers(std::vector<Face>& solid, std::vector<Element>& elements) {
-  straighten(solid, &elements);
+  std::vector<Vec3> building = shell_vertices(solid);
+  for (const Element& e : elements) {
+    const std::vector<Vec3> more = shell_vertices(e.faces);
+    building.insert(building.end(), more.begin(), more.end());
+  }
+  straighten(solid, &elements, building);
   // An element face that differs from its shell copy (a roof's hanging part,
   // a levelled outer ceiling) may keep a sliver of its own.
-  for (Element& e : elements) straighten(e.faces, nullptr);
+  for (Element& e : elements) straighten(e.faces, nullptr, building);
   elements.erase(std::remove_if(elements.begin(), elements.end(), [](const Element& e) { return e.faces.empty(); }),
                  elements.end());
 }
