@@ -1,0 +1,26 @@
+#include "core/io/read_limits.h"
+
+#include <unistd.h>
+
+#include <sstream>
+
+namespace c3d {
+
+std::string coordinate_problem(double x, double y, double z, const std::string& where) {
+  const double v[3] = {x, y, z};
+  for (int k = 0; k < 3; ++k) {
+    if (coordinate_ok(v[k])) continue;
+    std::ostringstream s;
+    s << (std::isfinite(v[k]) ? "coordinate beyond +-1e9" : "NaN/inf coordinate") << " at "
+      << where << " (" << "xyz"[k] << " = " << v[k] << ")";
+    return s.str();
+  }
+  return {};
+}
+
+size_t physical_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? size_t(pages) * size_t(page) : 0;
+}
+
+}  // namespace c3d

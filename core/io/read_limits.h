@@ -1,0 +1,30 @@
+#pragma once
+// Hard limits every reader enforces before it trusts a file, so that a damaged
+// or hostile input is an InputError naming the file, never a crash or a
+// runaway allocation (docs/testing.md, "Reader limits").
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace c3d {
+
+// No coordinate of any CRS on Earth (metres, US feet or degrees) reaches 1e9;
+// beyond it local float coordinates lose whole metres and squared distances
+// leave float range (a point at z = 3.5e38 tripped PCL's k-d tree assertion).
+constexpr double kMaxAbsCoordinate = 1e9;
+
+inline bool coordinate_ok(double v) { return std::isfinite(v) && std::fabs(v) <= kMaxAbsCoordinate; }
+
+// "" when x, y, z are usable, else why not: "NaN/inf coordinate at <where> (z = inf)"
+// or "coordinate beyond +-1e9 at <where> (z = 3.5e+38)".
+std::string coordinate_problem(double x, double y, double z, const std::string& where);
+
+// The largest DTM the reader loads: 2^28 cells (1 GiB of heights, e.g. 16 x 16
+// km at 1 m); filling NoData needs about kDtmBytesPerCell per cell at its peak.
+constexpr size_t kMaxDtmCells = size_t(1) << 28;
+constexpr size_t kDtmBytesPerCell = 16;
+
+// Physical memory of this machine in bytes (0 when unknown).
+size_t physical_memory_bytes();
+
+}  // namespace c3d
