@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <typeinfo>
@@ -224,6 +225,16 @@ TEST(ReaderLimits, MeshPlyFloatListCountAndNaNIndexAreRefused) {
   expect_refused([&] { read_mesh_groups(dir + "/count.ply"); }, "count.ply", "bad list length");
   write_bytes(dir + "/spin.ply", "ply\nformat ascii 1.0\nelement nothing 9223372036854775807\nend_header\n");
   EXPECT_NO_THROW(read_mesh_groups(dir + "/spin.ply"));  // records without properties: nothing to read
+}
+
+TEST(ReaderLimits, ADirectoryOrAnOverlongNameIsAnInputError) {
+  const std::string dir = test::temp_dir("not_a_file");
+  std::filesystem::create_directories(dir + "/d.las");  // was std::bad_alloc (ext4 reports 2^63 bytes)
+  expect_refused([&] { read_point_cloud(dir + "/d.las"); }, "d.las", "not a regular file");
+  std::filesystem::create_directories(dir + "/d.obj");
+  expect_refused([&] { read_mesh_groups(dir + "/d.obj"); }, "d.obj", "not a regular file");
+  const std::string longname = dir + "/" + std::string(300, 'a') + ".xyz";  // was filesystem_error
+  expect_refused([&] { read_point_cloud(longname); }, std::string(300, 'a'), "cannot read (File name too long)");
 }
 
 }  // namespace

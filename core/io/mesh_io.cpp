@@ -234,6 +234,7 @@ class ObjWriter {
 }  // namespace
 
 std::vector<MeshGroup> read_mesh_groups(const std::string& path) {
+  check_regular_file(path);
   const std::string ext = lower_ext(path);
   if (ext == "obj") return read_obj(path);
   if (ext == "ply") return read_ply(path);

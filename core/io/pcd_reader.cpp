@@ -92,7 +92,7 @@ PcdHeader parse_pcd_header(const std::string& path, const std::vector<char>& buf
     const std::vector<std::string> w = words(std::string(buf.data() + pos, end - pos));
     pos = std::min(end + 1, buf.size());
     if (w.empty() || w[0][0] == '#' || w[0] == "VERSION" || w[0] == "VIEWPOINT") continue;
-    if (w[0] == "FIELDS") {
+    if (w[0] == "FIELDS" || w[0] == "COLUMNS") {  // COLUMNS: PCD v0.5
       h.fields.clear();
       for (size_t i = 1; i < w.size(); ++i) h.fields.push_back({w[i]});
     } else if (w[0] == "SIZE" || w[0] == "TYPE" || w[0] == "COUNT") {

@@ -26,13 +26,17 @@ std::string point_io_detail::lower(std::string s) {
   return s;
 }
 
+// A directory named x.las opened fine and reported a size of 2^63 (ext4), which
+// became std::bad_alloc: only a regular file is read, its size checked.
 std::vector<char> point_io_detail::slurp(const std::string& path) {
+  check_regular_file(path);
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(path, "cannot open file (" + std::string(std::strerror(errno)) + ")");
   std::fseek(f.get(), 0, SEEK_END);
   long size = std::ftell(f.get());
   std::fseek(f.get(), 0, SEEK_SET);
-  if (size <= 0) throw InputError(path, "empty file");
+  if (size == 0) throw InputError(path, "empty file");
+  if (size < 0) throw InputError(path, "cannot tell the file's size (" + std::string(std::strerror(errno)) + ")");
   std::vector<char> buf(static_cast<size_t>(size));
   if (std::fread(buf.data(), 1, buf.size(), f.get()) != buf.size())
     throw InputError(path, "read error");
@@ -146,7 +150,7 @@ PointCloud read_xyz(const std::string& path) {
 }  // namespace
 
 PointCloud read_point_cloud(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path, "file not found");
+  check_regular_file(path);
   std::string ext = extension(path);
   if (ext == ".laz")
     throw InputError(path, "LAZ is not supported; convert it to LAS first, e.g. "

@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <filesystem>
 #include <sstream>
+
+#include "core/error.h"
 
 namespace c3d {
 
@@ -16,6 +19,14 @@ std::string coordinate_problem(double x, double y, double z, const std::string& 
     return s.str();
   }
   return {};
+}
+
+void check_regular_file(const std::string& path) {
+  std::error_code ec;  // the non-throwing calls: a 300-character name threw filesystem_error
+  if (std::filesystem::is_regular_file(path, ec)) return;
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    throw InputError(path, "cannot read (" + ec.message() + ")");
+  throw InputError(path, std::filesystem::exists(path, ec) ? "not a regular file" : "file not found");
 }
 
 size_t physical_memory_bytes() {

@@ -24,6 +24,11 @@ std::string coordinate_problem(double x, double y, double z, const std::string& 
 constexpr size_t kMaxDtmCells = size_t(1) << 28;
 constexpr size_t kDtmBytesPerCell = 16;
 
+// Throws InputError unless path names a regular file: "file not found", "not
+// a regular file" (a directory named x.las reported a size of 2^63 and became
+// std::bad_alloc), "cannot read (File name too long)".
+void check_regular_file(const std::string& path);
+
 // Physical memory of this machine in bytes (0 when unknown).
 size_t physical_memory_bytes();
 
