@@ -205,6 +205,21 @@ TEST(ReaderLimits, ParcelVertexBeyondRangeNamesTheParcel) {
   expect_refused([&] { read_parcels(path, parcel_fields("NIB")); }, "parcel A-1", "beyond +-1e9 at vertex 2");
 }
 
+// tests/fuzz against the old readers, seed 1: a class of 793 (UBSan: outside
+// the range of unsigned char) and a parcel vertex of NaN (GEOS threw
+// IllegalArgumentException, not an InputError).
+TEST(ReaderLimits, ClassBeyondAByteAndNaNParcelVertexAreInputErrors) {
+  const std::string dir = test::temp_dir("fuzz_found");
+  write_bytes(dir + "/c.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                              "property float z\nproperty uchar classification\nend_header\n1 2 3 793\n");
+  expect_refused([&] { read_point_cloud(dir + "/c.ply"); }, "c.ply", "point 0: class value 793.000000 is not");
+  write_bytes(dir + "/nan.geojson", R"({"type": "FeatureCollection", "features": [{"type": "Feature",
+ "properties": {"NIB": "B-2"}, "geometry": {"type": "Polygon",
+ "coordinates": [[[0, 0], [10, 0], [10, 10], [0, -1e400], [0, 0]]]}}]})");
+  expect_refused([&] { read_parcels(dir + "/nan.geojson", parcel_fields("NIB")); }, "parcel B-2",
+                 "NaN/inf coordinate at vertex 3 (y = -inf)");
+}
+
 TEST(ReaderLimits, ConfigIntegerBeyond32BitsIsAnError) {
   const std::string path = test::temp_dir("config_int") + "/c.toml";
   std::string text = default_config_toml();
