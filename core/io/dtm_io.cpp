@@ -247,7 +247,7 @@ void check_geotransform(const std::string& path, const double gt[6], int nx, int
   for (double v : {gt[0], gt[3], x1, y1})
     if (!coordinate_ok(v))
       throw InputError(path, "raster extent reaches " + std::to_string(v) +
-                                 ", beyond +-1e9 (a damaged geotransform)");
+                                 ", beyond +-1e17 (a damaged geotransform)");
 }
 
 }  // namespace

@@ -14,7 +14,7 @@ std::string coordinate_problem(double x, double y, double z, const std::string& 
   for (int k = 0; k < 3; ++k) {
     if (coordinate_ok(v[k])) continue;
     std::ostringstream s;
-    s << (std::isfinite(v[k]) ? "coordinate beyond +-1e9" : "NaN/inf coordinate") << " at "
+    s << (std::isfinite(v[k]) ? "coordinate beyond +-1e17" : "NaN/inf coordinate") << " at "
       << where << " (" << "xyz"[k] << " = " << v[k] << ")";
     return s.str();
   }

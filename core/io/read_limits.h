@@ -8,15 +8,17 @@
 
 namespace c3d {
 
-// No coordinate of any CRS on Earth (metres, US feet or degrees) reaches 1e9;
-// beyond it local float coordinates lose whole metres and squared distances
-// leave float range (a point at z = 3.5e38 tripped PCL's k-d tree assertion).
-constexpr double kMaxAbsCoordinate = 1e9;
+// What a reader can hold at all: the k-d trees work in float, where squared
+// distances between coordinates within 1e17 stay finite ((2e17)^2 * 3 <
+// 3.4e38); a point at z = 3.5e38 tripped PCL's k-d tree assertion. What is
+// representable but off the Earth (z = 1e15) is plausibility's to judge:
+// such heights are left out with a count (cadastre/batch/plausibility.h).
+constexpr double kMaxAbsCoordinate = 1e17;
 
 inline bool coordinate_ok(double v) { return std::isfinite(v) && std::fabs(v) <= kMaxAbsCoordinate; }
 
 // "" when x, y, z are usable, else why not: "NaN/inf coordinate at <where> (z = inf)"
-// or "coordinate beyond +-1e9 at <where> (z = 3.5e+38)".
+// or "coordinate beyond +-1e17 at <where> (z = 3.5e+38)".
 std::string coordinate_problem(double x, double y, double z, const std::string& where);
 
 // The largest DTM the reader loads: 2^28 cells (1 GiB of heights, e.g. 16 x 16
