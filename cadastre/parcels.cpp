@@ -24,6 +24,7 @@
 #include "core/gdal_dataset.h"
 #include "core/gdal_messages.h"
 #include "core/geometry/geometry.h"
+#include "core/io/read_limits.h"
 
 namespace c3d {
 namespace {
@@ -78,8 +79,24 @@ struct Checked {
   std::string problem;   // why the input was invalid ("" if valid)
 };
 
+// Every vertex finite and within kMaxAbsCoordinate, before GEOS sees it.
+void check_vertices(const MultiPolygon2& raw, const std::string& who) {
+  size_t k = 0;
+  auto check = [&](const Ring2& ring) {
+    for (const Vec2& v : ring) {
+      const std::string problem = coordinate_problem(v.x(), v.y(), 0, "vertex " + std::to_string(k++));
+      if (!problem.empty()) throw InputError(who, problem);
+    }
+  };
+  for (const Polygon2& poly : raw) {
+    check(poly.outer);
+    for (const Ring2& hole : poly.holes) check(hole);
+  }
+}
+
 // Validates with GEOS and repairs with MakeValid; throws when nothing polygonal remains.
 Checked check_shape(const MultiPolygon2& raw, const std::string& who) {
+  check_vertices(raw, who);
   Checked c;
   std::unique_ptr<geos::geom::Geometry> g;
   try {

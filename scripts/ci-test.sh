@@ -3,4 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-bash scripts/test.sh
+# CI also fuzzes every reader for 2 minutes under ASan + UBSan (docs/testing.md).
+C3D_FUZZ_SANITIZE=ON bash scripts/test.sh

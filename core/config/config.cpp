@@ -3,6 +3,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -86,7 +87,10 @@ double read_number(const toml::node& n, const Range& r, const std::string& key, 
 }
 
 json read_integer(const toml::node& n, const Range& r, const std::string& key, const Where& w) {
-  if (!n.as_integer()) w.fail(key, "must be an integer");
+  auto i = n.as_integer();
+  if (!i) w.fail(key, "must be an integer");
+  if (i->get() < std::numeric_limits<int>::min() || i->get() > std::numeric_limits<int>::max())
+    w.fail(key, "integer " + std::to_string(i->get()) + " is beyond the 32-bit range");
   return int(read_number(n, r, key, w));
 }
 

@@ -5,6 +5,7 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -14,6 +15,8 @@
 
 #include "core/error.h"
 #include "core/gdal_dataset.h"
+#include "core/io/read_limits.h"
+#include "core/log.h"
 
 namespace c3d {
 namespace {
@@ -42,6 +45,24 @@ void fill_nearest(std::vector<float>& z, const std::vector<char>& valid_in, int 
   }
 }
 
+// GDALFillNodata's time grows with NoData cells x search distance: a 2 KB
+// GeoTIFF of 18192 x 12 cells, all but a few NoData, took 26 s at the full
+// distance. Past this much work (about 2 s) the distance shrinks (Cimahi's
+// DTM needs 5e7) and fill_nearest fills what the shorter search leaves.
+constexpr double kMaxFillWork = 4e8;
+constexpr int kMinFillSearch = 32;  // cells; never shorter than this
+
+int fill_search_distance(const std::vector<float>& z, int nx, int ny, const std::string& source) {
+  const double holes = double(std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
+  const int full = std::max(nx, ny);
+  if (holes * full <= kMaxFillWork) return full;
+  const int shorter = std::max(kMinFillSearch, int(kMaxFillWork / holes));
+  if (shorter >= full) return full;
+  log::warn(log::format("%s: %.0f NoData cells; inverse-distance fill searches %d cells (not %d), "
+                        "the nearest valid height beyond", source.c_str(), holes, shorter, full));
+  return shorter;
+}
+
 // GDALFillNodata (inverse distance) on an in-memory copy of z, NaN being
 // NoData; whatever it leaves takes the nearest valid cell.
 void idw_fill(std::vector<float>& z, int nx, int ny, const std::string& source) {
@@ -58,7 +79,8 @@ void idw_fill(std::vector<float>& z, int nx, int ny, const std::string& source) 
   // Its work rasters in memory too: by default GDAL writes them as GeoTIFFs in
   // the current directory, and a killed batch would leave them there.
   const char* const fill_options[] = {"TEMP_FILE_DRIVER=MEM", nullptr};
-  GDALFillNodata(band, nullptr, std::max(nx, ny), 0, 0, const_cast<char**>(fill_options), nullptr, nullptr);
+  GDALFillNodata(band, nullptr, fill_search_distance(z, nx, ny, source), 0, 0, const_cast<char**>(fill_options),
+                 nullptr, nullptr);
   if (band->RasterIO(GF_Read, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
     throw InputError(source, "cannot fill NoData (in-memory raster read failed)");
   std::vector<char> valid(z.size());
@@ -201,9 +223,42 @@ std::string crs_of(const GDALDataset& ds) {
   return wkt;
 }
 
+// A grid larger than the budget is refused before anything is allocated.
+void check_grid_size(const std::string& source, double nx, double ny, size_t max_cells,
+                     const std::string& what) {
+  if (nx >= 1 && ny >= 1 && nx * ny <= double(max_cells)) return;
+  std::ostringstream s;
+  s.precision(0);
+  s << std::fixed << what << " " << nx << " x " << ny << " cells, more than the " << max_cells
+    << " a DTM may have here (" << kDtmBytesPerCell
+    << " bytes per cell while NoData is filled); crop it to the parcels first, e.g. "
+       "`gdal_translate -projwin ...`";
+  throw InputError(source, s.str());
+}
+
+// The geotransform must be finite, not rotated, with cells of non-zero size,
+// and the raster's corners within kMaxAbsCoordinate.
+void check_geotransform(const std::string& path, const double gt[6], int nx, int ny) {
+  for (int i = 0; i < 6; ++i)
+    if (!std::isfinite(gt[i])) throw InputError(path, "geotransform holds NaN/inf");
+  if (gt[2] != 0 || gt[4] != 0) throw InputError(path, "rotated rasters are not supported");
+  if (gt[1] == 0 || gt[5] == 0) throw InputError(path, "geotransform has cells of size 0");
+  const double x1 = gt[0] + nx * gt[1], y1 = gt[3] + ny * gt[5];
+  for (double v : {gt[0], gt[3], x1, y1})
+    if (!coordinate_ok(v))
+      throw InputError(path, "raster extent reaches " + std::to_string(v) +
+                                 ", beyond +-1e17 (a damaged geotransform)");
+}
+
 }  // namespace
 
-Dtm read_dtm(const std::string& path) {
+size_t dtm_cell_budget() {
+  const size_t memory = physical_memory_bytes();
+  const size_t by_memory = memory ? memory / 2 / kDtmBytesPerCell : kMaxDtmCells;
+  return std::min(kMaxDtmCells, by_memory);
+}
+
+Dtm read_dtm(const std::string& path, size_t max_cells) {
   register_gdal_drivers();
   CPLPushErrorHandler(CPLQuietErrorHandler);
   GdalDataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
@@ -215,9 +270,10 @@ Dtm read_dtm(const std::string& path) {
   dtm.crs_wkt = crs_of(*ds);
   double gt[6];
   if (ds->GetGeoTransform(gt) != CE_None) throw InputError(path, "raster has no geotransform");
-  if (gt[2] != 0 || gt[4] != 0) throw InputError(path, "rotated rasters are not supported");
   dtm.nx = ds->GetRasterXSize();
   dtm.ny = ds->GetRasterYSize();
+  check_geotransform(path, gt, dtm.nx, dtm.ny);
+  check_grid_size(path, dtm.nx, dtm.ny, max_cells, "raster of");
   dtm.dx = gt[1];
   dtm.dy = gt[5];
   dtm.x0 = gt[0] + 0.5 * gt[1];
@@ -229,7 +285,8 @@ Dtm read_dtm(const std::string& path) {
     throw InputError(path, "cannot read band 1: " + std::string(CPLGetLastErrorMsg()));
   int has_nodata = 0;
   double nodata = band->GetNoDataValue(&has_nodata);
-  const float nodata_f = float(nodata);
+  // GDAL clamps a Float64 raster's values into float range; the NoData value alike.
+  const float nodata_f = float(std::clamp(nodata, double(-FLT_MAX), double(FLT_MAX)));
   for (float& v : dtm.z)
     if ((has_nodata && (v == nodata_f || (std::isnan(nodata) && std::isnan(v)))) ||
         !std::isfinite(v))
@@ -253,8 +310,10 @@ Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt,
   dtm.crs_wkt = crs_wkt;
   dtm.dx = cell_m;
   dtm.dy = -cell_m;  // north-up like a GeoTIFF
-  dtm.nx = int(std::floor((maxx - minx) / cell_m)) + 1;
-  dtm.ny = int(std::floor((maxy - miny) / cell_m)) + 1;
+  const double nx = std::floor((maxx - minx) / cell_m) + 1, ny = std::floor((maxy - miny) / cell_m) + 1;
+  check_grid_size(source, nx, ny, dtm_cell_budget(), "the ground points span");
+  dtm.nx = int(nx);
+  dtm.ny = int(ny);
   dtm.x0 = minx + 0.5 * cell_m;
   dtm.y0 = maxy - 0.5 * cell_m;
   const size_t cells = size_t(dtm.nx) * dtm.ny;

@@ -9,15 +9,21 @@
 
 namespace c3d {
 
+// The most cells a DTM may have on this machine: kMaxDtmCells, or fewer where
+// half the physical memory holds fewer (core/io/read_limits.h).
+size_t dtm_cell_budget();
+
 // Band 1 of any raster GDAL opens; NoData filled by GDALFillNodata, then any
 // remaining hole by its nearest valid cell. Throws InputError on unreadable,
-// rotated or all-NoData rasters.
-Dtm read_dtm(const std::string& path);
+// rotated or all-NoData rasters, and on a raster of more than max_cells cells
+// (checked before anything is allocated).
+Dtm read_dtm(const std::string& path, size_t max_cells = dtm_cell_budget());
 
 enum class DtmCell { Min, Mean };
 
 // Grid of the ground points' min (or mean) z with the given cell size; empty
-// cells filled like read_dtm. source names the data for error messages.
+// cells filled like read_dtm. source names the data for error messages; a grid
+// over dtm_cell_budget() cells is an InputError.
 Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt,
                     double cell_m = 1.0, DtmCell stat = DtmCell::Min,
                     const std::string& source = "ground points");

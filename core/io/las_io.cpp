@@ -150,8 +150,8 @@ std::string las_crs(const std::string& path, const std::vector<char>& buf, const
     visit(buf.data() + pos, length, buf.data() + pos + 54);
     pos += 54 + length;
   }
-  pos = h.evlr_offset;
-  for (uint32_t i = 0; i < h.evlr_count && pos + 60 <= buf.size(); ++i) {
+  pos = h.evlr_offset;  // any 64-bit value: compared without overflow
+  for (uint32_t i = 0; i < h.evlr_count && pos <= buf.size() && buf.size() - pos >= 60; ++i) {
     uint64_t length = get<uint64_t>(buf.data() + pos + 20);
     if (length > buf.size() - pos - 60) break;  // a damaged EVLR does not spoil the points
     visit(buf.data() + pos, length, buf.data() + pos + 60);
@@ -220,6 +220,7 @@ PointCloud point_io_detail::read_las(const std::string& path) {
     cloud.points[i] = Vec3(get<int32_t>(rec) * h.scale[0] + h.offset[0],
                            get<int32_t>(rec + 4) * h.scale[1] + h.offset[1],
                            get<int32_t>(rec + 8) * h.scale[2] + h.offset[2]);
+    check_coordinates(path, cloud.points[i].x(), cloud.points[i].y(), cloud.points[i].z(), i);
     cloud.classes[i] = uint8_t(rec[class_at]) & class_mask;
   }
   return cloud;

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/check/solid_check.h"
+#include "core/io/read_limits.h"
 
 namespace c3d {
 
@@ -54,7 +55,10 @@ std::vector<MeshGroup> read_obj(const std::string& path) {
     } else if (tag == "v") {
       double x, y, z;
       if (!(s >> x >> y >> z)) throw InputError(path, "line " + std::to_string(line_no) + ": bad vertex");
-      v.emplace_back(Vec3(x, y, z) + offset);
+      const Vec3 p = Vec3(x, y, z) + offset;
+      const std::string problem = coordinate_problem(p.x(), p.y(), p.z(), "line " + std::to_string(line_no));
+      if (!problem.empty()) throw InputError(path, problem);
+      v.push_back(p);
     } else if (tag == "g" || tag == "o") {
       std::getline(s >> std::ws, name);
     } else if (tag == "usemtl") {
@@ -87,6 +91,10 @@ struct PlyElement {
   long count = 0;
   std::vector<PlyProperty> props;
 };
+
+// A face's vertex list: longer than any polygon a model holds, and the
+// count must be a whole number (a float count of 1e300 is damage).
+constexpr double kMaxPlyListLength = 1 << 20;
 
 int type_size(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -163,6 +171,7 @@ std::vector<MeshGroup> read_ply(const std::string& path) {
   PlyValueReader r(in, format);
   try {
     for (const auto& e : elements) {
+      if (e.props.empty()) continue;  // records of no bytes: a huge count must not spin
       for (long k = 0; k < e.count; ++k) {
         Vec3 p = Vec3::Zero();
         Face f;
@@ -173,15 +182,20 @@ std::vector<MeshGroup> read_ply(const std::string& path) {
               p[prop.name[0] - 'x'] = x;
             continue;
           }
-          const long n = long(r.read(prop.count_type));
-          for (long j = 0; j < n; ++j) {
+          const double count = r.read(prop.count_type);
+          if (!(count >= 0 && count <= kMaxPlyListLength)) throw std::runtime_error("bad list length");
+          for (long j = 0; j < long(count); ++j) {
             const double idx = r.read(prop.type);
             if (e.name != "face" || (prop.name != "vertex_indices" && prop.name != "vertex_index")) continue;
-            if (idx < 0 || idx >= double(v.size())) throw std::runtime_error("vertex index out of range");
+            if (!(idx >= 0 && idx < double(v.size()))) throw std::runtime_error("vertex index out of range");
             f.ring.push_back(v[size_t(idx)]);
           }
         }
-        if (e.name == "vertex") v.push_back(p);
+        if (e.name == "vertex") {
+          const std::string problem = coordinate_problem(p.x(), p.y(), p.z(), "vertex " + std::to_string(k));
+          if (!problem.empty()) throw std::runtime_error(problem);
+          v.push_back(p);
+        }
         else if (e.name == "face") g.faces.push_back(std::move(f));
       }
     }
@@ -220,6 +234,7 @@ class ObjWriter {
 }  // namespace
 
 std::vector<MeshGroup> read_mesh_groups(const std::string& path) {
+  check_regular_file(path);
   const std::string ext = lower_ext(path);
   if (ext == "obj") return read_obj(path);
   if (ext == "ply") return read_ply(path);

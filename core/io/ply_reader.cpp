@@ -18,7 +18,7 @@ enum class PlyType { I8, U8, I16, U16, I32, U32, F32, F64 };
 
 struct PlyProperty {
   std::string name;
-  PlyType type;
+  PlyType type = PlyType::U8;
   int offset = 0;  // byte offset within a binary vertex record
   bool is_list = false;
 };
@@ -116,7 +116,11 @@ PlyHeader parse_ply_header(const std::string& path, const std::vector<char>& buf
       ls >> h.format;
     } else if (key == "element") {
       PlyElement e;
-      ls >> e.name >> e.count;
+      std::string count;
+      ls >> e.name >> count;
+      auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
+      if (r.ec != std::errc() || r.ptr != count.data() + count.size())
+        throw InputError(path, "PLY element '" + e.name + "' has no valid count ('" + count + "')");
       h.elements.push_back(e);
     } else if (key == "property" && !h.elements.empty()) {
       PlyProperty prop = parse_property(path, ls);
@@ -128,23 +132,39 @@ PlyHeader parse_ply_header(const std::string& path, const std::vector<char>& buf
   }
   h.data = end + std::strlen("end_header");
   while (h.data < buf.size() && buf[h.data] != '\n') ++h.data;
-  ++h.data;
+  h.data = std::min(h.data + 1, buf.size());
   return h;
 }
 
-PlyVertices find_vertices(const std::string& path, const PlyHeader& h, bool ascii) {
+// A header's count is checked against the bytes after the header before
+// anything is allocated: an ASCII record takes at least one byte (its line
+// end), a binary one its stride.
+void check_claim(const std::string& path, const PlyElement& e, size_t record_bytes, size_t avail) {
+  const size_t most = avail / std::max<size_t>(record_bytes, 1);
+  if (e.count > most)
+    throw InputError(path, "truncated PLY file: header claims " + std::to_string(e.count) + " '" + e.name +
+                               "' records; the " + std::to_string(avail) +
+                               " bytes after the header hold at most " + std::to_string(most));
+}
+
+PlyVertices find_vertices(const std::string& path, const PlyHeader& h, bool ascii, size_t avail) {
   // Only the vertex element is read; fixed-size elements before it are skipped.
   PlyVertices v;
   for (const PlyElement& e : h.elements) {
+    const size_t record = ascii ? 1 : size_t(e.stride);
     if (e.name == "vertex") {
       v.vertex = &e;
+      if (!ascii) avail -= v.skip_bytes;
+      if (record > 0) check_claim(path, e, record, avail);
       break;
     }
     for (const PlyProperty& p : e.props)
       if (p.is_list && !ascii)
         throw InputError(path, "PLY element '" + e.name + "' with lists before the vertices");
+    if (record == 0) continue;  // a binary element without properties takes no bytes
+    check_claim(path, e, record, ascii ? avail : avail - v.skip_bytes);
     v.skip_lines += e.count;
-    v.skip_bytes += e.count * size_t(e.stride);
+    v.skip_bytes += e.count * record;
   }
   if (!v.vertex) throw InputError(path, "PLY file has no vertex element");
   for (size_t i = 0; i < v.vertex->props.size(); ++i) {
@@ -177,9 +197,10 @@ void read_ply_binary(const std::string& path, const std::vector<char>& buf, size
     double x = ply_value(rec + props[ix].offset, props[ix].type, swap);
     double y = ply_value(rec + props[iy].offset, props[iy].type, swap);
     double z = ply_value(rec + props[iz].offset, props[iz].type, swap);
-    check_finite(path, x, y, z, i);
+    check_coordinates(path, x, y, z, i);
     cloud.points[i] = Vec3(x, y, z);
-    if (ic >= 0) cloud.classes[i] = uint8_t(ply_value(rec + props[ic].offset, props[ic].type, swap));
+    if (ic >= 0)
+      cloud.classes[i] = class_code(path, ply_value(rec + props[ic].offset, props[ic].type, swap), i);
   }
 }
 
@@ -194,7 +215,7 @@ void read_ply_ascii(const std::string& path, const std::vector<char>& buf, size_
     while (p < stop && *p != '\n') ++p;
     if (p < stop) ++p;
   };
-  for (size_t i = 0; i < vs.skip_lines; ++i) next_line();
+  for (size_t i = 0; i < vs.skip_lines && p < stop; ++i) next_line();
   std::vector<double> v(props.size());
   for (size_t i = 0; i < n; ++i) {
     for (size_t k = 0; k < props.size(); ++k) {
@@ -206,9 +227,9 @@ void read_ply_ascii(const std::string& path, const std::vector<char>& buf, size_
       p = r.ptr;
       if (props[k].is_list) break;  // rest of the line is the list
     }
-    check_finite(path, v[ix], v[iy], v[iz], i);
+    check_coordinates(path, v[ix], v[iy], v[iz], i);
     cloud.points[i] = Vec3(v[ix], v[iy], v[iz]);
-    if (ic >= 0) cloud.classes[i] = uint8_t(v[ic]);
+    if (ic >= 0) cloud.classes[i] = class_code(path, v[ic], i);
     next_line();
   }
 }
@@ -222,7 +243,7 @@ PointCloud point_io_detail::read_ply(const std::string& path) {
   const bool swap = h.format == "binary_big_endian";
   if (!ascii && !swap && h.format != "binary_little_endian")
     throw InputError(path, "unknown PLY format '" + h.format + "'");
-  const PlyVertices v = find_vertices(path, h, ascii);
+  const PlyVertices v = find_vertices(path, h, ascii, buf.size() - h.data);
   const size_t n = v.vertex->count;
   PointCloud cloud;
   cloud.source = path;

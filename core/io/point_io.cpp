@@ -1,10 +1,8 @@
-// Point-cloud readers (own LAS 1.0-1.4 reader, PLY, PCD via PCL, XYZ/CSV) and
-// the LAS writer. Files are read with one bulk fread and parsed from memory.
-// LAS reading and writing are in las_io.cpp, the PLY reader in ply_reader.cpp.
+// Point-cloud readers (own LAS 1.0-1.4, PLY, PCD and XYZ/CSV readers) and the
+// LAS writer. Files are read with one bulk fread and parsed from memory. LAS
+// reading and writing are in las_io.cpp, PLY in ply_reader.cpp, PCD in
+// pcd_reader.cpp.
 #include "core/io/point_io.h"
-
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/io/pcd_io.h>
 
 #include <algorithm>
 #include <cctype>
@@ -17,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/io/point_io_detail.h"
+#include "core/io/read_limits.h"
 
 namespace c3d {
 
@@ -27,23 +26,34 @@ std::string point_io_detail::lower(std::string s) {
   return s;
 }
 
+// A directory named x.las opened fine and reported a size of 2^63 (ext4), which
+// became std::bad_alloc: only a regular file is read, its size checked.
 std::vector<char> point_io_detail::slurp(const std::string& path) {
+  check_regular_file(path);
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(path, "cannot open file (" + std::string(std::strerror(errno)) + ")");
   std::fseek(f.get(), 0, SEEK_END);
   long size = std::ftell(f.get());
   std::fseek(f.get(), 0, SEEK_SET);
-  if (size <= 0) throw InputError(path, "empty file");
+  if (size == 0) throw InputError(path, "empty file");
+  if (size < 0) throw InputError(path, "cannot tell the file's size (" + std::string(std::strerror(errno)) + ")");
   std::vector<char> buf(static_cast<size_t>(size));
   if (std::fread(buf.data(), 1, buf.size(), f.get()) != buf.size())
     throw InputError(path, "read error");
   return buf;
 }
 
-void point_io_detail::check_finite(const std::string& path, double x, double y, double z,
-                                   size_t index) {
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
-    throw InputError(path, "NaN/inf coordinate at point " + std::to_string(index));
+void point_io_detail::check_coordinates(const std::string& path, double x, double y, double z,
+                                        size_t index) {
+  if (coordinate_ok(x) && coordinate_ok(y) && coordinate_ok(z)) return;
+  throw InputError(path, coordinate_problem(x, y, z, "point " + std::to_string(index)));
+}
+
+uint8_t point_io_detail::class_code(const std::string& path, double c, size_t index) {
+  if (!(c >= 0 && c <= 255 && c == std::floor(c)))
+    throw InputError(path, "point " + std::to_string(index) + ": class value " + std::to_string(c) +
+                               " is not a class code 0-255");
+  return uint8_t(c);
 }
 
 bool point_io_detail::is_class_name(const std::string& name) {
@@ -56,49 +66,6 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string extension(const std::string& path) { return lower(fs::path(path).extension().string()); }
-
-// ---------------------------------------------------------------- PCD ----
-
-PointCloud read_pcd(const std::string& path) {
-  if (fs::exists(path) && fs::file_size(path) == 0) throw InputError(path, "empty file");
-  pcl::PCLPointCloud2 blob;
-  if (pcl::io::loadPCDFile(path, blob) < 0) throw InputError(path, "cannot read PCD file");
-  const pcl::PCLPointField *fx = nullptr, *fy = nullptr, *fz = nullptr, *fc = nullptr;
-  for (const auto& f : blob.fields) {
-    if (f.name == "x") fx = &f;
-    if (f.name == "y") fy = &f;
-    if (f.name == "z") fz = &f;
-    if (is_class_name(f.name) || f.name == "label") fc = &f;
-  }
-  if (!fx || !fy || !fz) throw InputError(path, "PCD has no x, y, z fields");
-  auto value = [&](const uint8_t* rec, const pcl::PCLPointField* f) -> double {
-    const char* q = reinterpret_cast<const char*>(rec + f->offset);
-    switch (f->datatype) {
-      case pcl::PCLPointField::INT8: return int8_t(*q);
-      case pcl::PCLPointField::UINT8: return uint8_t(*q);
-      case pcl::PCLPointField::INT16: return get<int16_t>(q);
-      case pcl::PCLPointField::UINT16: return get<uint16_t>(q);
-      case pcl::PCLPointField::INT32: return get<int32_t>(q);
-      case pcl::PCLPointField::UINT32: return get<uint32_t>(q);
-      case pcl::PCLPointField::FLOAT32: return get<float>(q);
-      case pcl::PCLPointField::FLOAT64: return get<double>(q);
-    }
-    return kNaN;
-  };
-  size_t n = size_t(blob.width) * blob.height;
-  PointCloud cloud;
-  cloud.source = path;
-  cloud.points.reserve(n);
-  if (fc) cloud.classes.reserve(n);
-  for (size_t i = 0; i < n; ++i) {
-    const uint8_t* rec = blob.data.data() + i * blob.point_step;
-    double x = value(rec, fx), y = value(rec, fy), z = value(rec, fz);
-    check_finite(path, x, y, z, i);
-    cloud.points.emplace_back(x, y, z);
-    if (fc) cloud.classes.push_back(uint8_t(value(rec, fc)));
-  }
-  return cloud;
-}
 
 // ------------------------------------------------------------ XYZ/CSV ----
 
@@ -160,8 +127,8 @@ PointCloud read_xyz(const std::string& path) {
       throw InputError(path, "line " + std::to_string(line_no) + " has " +
                                  std::to_string(cols.size()) + " columns, x y z needed");
     double x = cols[cx], y = cols[cy], z = cols[cz];
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
-      throw InputError(path, "NaN/inf coordinate at line " + std::to_string(line_no));
+    if (!coordinate_ok(x) || !coordinate_ok(y) || !coordinate_ok(z))
+      throw InputError(path, coordinate_problem(x, y, z, "line " + std::to_string(line_no)));
     cloud.points.emplace_back(x, y, z);
     if (cc >= 0 && int(cols.size()) > cc) {
       double c = cols[cc];
@@ -183,7 +150,7 @@ PointCloud read_xyz(const std::string& path) {
 }  // namespace
 
 PointCloud read_point_cloud(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path, "file not found");
+  check_regular_file(path);
   std::string ext = extension(path);
   if (ext == ".laz")
     throw InputError(path, "LAZ is not supported; convert it to LAS first, e.g. "

@@ -1,6 +1,6 @@
 #pragma once
 // Pieces shared by the point-cloud readers and the LAS writer (internal to
-// core/io/point_io.cpp, las_io.cpp and ply_reader.cpp).
+// core/io/point_io.cpp, las_io.cpp, ply_reader.cpp and pcd_reader.cpp).
 #include <cstring>
 #include <string>
 #include <vector>
@@ -25,11 +25,16 @@ void put(std::string& out, size_t pos, T v) {
   std::memcpy(&out[pos], &v, sizeof(T));
 }
 
-void check_finite(const std::string& path, double x, double y, double z, size_t index);
+// Throws InputError naming the point when a coordinate is NaN/inf or beyond
+// kMaxAbsCoordinate (core/io/read_limits.h).
+void check_coordinates(const std::string& path, double x, double y, double z, size_t index);
+// A class value read as a number: a whole number 0-255, else InputError naming the point.
+uint8_t class_code(const std::string& path, double c, size_t index);
 // A column or property that holds the point class.
 bool is_class_name(const std::string& name);
 
 PointCloud read_las(const std::string& path);
 PointCloud read_ply(const std::string& path);
+PointCloud read_pcd(const std::string& path);
 
 }  // namespace c3d::point_io_detail
