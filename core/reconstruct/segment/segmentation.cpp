@@ -3,6 +3,7 @@
 #include "core/geometry/unique_points.h"
 #include "core/reconstruct/planes/ransac.h"
 #include "core/reconstruct/segment/neighbours.h"
+#include "core/reconstruct/segment/normals.h"
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/point_types.h>
@@ -40,6 +41,10 @@ constexpr int kMinPlanePoints = 10;      // fewer points judge no plane, at any 
 // from clumps (points on scan rows 0.5 m apart, 3 cm within a row), and taken
 // for the spacing it shrinks every gap and area measured in spacings.
 constexpr double kMinSpacingPerCoverage = 0.5;
+// Roofs are apart across a gap a quarter wider than the widest the sampling
+// leaves around a point (sampling_gap): scan rows 0.5 m apart on a 30-degree
+// slope lie 0.58 m apart, more than 4 in-row spacings.
+constexpr double kGapsPerRoofGap = 1.25;
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Tree = pcl::search::KdTree<pcl::PointXYZ>;
@@ -110,13 +115,13 @@ std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl:
 std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
                                                const pcl::PointCloud<pcl::Normal>::Ptr& normals,
                                                const pcl::Indices& roof,
-                                               const ReconstructionParams& p,
+                                               const ReconstructionParams& p, int k,
                                                std::vector<pcl::Indices>& neighbours) {
   RegionGrowingKeepingNeighbours rg;
   rg.setMinClusterSize(std::max(5, p.min_component_points / 3));
   rg.setMaxClusterSize(std::numeric_limits<int>::max());
   rg.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
-  rg.setNumberOfNeighbours(16);
+  rg.setNumberOfNeighbours(k);
   rg.setInputCloud(cloud);
   rg.setIndices(pcl::make_shared<pcl::Indices>(roof));
   rg.setInputNormals(normals);
@@ -258,6 +263,7 @@ struct RoofScene {
   const Cloud::Ptr& cloud;
   const NeighbourTable& table;
   const pcl::PointCloud<pcl::Normal>::Ptr& normals;
+  int neighbours;                      // region growing's: those the normals were taken from
   const std::vector<int>& cluster_of;  // per point: its roof cluster
   const ReconstructionParams& p;
 };
@@ -271,7 +277,7 @@ std::vector<RoofComponent> roof_components(const RoofScene& s, int r, const pcl:
   const auto& p = s.p;
   std::vector<RoofComponent> comps;
   std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
-  add_regions(points, grow_components(s.cloud, s.normals, roof, p, roof_neighbours), p, seg.roof_count, comps, 0,
+  add_regions(points, grow_components(s.cloud, s.normals, roof, p, s.neighbours, roof_neighbours), p, seg.roof_count, comps, 0,
               kMinPlaneNormalZ);
   std::vector<int> local_label(points.size(), -1);
   settle_labels(points, roof_neighbours, roof, roof, p.plane_inlier_m, comps, local_label);
@@ -292,7 +298,7 @@ std::vector<RoofComponent> roof_components(const RoofScene& s, int r, const pcl:
     smooth_normals(s.table, *s.normals, s.cluster_of, r, leftover, *smooth);
     std::vector<pcl::Indices> unused;
     size_t before = comps.size();
-    add_regions(points, grow_components(s.cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
+    add_regions(points, grow_components(s.cloud, smooth, leftover, p, s.neighbours, unused), p, seg.roof_count, comps,
                 size_t(min_points), kMinRoofNormalZ);
     if (comps.size() > before)
       settle_labels(points, roof_neighbours, roof, leftover, p.plane_inlier_m, comps, local_label);
@@ -347,14 +353,11 @@ Segmentation segment_places(const std::vector<Vec3>& points, const Reconstructio
   seg.spacing = median_spacing(cloud, *table, seg.density);
 
   pcl::Indices kept = remove_statistical_outliers(*table, p.outlier_neighbours, p.outlier_std);
-  pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
-  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
-  ne.setInputCloud(cloud);
-  ne.setSearchMethod(table);
-  ne.setKSearch(kNormalNeighbours);
-  ne.compute(*normals);
+  const PointNormals estimated = estimate_normals(cloud, table, kNormalNeighbours);
+  const pcl::PointCloud<pcl::Normal>::Ptr& normals = estimated.normals;
 
-  double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
+  double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m
+                                          : std::max({0.5, 4.0 * seg.spacing, kGapsPerRoofGap * sampling_gap(cloud, *table)});
   // Clusters as small as a sparse scan's plane: one no region grows on may still be a plane.
   auto roofs = cluster_roofs(cloud, kept, tolerance, min_plane_points(seg.density, p));
   std::vector<int> cluster_of(points.size(), -1);
@@ -365,7 +368,7 @@ Segmentation segment_places(const std::vector<Vec3>& points, const Reconstructio
   pcl::PointCloud<pcl::Normal>::Ptr smooth;
   for (size_t r = 0; r < roofs.size(); ++r) {
     const auto& roof = roofs[r];
-    const RoofScene scene{points, cloud, *table, normals, cluster_of, p};
+    const RoofScene scene{points, cloud, *table, normals, estimated.neighbours, cluster_of, p};
     std::vector<RoofComponent> comps = roof_components(scene, int(r), roof.indices, seg, smooth);
     int kept_here = 0;
     for (auto& c : comps) {
