@@ -3,7 +3,7 @@
 
   stress_clouds.py make OUT [--c3d build/cli/cadastre3d]
   stress_clouds.py run OUT TAG [--c3d build/cli/cadastre3d] [--only v1,v2] [--data ahn3,town]
-  stress_clouds.py table OUT TAG_BEFORE TAG_AFTER
+  stress_clouds.py table OUT TAG_BEFORE TAG_AFTER   (a tag may be TAG1,TAG2: runs merged)
 
 `make` writes, from ../shared/data/ahn3/cloud.las (10 pts/m2, RD coordinates
 ~83500 / 442300) and from a sample town (`cadastre3d sample`, placed at the
@@ -277,8 +277,12 @@ def line(r):
 
 
 def table(a):
-    before = json.load(open(os.path.join(a.out, "runs", a.before + ".json")))
-    after = json.load(open(os.path.join(a.out, "runs", a.after + ".json")))
+    def load(tags):  # several tags (comma-separated) as one run
+        merged = {}
+        for tag in tags.split(","):
+            merged.update(json.load(open(os.path.join(a.out, "runs", tag + ".json"))))
+        return merged
+    before, after = load(a.before), load(a.after)
     print(f"| variant | {a.before} | {a.after} |\n|---|---|---|")
     for k in sorted(set(before) | set(after), key=lambda k: (k.split()[0], VARIANTS.index(k.split()[1]))):
         print(f"| {k} | {line(before.get(k))} | {line(after.get(k))} |")
