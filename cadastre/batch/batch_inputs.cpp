@@ -5,6 +5,7 @@
 
 #include "core/classify/classify.h"
 #include "core/error.h"
+#include "core/geometry/unique_points.h"
 #include "core/io/crs.h"
 #include "core/io/point_io.h"
 #include "core/log.h"
@@ -41,6 +42,20 @@ void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, 
               std::to_string(c.counts[0]) + ", roof " + std::to_string(c.counts[1]) + ", wall " +
               std::to_string(c.counts[2]) + ", other " + std::to_string(c.counts[3]));
   }
+}
+
+// One point per place: copies of a point (a writer repeating records, strips
+// merged twice) carry nothing more, and every neighbourhood, count and
+// spacing downstream would read them as density.
+void fold_copies(std::vector<Vec3>& pts, const char* what) {
+  const UniquePoints u = unique_points(pts, kSamePlaceM);
+  if (u.unique.size() == pts.size()) return;
+  std::vector<Vec3> kept;
+  kept.reserve(u.unique.size());
+  for (int i : u.unique) kept.push_back(pts[size_t(i)]);
+  log::info(std::string(what) + " points: " + std::to_string(pts.size() - kept.size()) +
+            " copies of another point's place folded into it, " + std::to_string(kept.size()) + " kept");
+  pts = std::move(kept);
 }
 
 }  // namespace
@@ -82,6 +97,8 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
     in.dtm = dtm_from_points(ground, in.crs_wkt, 1.0, DtmCell::Min, "ground-class points");
   }
   check_dtm_covers(in.dtm, in.layer);
+  fold_copies(in.roof, "roof");
+  fold_copies(in.wall, "wall");
   if (in.roof.empty() && in.wall.empty())
     throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
                      "no roof or wall points (check the class mapping)");
