@@ -48,11 +48,8 @@ void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, 
 // merged twice) carry nothing more, and every neighbourhood, count and
 // spacing downstream would read them as density.
 void fold_copies(std::vector<Vec3>& pts, const char* what) {
-  const UniquePoints u = unique_points(pts, kSamePlaceM);
-  if (u.unique.size() == pts.size()) return;
-  std::vector<Vec3> kept;
-  kept.reserve(u.unique.size());
-  for (int i : u.unique) kept.push_back(pts[size_t(i)]);
+  std::vector<Vec3> kept = one_per_place(pts);
+  if (kept.size() == pts.size()) return;
   log::info(std::string(what) + " points: " + std::to_string(pts.size() - kept.size()) +
             " copies of another point's place folded into it, " + std::to_string(kept.size()) + " kept");
   pts = std::move(kept);

@@ -55,4 +55,13 @@ UniquePoints unique_points(const std::vector<Vec3>& points, double tol) {
   return u;
 }
 
+std::vector<Vec3> one_per_place(const std::vector<Vec3>& points) {
+  const UniquePoints u = unique_points(points, kSamePlaceM);
+  if (u.unique.size() == points.size()) return points;
+  std::vector<Vec3> kept;
+  kept.reserve(u.unique.size());
+  for (int i : u.unique) kept.push_back(points[size_t(i)]);
+  return kept;
+}
+
 }  // namespace c3d

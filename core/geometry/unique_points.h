@@ -22,4 +22,9 @@ struct UniquePoints {
 // it (first come, first kept: the same input gives the same result).
 UniquePoints unique_points(const std::vector<Vec3>& points, double tol);
 
+// The kept points of unique_points(points, kSamePlaceM): one per place, in
+// input order. The batch measures and models these, and `evaluate` measures
+// these, so that both count the same points.
+std::vector<Vec3> one_per_place(const std::vector<Vec3>& points);
+
 }  // namespace c3d
