@@ -5,6 +5,7 @@
 #include "core/reconstruct/segment/coplanar.h"
 #include "core/reconstruct/segment/neighbours.h"
 #include "core/reconstruct/segment/normals.h"
+#include "core/reconstruct/segment/rooftop.h"
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/point_types.h>
@@ -361,6 +362,7 @@ Segmentation segment_places(const std::vector<Vec3>& points, const Reconstructio
         seg.roof_of[i] = seg.roof_count;
     ++seg.roof_count;
   }
+  drop_rooftop_objects(points, seg);
   return seg;
 }
 

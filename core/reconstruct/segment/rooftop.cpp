@@ -1,0 +1,113 @@
+#include "core/reconstruct/segment/rooftop.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace c3d {
+namespace {
+
+// Lift and stair housings, plant boxes and tanks cover a few to some 20 m2; a
+// part larger than this standing above roofs all round is a storey (a tower
+// on a podium) and stays.
+constexpr double kMaxRooftopObjectM2 = 25.0;
+// Roof points this near in plan meet a plane's rim: a box's own side and the
+// scan's shadow beside it leave a strip about this wide without roof points.
+constexpr double kContactReachM = 1.0;
+// Higher above every roof plane it meets than this, a plane stands on the
+// roof (as a loose point does, kMaxLooseRise in segmentation.cpp): an eave
+// strip or a dormer meets its roof within the planes' noise.
+constexpr double kMinStandingRiseM = 0.5;
+// The low tail of the rises judged (noise at the rim): the 10th percentile.
+constexpr double kRiseQuantile = 0.1;
+// Surrounded: roof met in at least 5 of the 8 directions around the plane's
+// centre (a tower at a building's end or corner meets it in 2 or 3).
+constexpr int kDirections = 8;
+constexpr int kMinSurroundingDirections = 5;
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr plan_of_labelled(const std::vector<Vec3>& points, const Segmentation& seg,
+                                                     std::vector<int>& index) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr plan(new pcl::PointCloud<pcl::PointXYZ>);
+  for (size_t i = 0; i < points.size(); ++i)
+    if (seg.label[i] >= 0) {
+      plan->push_back(pcl::PointXYZ(float(points[i].x()), float(points[i].y()), 0.f));
+      index.push_back(int(i));
+    }
+  return plan;
+}
+
+// Per point of c that meets another plane: its rise above the plane of the
+// nearest such point, and the direction (of kDirections) from c's centre it lies in.
+struct Contacts {
+  std::vector<double> rise;
+  std::array<bool, kDirections> direction{};
+};
+
+Contacts contacts_of(const std::vector<Vec3>& points, const Segmentation& seg, int c,
+                     const pcl::KdTreeFLANN<pcl::PointXYZ>& tree, const std::vector<int>& index) {
+  Contacts out;
+  const RoofComponent& comp = seg.components[size_t(c)];
+  const Vec3& centre = comp.fit.centroid;
+  pcl::Indices nn;
+  std::vector<float> d2;
+  for (int i : comp.points) {
+    const Vec3& p = points[size_t(i)];
+    const pcl::PointXYZ q(float(p.x()), float(p.y()), 0.f);
+    if (tree.radiusSearch(q, kContactReachM, nn, d2) == 0) continue;
+    // the roof under the rim is the plane of the nearest point of another
+    // plane (sorted by distance): across a ridge, a gable's other side
+    // extended would stand higher than the roof there
+    const auto other = std::find_if(nn.begin(), nn.end(), [&](int k) { return seg.label[size_t(index[size_t(k)])] != c; });
+    if (other == nn.end()) continue;
+    const double z = seg.components[size_t(seg.label[size_t(index[size_t(*other)])])].fit.plane.z_at(p.x(), p.y());
+    if (!std::isfinite(z)) continue;
+    out.rise.push_back(p.z() - z);
+    const double a = std::atan2(p.y() - centre.y(), p.x() - centre.x()) + M_PI;  // 0 .. 2 pi
+    out.direction[size_t(std::min(kDirections - 1, int(a / (2 * M_PI) * kDirections)))] = true;
+  }
+  return out;
+}
+
+bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c,
+            const pcl::KdTreeFLANN<pcl::PointXYZ>& tree, const std::vector<int>& index) {
+  const RoofComponent& comp = seg.components[size_t(c)];
+  if (seg.density <= 0 || double(comp.points.size()) / seg.density > kMaxRooftopObjectM2) return false;
+  Contacts k = contacts_of(points, seg, c, tree, index);
+  if (k.rise.empty()) return false;
+  if (std::count(k.direction.begin(), k.direction.end(), true) < kMinSurroundingDirections) return false;
+  const auto low = k.rise.begin() + long(kRiseQuantile * double(k.rise.size()));
+  std::nth_element(k.rise.begin(), low, k.rise.end());
+  return *low > kMinStandingRiseM;
+}
+
+}  // namespace
+
+bool stands_on_roof(const std::vector<Vec3>& points, const Segmentation& seg, int c) {
+  std::vector<int> index;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(plan_of_labelled(points, seg, index));
+  return stands(points, seg, c, tree, index);
+}
+
+void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg) {
+  if (seg.components.size() < 2) return;
+  std::vector<int> index;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(plan_of_labelled(points, seg, index));
+  std::vector<int> new_id(seg.components.size(), -1);
+  std::vector<RoofComponent> kept;
+  for (size_t c = 0; c < seg.components.size(); ++c) {  // judged against all: one lid does not hide another
+    if (stands(points, seg, int(c), tree, index)) continue;
+    new_id[c] = int(kept.size());
+    kept.push_back(seg.components[c]);
+  }
+  if (kept.size() == seg.components.size()) return;
+  for (int& l : seg.label)
+    if (l >= 0) l = new_id[size_t(l)];
+  seg.components = std::move(kept);
+}
+
+}  // namespace c3d

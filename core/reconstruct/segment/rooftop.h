@@ -1,0 +1,22 @@
+#pragma once
+// Planes standing on a roof (a lift or stair housing's lid, a plant box, a
+// tank) are no part of the roof: they would widen its outline and add their
+// sides as walls. Told apart by where they stand, not by their size in points.
+#include <vector>
+
+#include "core/reconstruct/segment/segmentation.h"
+
+namespace c3d {
+
+// Whether component `c` of `seg` stands on the roof: it is small (a housing,
+// not a storey), every roof plane it meets in plan (within a metre) lies well
+// below it (it meets none at its own height, as a dormer or an annex roof
+// does), and those planes surround it more than half the way round (a tower
+// at a building's end meets the lower roof on one side).
+bool stands_on_roof(const std::vector<Vec3>& points, const Segmentation& seg, int c);
+
+// Removes the components that stand on the roof; their points keep their
+// roof but no label (clutter, as a tank's points are).
+void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg);
+
+}  // namespace c3d
