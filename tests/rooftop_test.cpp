@@ -88,3 +88,28 @@ TEST(Rooftop, DormerMeetingItsRoofStaysAPlane) {
   for (const auto& c : seg.components) flat += c.fit.plane.n.z() > 0.99 && c.points.size() >= 100;
   EXPECT_EQ(flat, 1);
 }
+
+TEST(Rooftop, PlaneStoreysAboveTheRoofStays) {
+  // The housing's lid of the first test 6 m above the roof: no housing rises
+  // so high (AHN3 09105: a tower 12 m over a low roof was dropped by the rule
+  // without this bound, and its roof modelled 8 m off).
+  std::mt19937_64 rng(4);
+  std::vector<Vec3> pts = flat_roof_around(5, 7, 4, 6.25, rng);
+  const auto lid = sample_plane(plane_through({0, 0, 16}, {0, 0, 1}), 5, 7, 4, 6.25, kDensity, 0.02, rng);
+  pts.insert(pts.end(), lid.begin(), lid.end());
+  add_sides(pts, 5, 7, 4, 6.25, 10, 16, rng);
+  const Segmentation seg = segment_roofs(pts, params());
+  EXPECT_EQ(planes_above(seg, 15), 1);
+}
+
+TEST(Rooftop, RaisedStripAlongTheRoofStays) {
+  // A raised strip 0.6 m wide, 0.8 m above a flat roof, across the middle of it
+  // (an upstand between two row houses): roof on both sides, but a strip of
+  // the roof, not a box on it.
+  std::mt19937_64 rng(5);
+  std::vector<Vec3> pts = flat_roof_around(-1, 13, 4.7, 5.3, rng);
+  const auto strip = sample_plane(plane_through({0, 0, 10.8}, {0, 0, 1}), 0, 12, 4.7, 5.3, kDensity, 0.02, rng);
+  pts.insert(pts.end(), strip.begin(), strip.end());
+  const Segmentation seg = segment_roofs(pts, params());
+  EXPECT_EQ(planes_above(seg, 10.5), 1);
+}

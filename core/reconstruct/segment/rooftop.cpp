@@ -1,5 +1,8 @@
 #include "core/reconstruct/segment/rooftop.h"
 
+#include "core/log.h"
+
+#include <Eigen/Eigenvalues>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 
@@ -21,6 +24,13 @@ constexpr double kContactReachM = 1.0;
 // roof (as a loose point does, kMaxLooseRise in segmentation.cpp): an eave
 // strip or a dormer meets its roof within the planes' noise.
 constexpr double kMinStandingRiseM = 0.5;
+// A housing rises a storey at most (a lift's machine room some 3.5 m): a
+// plane higher above the roof all round is a tower or a storey.
+constexpr double kMaxStandingRiseM = 4.0;
+// Housings, boxes and tanks are compact (at most about twice as long as
+// wide); a plane three times as long as wide or more is a strip of the roof
+// itself (a parapet or a raised edge along the building, AHN3 row houses).
+constexpr double kMinCompactness = 1.0 / 3.0;
 // The low tail of the rises judged (noise at the rim): the 10th percentile.
 constexpr double kRiseQuantile = 0.1;
 // Surrounded: roof met in at least 5 of the 8 directions around the plane's
@@ -71,16 +81,35 @@ Contacts contacts_of(const std::vector<Vec3>& points, const Segmentation& seg, i
   return out;
 }
 
+// Width over length of the points in plan (the square root of the ratio of
+// their plan covariance's eigenvalues).
+double compactness(const std::vector<Vec3>& points, const std::vector<int>& idx) {
+  Vec2 mean(0, 0);
+  for (int i : idx) mean += points[size_t(i)].head<2>();
+  mean /= double(idx.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (int i : idx) {
+    const Vec2 d = points[size_t(i)].head<2>() - mean;
+    cov += d * d.transpose();
+  }
+  const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues();  // ascending
+  return ev(1) > 0 ? std::sqrt(std::max(0.0, ev(0)) / ev(1)) : 0.0;
+}
+
 bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c,
             const pcl::KdTreeFLANN<pcl::PointXYZ>& tree, const std::vector<int>& index) {
   const RoofComponent& comp = seg.components[size_t(c)];
   if (seg.density <= 0 || double(comp.points.size()) / seg.density > kMaxRooftopObjectM2) return false;
+  if (compactness(points, comp.points) < kMinCompactness) return false;
   Contacts k = contacts_of(points, seg, c, tree, index);
   if (k.rise.empty()) return false;
   if (std::count(k.direction.begin(), k.direction.end(), true) < kMinSurroundingDirections) return false;
   const auto low = k.rise.begin() + long(kRiseQuantile * double(k.rise.size()));
   std::nth_element(k.rise.begin(), low, k.rise.end());
-  return *low > kMinStandingRiseM;
+  if (*low <= kMinStandingRiseM || *low > kMaxStandingRiseM) return false;
+  log::debug(log::format("rooftop object: plane of %zu points at (%.2f %.2f %.2f) stands %.2f m above the roof",
+                         comp.points.size(), comp.fit.centroid.x(), comp.fit.centroid.y(), comp.fit.centroid.z(), *low));
+  return true;
 }
 
 }  // namespace
