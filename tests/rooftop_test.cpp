@@ -113,3 +113,17 @@ TEST(Rooftop, RaisedStripAlongTheRoofStays) {
   const Segmentation seg = segment_roofs(pts, params());
   EXPECT_EQ(planes_above(seg, 10.5), 1);
 }
+
+TEST(Rooftop, RaisedEdgeOverAFacadeStays) {
+  // A raised piece of the roof's edge, 2.5 x 1 m, 0.8 m above the flat roof,
+  // with the facade under its outer edge (an airborne building class holds a
+  // few facade points, AHN3's row houses): the building's edge, not a box.
+  std::mt19937_64 rng(6);
+  std::vector<Vec3> pts = flat_roof_around(4, 6.5, -1, 1, rng);
+  const auto edge = sample_plane(plane_through({0, 0, 10.8}, {0, 0, 1}), 4, 6.5, 0, 1, kDensity, 0.02, rng);
+  pts.insert(pts.end(), edge.begin(), edge.end());
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < 12; ++i) pts.emplace_back(4 + 2.5 * u(rng), 0.05 * u(rng), 10.8 * u(rng));
+  const Segmentation seg = segment_roofs(pts, params());
+  EXPECT_EQ(planes_above(seg, 10.5), 1);
+}

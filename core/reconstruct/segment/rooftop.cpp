@@ -31,6 +31,13 @@ constexpr double kMaxStandingRiseM = 4.0;
 // wide); a plane three times as long as wide or more is a strip of the roof
 // itself (a parapet or a raised edge along the building, AHN3 row houses).
 constexpr double kMinCompactness = 1.0 / 3.0;
+// A wall under the rim: 3 points (a facade holds a few in an airborne
+// building class) within 0.5 m in plan of the plane's points, a metre and
+// more below the roof it meets (twice kMinStandingRiseM: below the roof's
+// own noise and any sheet or strip on it).
+constexpr double kWallReachM = 0.5;
+constexpr double kWallDropM = 1.0;
+constexpr int kMinWallPoints = 3;
 // The low tail of the rises judged (noise at the rim): the 10th percentile.
 constexpr double kRiseQuantile = 0.1;
 // Surrounded: roof met in at least 5 of the 8 directions around the plane's
@@ -54,6 +61,7 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr plan_of_labelled(const std::vector<Vec3>& po
 struct Contacts {
   std::vector<double> rise;
   std::array<bool, kDirections> direction{};
+  double lowest_roof = INFINITY;  // the lowest roof height met
 };
 
 Contacts contacts_of(const std::vector<Vec3>& points, const Segmentation& seg, int c,
@@ -75,6 +83,7 @@ Contacts contacts_of(const std::vector<Vec3>& points, const Segmentation& seg, i
     const double z = seg.components[size_t(seg.label[size_t(index[size_t(*other)])])].fit.plane.z_at(p.x(), p.y());
     if (!std::isfinite(z)) continue;
     out.rise.push_back(p.z() - z);
+    out.lowest_roof = std::min(out.lowest_roof, z);
     const double a = std::atan2(p.y() - centre.y(), p.x() - centre.x()) + M_PI;  // 0 .. 2 pi
     out.direction[size_t(std::min(kDirections - 1, int(a / (2 * M_PI) * kDirections)))] = true;
   }
@@ -96,8 +105,37 @@ double compactness(const std::vector<Vec3>& points, const std::vector<int>& idx)
   return ev(1) > 0 ? std::sqrt(std::max(0.0, ev(0)) / ev(1)) : 0.0;
 }
 
-bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c,
-            const pcl::KdTreeFLANN<pcl::PointXYZ>& tree, const std::vector<int>& index) {
+// The points in plan: every point, and the points of the planes (`index`:
+// their indices into the points).
+struct PlanTrees {
+  pcl::KdTreeFLANN<pcl::PointXYZ> all, planes;
+  std::vector<int> index;
+};
+
+// Whether a wall goes down under c's rim: points within kWallReachM in plan
+// of c's points lying kWallDropM and more below the lowest roof c meets. A
+// parapet or a raised edge along a facade has the facade under it (an
+// airborne building class holds a few of its points); a box on a roof ends
+// at the roof.
+bool wall_under(const std::vector<Vec3>& points, const RoofComponent& comp, double lowest_roof,
+                const pcl::KdTreeFLANN<pcl::PointXYZ>& all) {
+  std::vector<char> seen(points.size(), 0);
+  int below = 0;
+  pcl::Indices nn;
+  std::vector<float> d2;
+  for (int i : comp.points) {
+    const Vec3& p = points[size_t(i)];
+    all.radiusSearch(pcl::PointXYZ(float(p.x()), float(p.y()), 0.f), kWallReachM, nn, d2);
+    for (int k : nn)
+      if (!seen[size_t(k)] && points[size_t(k)].z() < lowest_roof - kWallDropM) seen[size_t(k)] = 1, ++below;
+    if (below >= kMinWallPoints) return true;
+  }
+  return false;
+}
+
+bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c, const PlanTrees& t) {
+  const pcl::KdTreeFLANN<pcl::PointXYZ>& tree = t.planes;
+  const std::vector<int>& index = t.index;
   const RoofComponent& comp = seg.components[size_t(c)];
   if (seg.density <= 0 || double(comp.points.size()) / seg.density > kMaxRooftopObjectM2) return false;
   if (compactness(points, comp.points) < kMinCompactness) return false;
@@ -107,6 +145,7 @@ bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c,
   const auto low = k.rise.begin() + long(kRiseQuantile * double(k.rise.size()));
   std::nth_element(k.rise.begin(), low, k.rise.end());
   if (*low <= kMinStandingRiseM || *low > kMaxStandingRiseM) return false;
+  if (wall_under(points, comp, k.lowest_roof, t.all)) return false;
   log::debug(log::format("rooftop object: plane of %zu points at (%.2f %.2f %.2f) stands %.2f m above the roof",
                          comp.points.size(), comp.fit.centroid.x(), comp.fit.centroid.y(), comp.fit.centroid.z(), *low));
   return true;
@@ -114,22 +153,17 @@ bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c,
 
 }  // namespace
 
-bool stands_on_roof(const std::vector<Vec3>& points, const Segmentation& seg, int c) {
-  std::vector<int> index;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(plan_of_labelled(points, seg, index));
-  return stands(points, seg, c, tree, index);
-}
-
 void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg) {
   if (seg.components.size() < 2) return;
-  std::vector<int> index;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(plan_of_labelled(points, seg, index));
+  PlanTrees t;
+  t.planes.setInputCloud(plan_of_labelled(points, seg, t.index));
+  pcl::PointCloud<pcl::PointXYZ>::Ptr plan(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const Vec3& p : points) plan->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), 0.f));
+  t.all.setInputCloud(plan);
   std::vector<int> new_id(seg.components.size(), -1);
   std::vector<RoofComponent> kept;
   for (size_t c = 0; c < seg.components.size(); ++c) {  // judged against all: one lid does not hide another
-    if (stands(points, seg, int(c), tree, index)) continue;
+    if (stands(points, seg, int(c), t)) continue;
     new_id[c] = int(kept.size());
     kept.push_back(seg.components[c]);
   }

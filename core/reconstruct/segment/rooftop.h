@@ -8,16 +8,14 @@
 
 namespace c3d {
 
-// Whether component `c` of `seg` stands on the roof: it is small and compact
-// (a housing or a box, not a storey, not a parapet strip along an edge), the
-// roof planes it meets in plan (within a metre) lie 0.5 to 4 m below it (it
-// meets none at its own height, as a dormer or an annex roof does), and they
-// surround it more than half the way round (a tower at a building's end meets
-// the lower roof on one side).
-bool stands_on_roof(const std::vector<Vec3>& points, const Segmentation& seg, int c);
-
 // Removes the components that stand on the roof; their points keep their
-// roof but no label (clutter, as a tank's points are).
+// roof but no label (clutter, as a tank's points are). A component stands on
+// the roof when it is small and compact (a housing or a box, not a storey,
+// not a strip along the roof), the roof planes it meets in plan (within a
+// metre) lie 0.5 to 4 m below it (it meets none at its own height, as a
+// dormer or an annex roof does), they surround it more than half the way
+// round (a tower at a building's end meets the lower roof on one side), and
+// no wall goes down under it (a parapet along a facade has one).
 void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg);
 
 }  // namespace c3d
