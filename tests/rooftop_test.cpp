@@ -127,3 +127,15 @@ TEST(Rooftop, RaisedEdgeOverAFacadeStays) {
   const Segmentation seg = segment_roofs(pts, params());
   EXPECT_EQ(planes_above(seg, 10.5), 1);
 }
+
+TEST(Rooftop, PlaneOverAPatchAtGroundLevelStays) {
+  // The lift housing's scene with the terrain at the "roof": a patch of
+  // ground in the building class (AHN3 09324), and the lid a low building.
+  std::mt19937_64 rng(1);
+  std::vector<Vec3> pts = flat_roof_around(5, 7, 4, 6.25, rng);
+  const auto lid = sample_plane(plane_through({0, 0, 12.5}, {0, 0, 1}), 5, 7, 4, 6.25, kDensity, 0.02, rng);
+  pts.insert(pts.end(), lid.begin(), lid.end());
+  add_sides(pts, 5, 7, 4, 6.25, 10, 12.5, rng);
+  const Segmentation seg = segment_roofs(pts, params(), [](double, double) { return 9.8; });
+  EXPECT_EQ(planes_above(seg, 11), 1);
+}

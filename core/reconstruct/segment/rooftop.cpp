@@ -38,6 +38,10 @@ constexpr double kMinCompactness = 1.0 / 3.0;
 constexpr double kWallReachM = 0.5;
 constexpr double kWallDropM = 1.0;
 constexpr int kMinWallPoints = 3;
+// What it stands on is a roof when that lies a storey (2 m) above the
+// terrain: a plane over a patch at ground level (a yard or a terrain patch in
+// the building class, AHN3 09324) is a low building, not a box on a roof.
+constexpr double kMinRoofAboveTerrainM = 2.0;
 // The low tail of the rises judged (noise at the rim): the 10th percentile.
 constexpr double kRiseQuantile = 0.1;
 // Surrounded: roof met in at least 5 of the 8 directions around the plane's
@@ -110,7 +114,16 @@ double compactness(const std::vector<Vec3>& points, const std::vector<int>& idx)
 struct PlanTrees {
   pcl::KdTreeFLANN<pcl::PointXYZ> all, planes;
   std::vector<int> index;
+  const Terrain* terrain = nullptr;
 };
+
+// Whether the roof met at `lowest_roof` under c's centre stands a storey
+// above the terrain (true where the terrain is not known there).
+bool on_a_raised_roof(const RoofComponent& comp, double lowest_roof, const Terrain& terrain) {
+  if (!terrain) return true;
+  const double ground = terrain(comp.fit.centroid.x(), comp.fit.centroid.y());
+  return !std::isfinite(ground) || lowest_roof - ground >= kMinRoofAboveTerrainM;
+}
 
 // Whether a wall goes down under c's rim: points within kWallReachM in plan
 // of c's points lying kWallDropM and more below the lowest roof c meets. A
@@ -146,6 +159,7 @@ bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c, con
   std::nth_element(k.rise.begin(), low, k.rise.end());
   if (*low <= kMinStandingRiseM || *low > kMaxStandingRiseM) return false;
   if (wall_under(points, comp, k.lowest_roof, t.all)) return false;
+  if (t.terrain && !on_a_raised_roof(comp, k.lowest_roof, *t.terrain)) return false;
   log::debug(log::format("rooftop object: plane of %zu points at (%.2f %.2f %.2f) stands %.2f m above the roof",
                          comp.points.size(), comp.fit.centroid.x(), comp.fit.centroid.y(), comp.fit.centroid.z(), *low));
   return true;
@@ -153,9 +167,10 @@ bool stands(const std::vector<Vec3>& points, const Segmentation& seg, int c, con
 
 }  // namespace
 
-void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg) {
+void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg, const Terrain& terrain) {
   if (seg.components.size() < 2) return;
   PlanTrees t;
+  t.terrain = &terrain;
   t.planes.setInputCloud(plan_of_labelled(points, seg, t.index));
   pcl::PointCloud<pcl::PointXYZ>::Ptr plan(new pcl::PointCloud<pcl::PointXYZ>);
   for (const Vec3& p : points) plan->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), 0.f));

@@ -15,7 +15,9 @@ namespace c3d {
 // metre) lie 0.5 to 4 m below it (it meets none at its own height, as a
 // dormer or an annex roof does), they surround it more than half the way
 // round (a tower at a building's end meets the lower roof on one side), and
-// no wall goes down under it (a parapet along a facade has one).
-void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg);
+// no wall goes down under it (a parapet along a facade has one), and, where
+// `terrain` (local terrain z at x, y; NaN unknown) is given, the roof it meets
+// stands a storey above the terrain.
+void drop_rooftop_objects(const std::vector<Vec3>& points, Segmentation& seg, const Terrain& terrain);
 
 }  // namespace c3d

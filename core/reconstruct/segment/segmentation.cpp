@@ -316,7 +316,7 @@ int min_plane_points(double density, const ReconstructionParams& p) {
 namespace {
 
 // segment_roofs on points no two of which are one place.
-Segmentation segment_places(const std::vector<Vec3>& points, const ReconstructionParams& p) {
+Segmentation segment_places(const std::vector<Vec3>& points, const ReconstructionParams& p, const Terrain& terrain) {
   Segmentation seg;
   seg.label.assign(points.size(), -1);
   seg.roof_of.assign(points.size(), -1);
@@ -362,7 +362,7 @@ Segmentation segment_places(const std::vector<Vec3>& points, const Reconstructio
         seg.roof_of[i] = seg.roof_count;
     ++seg.roof_count;
   }
-  drop_rooftop_objects(points, seg);
+  drop_rooftop_objects(points, seg, terrain);
   return seg;
 }
 
@@ -391,13 +391,14 @@ Segmentation spread_to_copies(Segmentation places, const UniquePoints& u) {
 
 // Neighbourhoods, spacing and density are the scan's places': four copies of
 // four places fix no normal, and a copy 0 m away is no spacing.
-Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p,
+                           const Terrain& terrain) {
   UniquePoints u = unique_points(points, kSamePlaceM);
-  if (u.unique.size() == points.size()) return segment_places(points, p);
+  if (u.unique.size() == points.size()) return segment_places(points, p, terrain);
   std::vector<Vec3> places;
   places.reserve(u.unique.size());
   for (int i : u.unique) places.push_back(points[size_t(i)]);
-  return spread_to_copies(segment_places(places, p), u);
+  return spread_to_copies(segment_places(places, p, terrain), u);
 }
 
 // Higher above the nearest plane than this, a loose point stands on the roof

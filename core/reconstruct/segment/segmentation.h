@@ -3,6 +3,7 @@
 // each roof, planar roof components (PCL region growing; a second pass over the
 // points the first left, on smoothed normals, for textured sheet), cleaned so
 // clutter (antennas, tanks, vegetation) does not become roof planes.
+#include <functional>
 #include <vector>
 
 #include "core/config/config.h"
@@ -39,7 +40,11 @@ int min_plane_points(double density, const ReconstructionParams& p);
 // its labels; a component holds every copy of its places. A component is kept
 // with min_plane_points(density) points covering min_component_area_m2 at the
 // measured density.
-Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p);
+// Planes standing on a roof are dropped (drop_rooftop_objects, `terrain` its
+// local terrain z, empty: unknown).
+using Terrain = std::function<double(double, double)>;
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p,
+                           const Terrain& terrain = {});
 
 // Per individual roof, its loose points: points of the roof no plane took
 // (textured tiles, corrugation, gutters, small features) that lie within
