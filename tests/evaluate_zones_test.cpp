@@ -101,6 +101,20 @@ TEST(EvaluateModel, ClassCodesAndPointsByClass) {
   EXPECT_TRUE(all.wall.empty());
 }
 
+TEST(EvaluateModel, CopiesOfAPointCountOnceAsInTheBatch) {
+  // A writer that repeats records: each roof and wall point twice (the second
+  // 1 mm off, float rounding). The batch folds copies within kSamePlaceM of
+  // each class into one place; `evaluate` must count the same points.
+  const ClassMapping m = parse_class_codes("roof=6,wall=64", "--classes");
+  PointCloud cloud;
+  cloud.points = {{0, 0, 5}, {1, 0, 5}, {0, 0, 5.001}, {1, 0, 5}, {2, 0, 3}, {2, 0, 3}, {0, 0, 5}};
+  cloud.classes = {6, 6, 6, 6, 64, 64, 64};
+  const RoofWallPoints p = roof_and_wall_points(cloud, m);
+  EXPECT_EQ(p.roof, (std::vector<Vec3>{{0, 0, 5}, {1, 0, 5}}));
+  // a wall point at a roof point's place is a place of the wall class: kept
+  EXPECT_EQ(p.wall, (std::vector<Vec3>{{2, 0, 3}, {0, 0, 5}}));
+}
+
 TEST(EvaluateModel, ElementGroupsInWorldCoordinates) {
   BatchModel model;
   model.frame.origin = kO;

@@ -7,6 +7,7 @@
 #include "cadastre/parcel_checks.h"
 #include "core/error.h"
 #include "core/gdal_messages.h"
+#include "core/geometry/unique_points.h"
 #include "core/io/crs.h"
 #include "core/io/point_io.h"
 #include "core/log.h"
@@ -57,6 +58,17 @@ void check_reach(const BatchInputs& inputs, const LoadedInputs& in) {
   if (std::all_of(parcels.begin(), parcels.end(),
                   [&](const Parcel& p) { return !dtm_gap(in.dtm, p, in.layer.source).empty(); }))
     check_dtm_covers(in.dtm, in.layer);
+}
+
+// One point per place: copies of a point (a writer repeating records, strips
+// merged twice) carry nothing more, and every neighbourhood, count and
+// spacing downstream would read them as density.
+void fold_copies(std::vector<Vec3>& pts, const char* what) {
+  std::vector<Vec3> kept = one_per_place(pts);
+  if (kept.size() == pts.size()) return;
+  log::info(std::string(what) + " points: " + std::to_string(pts.size() - kept.size()) +
+            " copies of another point's place folded into it, " + std::to_string(kept.size()) + " kept");
+  pts = std::move(kept);
 }
 
 }  // namespace
@@ -117,6 +129,8 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
     in.dtm = dtm_from_points(ground, in.crs_wkt, 1.0, DtmCell::Min, "ground-class points");
   }
   check_dtm_elevations(in.dtm, in.warnings);
+  fold_copies(in.roof, "roof");
+  fold_copies(in.wall, "wall");
   if (in.roof.empty() && in.wall.empty())
     throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
                      "no roof or wall points (check the class mapping)");

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/geometry/geometry.h"
+#include "core/geometry/unique_points.h"
 
 namespace c3d {
 namespace {
@@ -77,6 +78,8 @@ RoofWallPoints roof_and_wall_points(const PointCloud& cloud, const ClassMapping&
     if (classes.is_roof(c)) out.roof.push_back(cloud.points[i]);
     else if (classes.is_wall(c)) out.wall.push_back(cloud.points[i]);
   }
+  out.roof = one_per_place(out.roof);  // as the batch measures them
+  out.wall = one_per_place(out.wall);
   return out;
 }
 

@@ -25,7 +25,8 @@ std::vector<MeshGroup> element_groups(const BatchModel& model);
 // Throws InputError(where, …) on an item that is not roof=code or wall=code.
 ClassMapping parse_class_codes(const std::string& text, const std::string& where);
 
-// The cloud's points of the roof and of the wall classes, in cloud order. A
+// The cloud's points of the roof and of the wall classes, in cloud order, one
+// per place (one_per_place: copies of a point count once, as in the batch). A
 // cloud without classes is taken as roof points only.
 struct RoofWallPoints {
   std::vector<Vec3> roof, wall;

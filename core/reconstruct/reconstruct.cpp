@@ -415,7 +415,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
                                              std::to_string(s.roof_points.size()) + ")";
       return r;
     }
-    const Segmentation seg = segment_roofs(s.roof_points, p);
+    const Segmentation seg = segment_roofs(s.roof_points, p, s.terrain);
     clock.lap("segment");
     const Ownership own = decide_ownership(s, seg, p);
     const Segmentation roofs = modelled_roofs(s, seg, own, p);

@@ -1,8 +1,11 @@
 #include "core/reconstruct/segment/segmentation.h"
 
+#include "core/geometry/unique_points.h"
 #include "core/reconstruct/planes/ransac.h"
 #include "core/reconstruct/segment/coplanar.h"
 #include "core/reconstruct/segment/neighbours.h"
+#include "core/reconstruct/segment/normals.h"
+#include "core/reconstruct/segment/rooftop.h"
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/point_types.h>
@@ -34,6 +37,16 @@ constexpr int kNormalNeighbours = 16;    // normals, and the smoothing of the se
 // a tree crown or a noisy heap has a fifth of its points on any plane.
 constexpr double kMinPlanarShare = 0.6;
 constexpr int kMinPlanePoints = 10;      // fewer points judge no plane, at any density
+// The spacing of a scan of density rho is at least this over sqrt(rho): points
+// strewn at random lie 0.47 / sqrt(rho) from their nearest (median), and a scan
+// covers a roof at least as evenly; a median nearest distance below it comes
+// from clumps (points on scan rows 0.5 m apart, 3 cm within a row), and taken
+// for the spacing it shrinks every gap and area measured in spacings.
+constexpr double kMinSpacingPerCoverage = 0.5;
+// Roofs are apart across a gap a quarter wider than the widest the sampling
+// leaves around a point (sampling_gap): scan rows 0.5 m apart on a 30-degree
+// slope lie 0.58 m apart, more than 4 in-row spacings.
+constexpr double kGapsPerRoofGap = 1.25;
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Tree = pcl::search::KdTree<pcl::PointXYZ>;
@@ -52,8 +65,10 @@ Cloud::Ptr to_pcl(const std::vector<Vec3>& pts) {
   return c;
 }
 
-// Median plan distance to the nearest other point: the scan's point spacing.
-double median_spacing(const Cloud::Ptr& cloud, const NeighbourTable& table) {
+// Median plan distance to the nearest other point: the scan's point spacing,
+// and never closer than points strewn at random at `density` would lie (0:
+// unknown), which rows or clumps of points would otherwise pass for.
+double median_spacing(const Cloud::Ptr& cloud, const NeighbourTable& table, double density) {
   std::vector<double> d;
   pcl::Indices nn(2);
   std::vector<float> dist(2);
@@ -62,7 +77,8 @@ double median_spacing(const Cloud::Ptr& cloud, const NeighbourTable& table) {
     if (table.nearestKSearch(int(i), 2, nn, dist) == 2) d.push_back(std::sqrt(dist[1]));
   if (d.empty()) return 0.2;
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return std::max(d[d.size() / 2], 0.02);
+  const double coverage = density > 0 ? kMinSpacingPerCoverage / std::sqrt(density) : 0.0;
+  return std::max({d[d.size() / 2], coverage, kSamePlaceM});
 }
 
 // Median over the points of the points per m2 within their 16 nearest: the
@@ -101,13 +117,13 @@ std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl:
 std::vector<pcl::PointIndices> grow_components(const Cloud::Ptr& cloud,
                                                const pcl::PointCloud<pcl::Normal>::Ptr& normals,
                                                const pcl::Indices& roof,
-                                               const ReconstructionParams& p,
+                                               const ReconstructionParams& p, int k,
                                                std::vector<pcl::Indices>& neighbours) {
   RegionGrowingKeepingNeighbours rg;
   rg.setMinClusterSize(std::max(5, p.min_component_points / 3));
   rg.setMaxClusterSize(std::numeric_limits<int>::max());
   rg.setSearchMethod(Tree::Ptr(new Tree));  // its own: extract() re-indexes the tree
-  rg.setNumberOfNeighbours(16);
+  rg.setNumberOfNeighbours(k);
   rg.setInputCloud(cloud);
   rg.setIndices(pcl::make_shared<pcl::Indices>(roof));
   rg.setInputNormals(normals);
@@ -183,10 +199,12 @@ void add_regions(const std::vector<Vec3>& pts, const std::vector<pcl::PointIndic
   }
 }
 
-// Kept as a roof plane: enough points, standing for enough plan area.
-bool big_enough(const RoofComponent& c, double spacing, const ReconstructionParams& p) {
-  return int(c.points.size()) >= p.min_component_points &&
-         double(c.points.size()) * spacing * spacing >= p.min_component_area_m2;
+// Kept as a roof plane: enough points to judge a plane at the scan's density,
+// standing for enough plan area there (1 / density m2 each: the scan's own
+// measure, whatever pattern its points lie in).
+bool big_enough(const RoofComponent& c, double density, const ReconstructionParams& p) {
+  const int n = int(c.points.size());
+  return n >= min_plane_points(density, p) && double(n) >= density * p.min_component_area_m2;
 }
 
 // Each point of `which` (on roof `roof`) gets into `out` the mean of the
@@ -219,6 +237,7 @@ struct RoofScene {
   const Cloud::Ptr& cloud;
   const NeighbourTable& table;
   const pcl::PointCloud<pcl::Normal>::Ptr& normals;
+  int neighbours;                      // region growing's: those the normals were taken from
   const std::vector<int>& cluster_of;  // per point: its roof cluster
   const ReconstructionParams& p;
 };
@@ -232,7 +251,7 @@ std::vector<RoofComponent> roof_components(const RoofScene& s, int r, const pcl:
   const auto& p = s.p;
   std::vector<RoofComponent> comps;
   std::vector<pcl::Indices> roof_neighbours;  // neighbours never come from another roof
-  add_regions(points, grow_components(s.cloud, s.normals, roof, p, roof_neighbours), p, seg.roof_count, comps, 0,
+  add_regions(points, grow_components(s.cloud, s.normals, roof, p, s.neighbours, roof_neighbours), p, seg.roof_count, comps, 0,
               kMinPlaneNormalZ);
   std::vector<int> local_label(points.size(), -1);
   settle_labels(points, roof_neighbours, roof, roof, p.plane_inlier_m, comps, local_label);
@@ -241,19 +260,20 @@ std::vector<RoofComponent> roof_components(const RoofScene& s, int r, const pcl:
   // roofs into patches too small to keep. Averaged over the neighbours, the
   // normals follow the sheet, and the patches grow into planes.
   comps.erase(std::remove_if(comps.begin(), comps.end(),
-                             [&](const RoofComponent& c) { return !big_enough(c, seg.spacing, p); }),
+                             [&](const RoofComponent& c) { return !big_enough(c, seg.density, p); }),
               comps.end());
   relabel(roof, comps, local_label);
   pcl::Indices leftover;
   for (int i : roof)
     if (local_label[i] < 0) leftover.push_back(i);
-  if (int(leftover.size()) >= p.min_component_points) {
+  const int min_points = min_plane_points(seg.density, p);
+  if (int(leftover.size()) >= min_points) {
     if (!smooth) smooth.reset(new pcl::PointCloud<pcl::Normal>(*s.normals));
     smooth_normals(s.table, *s.normals, s.cluster_of, r, leftover, *smooth);
     std::vector<pcl::Indices> unused;
     size_t before = comps.size();
-    add_regions(points, grow_components(s.cloud, smooth, leftover, p, unused), p, seg.roof_count, comps,
-                size_t(p.min_component_points), kMinRoofNormalZ);
+    add_regions(points, grow_components(s.cloud, smooth, leftover, p, s.neighbours, unused), p, seg.roof_count, comps,
+                size_t(min_points), kMinRoofNormalZ);
     if (comps.size() > before)
       settle_labels(points, roof_neighbours, roof, leftover, p.plane_inlier_m, comps, local_label);
   }
@@ -293,25 +313,25 @@ int min_plane_points(double density, const ReconstructionParams& p) {
   return std::max(kMinPlanePoints, std::min(p.min_component_points, at_density));
 }
 
-Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p) {
+namespace {
+
+// segment_roofs on points no two of which are one place.
+Segmentation segment_places(const std::vector<Vec3>& points, const ReconstructionParams& p, const Terrain& terrain) {
   Segmentation seg;
   seg.label.assign(points.size(), -1);
   seg.roof_of.assign(points.size(), -1);
   if (points.size() < 10) return seg;
   auto cloud = to_pcl(points);
   auto table = std::make_shared<NeighbourTable>(cloud, std::max(kNormalNeighbours, p.outlier_neighbours + 1));
-  seg.spacing = median_spacing(cloud, *table);
   seg.density = median_density(cloud, *table);
+  seg.spacing = median_spacing(cloud, *table, seg.density);
 
   pcl::Indices kept = remove_statistical_outliers(*table, p.outlier_neighbours, p.outlier_std);
-  pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
-  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(1);  // parcels already run in parallel
-  ne.setInputCloud(cloud);
-  ne.setSearchMethod(table);
-  ne.setKSearch(kNormalNeighbours);
-  ne.compute(*normals);
+  const PointNormals estimated = estimate_normals(cloud, table, kNormalNeighbours);
+  const pcl::PointCloud<pcl::Normal>::Ptr& normals = estimated.normals;
 
-  double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m : std::max(0.5, 4.0 * seg.spacing);
+  double tolerance = p.roof_cluster_m > 0 ? p.roof_cluster_m
+                                          : std::max({0.5, 4.0 * seg.spacing, kGapsPerRoofGap * sampling_gap(cloud, *table)});
   // Clusters as small as a sparse scan's plane: one no region grows on may still be a plane.
   auto roofs = cluster_roofs(cloud, kept, tolerance, min_plane_points(seg.density, p));
   std::vector<int> cluster_of(points.size(), -1);
@@ -322,11 +342,12 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
   pcl::PointCloud<pcl::Normal>::Ptr smooth;
   for (size_t r = 0; r < roofs.size(); ++r) {
     const auto& roof = roofs[r];
-    const RoofScene scene{points, cloud, *table, normals, cluster_of, p};
+    const RoofScene scene{points, cloud, *table, normals, estimated.neighbours, cluster_of, p};
     std::vector<RoofComponent> comps = roof_components(scene, int(r), roof.indices, seg, smooth);
     int kept_here = 0;
     for (auto& c : comps) {
-      if (!big_enough(c, seg.spacing, p)) continue;
+      if (!big_enough(c, seg.density, p)) continue;
+      c.min_points = min_plane_points(seg.density, p);
       keep_component(std::move(c), seg);
       ++kept_here;
     }
@@ -341,7 +362,43 @@ Segmentation segment_roofs(const std::vector<Vec3>& points, const Reconstruction
         seg.roof_of[i] = seg.roof_count;
     ++seg.roof_count;
   }
+  drop_rooftop_objects(points, seg, terrain);
   return seg;
+}
+
+// The segmentation of the places, spread to every copy of each: a copy has its
+// place's labels and joins its components.
+Segmentation spread_to_copies(Segmentation places, const UniquePoints& u) {
+  std::vector<std::vector<int>> copies(u.unique.size());
+  for (size_t i = 0; i < u.of.size(); ++i) copies[size_t(u.of[i])].push_back(int(i));
+  Segmentation seg = std::move(places);
+  std::vector<int> label(u.of.size()), roof_of(u.of.size());
+  for (size_t i = 0; i < u.of.size(); ++i) {
+    label[i] = seg.label[size_t(u.of[i])];
+    roof_of[i] = seg.roof_of[size_t(u.of[i])];
+  }
+  seg.label = std::move(label);
+  seg.roof_of = std::move(roof_of);
+  for (auto& c : seg.components) {
+    std::vector<int> all;
+    for (int k : c.points) all.insert(all.end(), copies[size_t(k)].begin(), copies[size_t(k)].end());
+    c.points = std::move(all);
+  }
+  return seg;
+}
+
+}  // namespace
+
+// Neighbourhoods, spacing and density are the scan's places': four copies of
+// four places fix no normal, and a copy 0 m away is no spacing.
+Segmentation segment_roofs(const std::vector<Vec3>& points, const ReconstructionParams& p,
+                           const Terrain& terrain) {
+  UniquePoints u = unique_points(points, kSamePlaceM);
+  if (u.unique.size() == points.size()) return segment_places(points, p, terrain);
+  std::vector<Vec3> places;
+  places.reserve(u.unique.size());
+  for (int i : u.unique) places.push_back(points[size_t(i)]);
+  return spread_to_copies(segment_places(places, p, terrain), u);
 }
 
 // Higher above the nearest plane than this, a loose point stands on the roof
