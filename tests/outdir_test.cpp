@@ -132,7 +132,7 @@ TEST(OutDir, AnotherDataSetIntoAFolderWithAStoreIsRefusedUnlessResumeOrOverwrite
   EXPECT_EQ(parcels_in_summary(out), 6u) << "--resume keeps the store and adds this run's parcels";
   log = run(batch_args(dir + "/b", out) + " --resume", &rc);
   EXPECT_EQ(rc, 0) << log;
-  EXPECT_TRUE(has(log, "batch: 4 parcels; the store holds 6 (")) << log;
+  EXPECT_TRUE(has(log, "batch: 4 parcels; the store holds 6 in ")) << log;
   log = run(batch_args(dir + "/a", out) + " --resume --overwrite", &rc);
   EXPECT_EQ(rc, 2) << log;
 }
