@@ -158,6 +158,21 @@ TEST(Validate, CollinearWallTopPiecesAreNotACrossing) {
   EXPECT_TRUE(has_code(validate_building(b), kRingSelfIntersection)) << dump(validate_building(b));
 }
 
+// The issues and their codes of one face under validate's default rules.
+std::vector<PolygonIssue> issues_of(const Face& f) {
+  VertexSnap snap(PolygonRules{}.snap_tol);
+  std::vector<std::vector<int>> rings;
+  std::vector<PolygonIssue> issues;
+  check_polygon(f, PolygonRules{}, snap, rings, issues);
+  return issues;
+}
+
+std::vector<int> codes_of(const Face& f) {
+  std::vector<int> codes;
+  for (const auto& i : issues_of(f)) codes.push_back(i.code);
+  return codes;
+}
+
 TEST(PolygonRules, ThinFaceCanTiltOnTheExportGrid) {
   // A roof face of a Cimahi house (parcels laid out on an 18 m grid): three
   // near-collinear vertices along its north edge form a triangle under 1 mm
@@ -173,13 +188,6 @@ TEST(PolygonRules, ThinFaceCanTiltOnTheExportGrid) {
                    {36.49151387441659, 75.924101438789052, 790.71020893982086},
                    {36.49151387441659, 77.666687359903804, 789.9059964783919}},
                   {}};
-  auto issues_of = [](const Face& f) {
-    VertexSnap snap(PolygonRules{}.snap_tol);
-    std::vector<std::vector<int>> rings;
-    std::vector<PolygonIssue> issues;
-    check_polygon(f, PolygonRules{}, snap, rings, issues);
-    return issues;
-  };
   EXPECT_TRUE(issues_of(face).empty());
   const Face exported = on_export_grid(face);
   const auto there = issues_of(exported);
@@ -193,15 +201,6 @@ TEST(PolygonRules, NeighboursUnderAMillimetreApartRepeatAcrossAGridBorder) {
   // val3dity merges a vertex into the first one within 1 mm, by distance; two
   // consecutive vertices 0.6 mm apart on either side of a 1 mm grid border
   // (x = 5.0012 and 5.0018) are one vertex there: a repeated point (102).
-  auto codes_of = [](const Face& f) {
-    VertexSnap snap(PolygonRules{}.snap_tol);
-    std::vector<std::vector<int>> rings;
-    std::vector<PolygonIssue> issues;
-    check_polygon(f, PolygonRules{}, snap, rings, issues);
-    std::vector<int> codes;
-    for (const auto& i : issues) codes.push_back(i.code);
-    return codes;
-  };
   const Face close{{{0, 0, 3}, {5.0012, 0, 3}, {5.0018, 0, 3}, {5, 4, 3}, {0, 4, 3}}, {}};
   EXPECT_EQ(codes_of(close), std::vector<int>{kConsecutivePointsSame});
   const Face apart{{{0, 0, 3}, {5.0012, 0, 3}, {5.0032, 0.5, 3}, {5, 4, 3}, {0, 4, 3}}, {}};
@@ -213,15 +212,6 @@ TEST(PolygonRules, AVertexUnderAMillimetreFromAnotherFacesTiltsItOnceSnapped) {
   // strip's: val3dity merges the strip's corner into the wall's (read first).
   const Face wall{{{0.15, 0.002, 0.0009}, {0.15, 0.002, -3}, {0.15, 1, -3}, {0.15, 1, 0}}, {}};
   const Face strip{{{0, 0, 0}, {0.15, 0, 0}, {0.15, 0.002, 0}, {0, 0.002, 0}}, {}};
-  auto codes_of = [](const Face& f) {
-    VertexSnap snap(PolygonRules{}.snap_tol);
-    std::vector<std::vector<int>> rings;
-    std::vector<PolygonIssue> issues;
-    check_polygon(f, PolygonRules{}, snap, rings, issues);
-    std::vector<int> codes;
-    for (const auto& i : issues) codes.push_back(i.code);
-    return codes;
-  };
   EXPECT_TRUE(codes_of(strip).empty());
   const std::vector<Face> read = snapped_together({wall, strip}, PolygonRules{}.snap_tol);
   EXPECT_EQ(read[1].ring[2], wall.ring[0]);
