@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "core/gdal_messages.h"
 #include "core/log.h"
 
 namespace c3d::cli {
@@ -18,6 +19,7 @@ int& exit_code() {
 int main(int argc, char** argv) {
   using namespace c3d::cli;
   GDALAllRegister();
+  c3d::send_gdal_messages_to_debug_log();
   c3d::log::set_sink([](c3d::log::Level level, const std::string& message) {
     const char* kind = level == c3d::log::Level::Warn ? "warning: " : level == c3d::log::Level::Error ? "error: " : "";
     std::cerr << "cadastre3d: " << kind << message << "\n";

@@ -18,6 +18,8 @@ void handler(CPLErr level, CPLErrorNum code, const char* text) {
 
 }  // namespace
 
+void send_gdal_messages_to_debug_log() { CPLSetErrorHandlerEx(&handler, nullptr); }
+
 GdalMessages::GdalMessages() { CPLPushErrorHandlerEx(&handler, this); }
 
 GdalMessages::~GdalMessages() { CPLPopErrorHandler(); }

@@ -13,6 +13,11 @@
 
 namespace c3d {
 
+// Outside any GdalMessages, GDAL's messages go to the debug log too, never
+// straight to stderr: the one-line errors say what went wrong (the CLI calls
+// this once at start).
+void send_gdal_messages_to_debug_log();
+
 class GdalMessages {
  public:
   GdalMessages();
