@@ -10,6 +10,7 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_Printer.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -25,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/geometry/geometry.h"
 #include "core/io/file_names.h"
@@ -147,8 +149,15 @@ std::vector<std::string> write_step_per_building(const BatchModel& model, const 
   fs::create_directories(dir);
   std::vector<std::string> files;
   QuietOcc quiet;
-  Interface_Static::SetCVal("write.step.unit", "M");
-  Interface_Static::SetCVal("write.step.schema", "AP214IS");
+  // The STEP parameters exist only once the controller has registered them
+  // (set before, they fail and the file said millimetres over metre values).
+  // The session unit is metres too, so the writer scales nothing.
+  STEPControl_Controller::Init();
+  for (const auto& [name, value] : {std::pair<const char*, const char*>{"xstep.cascade.unit", "M"},
+                                    {"write.step.unit", "M"},
+                                    {"write.step.schema", "AP214IS"}})
+    if (!Interface_Static::SetCVal(name, value))
+      throw std::runtime_error(std::string("OpenCASCADE refused the STEP setting ") + name);
   for (const auto& r : model.results) {
     for (const auto& b : r.buildings) {
       if (b.solid.empty()) continue;
