@@ -132,6 +132,11 @@ TEST_P(Exports, EveryBuildingIsAValidSolid) {
       for (const auto& e : bld.elements) {
         if (e.type == ElementType::PartyWall) EXPECT_EQ(e.evidence, WallEvidence::ParcelBoundary) << bld.id;
         if (e.type == ElementType::Wall) EXPECT_NE(e.evidence, WallEvidence::None) << bld.id;
+        // A wall placed by points says how far they scatter about it (it was 0).
+        if (e.type == ElementType::Wall && e.support_points > 0) {
+          EXPECT_GT(e.rmse, 0.0) << bld.id;
+          EXPECT_LT(e.rmse, 0.3) << bld.id;  // its points lie within 0.3 m of it (8 cm for a wall scan)
+        }
       }
   if (GetParam() == "cimahi") {
     // Every parcel yields a building but record 23, whose few roof points hold

@@ -124,11 +124,11 @@ std::string element_table(const ParcelResult& r, const ParcelValuation* v) {
       auto it = items.find({b.id, i});
       s += fmt("<tr><td>%s</td><td class=\"n\">%d</td><td style=\"white-space:nowrap\"><span style=\"color:%s\">&#9632;</span> "
                "%s</td><td class=\"n\">%s</td><td class=\"n\">%.2f</td><td class=\"n\">%.1f</td>"
-               "<td class=\"n\">%.0f</td><td class=\"n\">%d</td><td class=\"n\">%.3f</td><td>%s</td>",
+               "<td class=\"n\">%.0f</td><td class=\"n\">%d</td><td class=\"n\">%s</td><td>%s</td>",
                html_escape(b.id).c_str(), i, colour(e.type), label(e.type),
                pm(e.area, e.sigma_area).c_str(), e.plan_area, e.slope_deg, e.azimuth_deg,
-               e.support_points, e.rmse, e.type == ElementType::Wall || e.type == ElementType::PartyWall
-                                             ? to_string(e.evidence) : "");
+               e.support_points, e.support_points > 0 ? fmt("%.3f", e.rmse).c_str() : "&mdash;",
+               e.type == ElementType::Wall || e.type == ElementType::PartyWall ? to_string(e.evidence) : "");
       if (it != items.end())
         s += "<td class=\"n\">" + money(it->second->unit_cost) + "</td><td class=\"n\">" +
              money(it->second->amount) + " &plusmn; " + money(it->second->sigma_amount) + "</td>";

@@ -344,6 +344,7 @@ std::vector<SeenWall> measure_own_walls(const EnvelopeInput& in, std::vector<Out
     e.overhang = std::max(0.0, -fit.offset);
     e.evidence = WallEvidence::Measured;
     e.support = fit.support;
+    e.rms = fit.rms;
     // A wall seen outside the outline stays under the roof at the outline:
     // its distance to the points it stands for is part of its error; the
     // footprint built on it keeps its vertices to kGrowSimplify (uniform).
@@ -376,6 +377,7 @@ void continue_neighbours_facades(const EnvelopeInput& in, std::vector<OutlineEdg
     e.overhang = std::max(0.0, -fit.offset);
     e.evidence = WallEvidence::Propagated;
     e.support = fit.support;
+    e.rms = fit.rms;
     e.sigma = kContinuedSigma + fit.rms / std::sqrt(double(fit.support));
     e.sigma_shared = 0;
   }
@@ -417,6 +419,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
       if (e.evidence == WallEvidence::Measured && e.overhang - std::max(typical, facade[i]) > kOverhangOutlier) {
         e.evidence = WallEvidence::Default;  // re-filled below as propagated
         e.support = 0;
+        e.rms = 0;
       }
     }
     std::vector<Weighted> dev;

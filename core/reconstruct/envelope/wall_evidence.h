@@ -25,6 +25,7 @@ struct OutlineEdge {
   double sigma = 0;         // m
   double sigma_shared = kUnseenSpread;  // m
   int support = 0;
+  double rms = 0;  // m, of the support points about the wall, in plan
   bool party = false;
   WallEvidence evidence = WallEvidence::Default;
 };

@@ -273,6 +273,7 @@ Facades facade_walls(const Polygon2& fp, const std::vector<OutlineEdge>& edges, 
     Element e = make_element(source->party ? ElementType::PartyWall : ElementType::Wall, std::move(faces));
     e.evidence = source->evidence;
     e.support_points = source->support;
+    e.rmse = source->rms;
     e.azimuth_deg = azimuth_of(widest_face(e));
     e.slope_deg = 90.0;
     e.sigma_area = sigma.total();
