@@ -80,8 +80,8 @@ std::set<Key> sliver_apexes(const Face& f) {
 
 // The straight vertices of one ring; material_left: the face lies left of
 // the ring's direction (seen along the face's normal n).
-void find_straight(const Ring3& r, const Vec3& n, bool material_left, const std::set<Key>& apexes, size_t face,
-                   size_t ring, std::vector<Straight>& out) {
+void find_straight(const Ring3& r, const Vec3& n, bool material_left, size_t face, size_t ring,
+                   std::vector<Straight>& out) {
   const size_t m = r.size();
   if (m < 4) return;  // a triangle has no run to straighten
   for (size_t i = 0; i < m; ++i) {
@@ -97,20 +97,25 @@ void find_straight(const Ring3& r, const Vec3& n, bool material_left, const std:
     if ((b - foot).norm() >= kSliverHeight) continue;
     const double side = material_left ? 1.0 : -1.0;
     const Vec3 left = n.cross(t).normalized();
-    Straight s{face, ring, i, apexes.count(key(b)) > 0, key(a), key(c),
-               (b - a).norm() < (c - b).norm() ? a : c, foot + side * kSliverNudge * left};
-    out.push_back(s);
+    out.push_back({face, ring, i, false, key(a), key(c), (b - a).norm() < (c - b).norm() ? a : c,
+                   foot + side * kSliverNudge * left});
   }
 }
 
+// The straight vertices of every face, each marked where it is the apex of
+// a sliver triangle (only a face with a straight vertex is triangulated).
 std::vector<Straight> straight_vertices(const std::vector<Face>& faces) {
   std::vector<Straight> out;
   for (size_t f = 0; f < faces.size(); ++f) {
+    const size_t first = out.size();
     const Vec3 n = unit_normal(faces[f]);
-    const std::set<Key> apexes = sliver_apexes(faces[f]);
-    find_straight(faces[f].ring, n, true, apexes, f, 0, out);
+    find_straight(faces[f].ring, n, true, f, 0, out);
     for (size_t h = 0; h < faces[f].holes.size(); ++h)
-      find_straight(faces[f].holes[h], n, newell_normal(faces[f].holes[h]).dot(n) < 0, apexes, f, h + 1, out);
+      find_straight(faces[f].holes[h], n, newell_normal(faces[f].holes[h]).dot(n) < 0, f, h + 1, out);
+    if (out.size() == first) continue;
+    const std::set<Key> apexes = sliver_apexes(faces[f]);
+    for (size_t k = first; k < out.size(); ++k)
+      out[k].bulges = apexes.count(key(ring_of(faces[f], out[k].ring)[out[k].index])) > 0;
   }
   return out;
 }
@@ -227,16 +232,13 @@ bool apply_edits(std::vector<Face>& faces, const Edits& edits) {
 
 // Rounds of plan + apply on `faces`, each round's edits also applied to the
 // copies in `copies` (keyed on the vertices as they were in that round).
-bool straighten(std::vector<Face>& faces, std::vector<Element>* copies, const std::vector<Vec3>& building) {
-  bool changed = false;
+void straighten(std::vector<Face>& faces, std::vector<Element>* copies, const std::vector<Vec3>& building) {
   for (int round = 0; round < kSliverRounds; ++round) {
     const Edits edits = plan_edits(faces, building);
     if (!apply_edits(faces, edits)) break;
-    changed = true;
     if (copies)
       for (Element& e : *copies) apply_edits(e.faces, edits);
   }
-  return changed;
 }
 
 }  // namespace
