@@ -9,10 +9,7 @@
 #include <ogr_geometry.h>
 
 #include <fstream>
-#include <cstdlib>
-#include <filesystem>
 #include <map>
-#include <optional>
 #include <regex>
 
 #include "cadastre/parcels.h"
@@ -25,8 +22,6 @@
 #include "tests/export_checks.h"
 #include "tests/export_fixtures.h"
 #include "tests/test_support.h"
-
-#include <nlohmann/json.hpp>
 
 using namespace c3d;
 using namespace c3d::check;
@@ -91,25 +86,6 @@ class Exports : public ::testing::TestWithParam<std::string> {
 
 }  // namespace
 
-namespace {
-
-// The buildings val3dity (the reference validator, ../shared/tools) finds
-// invalid in a CityJSON file; nullopt when it is not installed.
-std::optional<std::vector<std::string>> val3dity_invalid(const std::string& cityjson) {
-  const std::filesystem::path tool =
-      std::filesystem::path(C3D_SOURCE_DIR).parent_path() / "shared" / "tools" / "val3dity" / "val3dity";
-  if (!std::filesystem::exists(tool)) return std::nullopt;
-  const std::string report = cityjson + ".val3dity.json";
-  const std::string cmd = tool.string() + " --report " + report + " " + cityjson + " >/dev/null 2>&1";
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  std::vector<std::string> invalid;
-  for (const auto& f : nlohmann::json::parse(std::ifstream(report)).at("features"))
-    if (!f.at("validity").get<bool>()) invalid.push_back(f.at("id").get<std::string>());
-  return invalid;
-}
-
-}  // namespace
-
 TEST_P(Exports, EveryBuildingIsAValidSolid) {
   C3D_BATCH(b);
   for (const char* file : {"cadastre.gpkg", "buildings.city.json"}) {
@@ -118,7 +94,7 @@ TEST_P(Exports, EveryBuildingIsAValidSolid) {
     EXPECT_NE(out.find(" 0 issue(s)"), std::string::npos) << file << "\n" << out;
   }
   // The judge is val3dity: it must agree that every building is valid.
-  if (auto invalid = val3dity_invalid(b.out + "/buildings.city.json")) {
+  if (auto invalid = test::val3dity_invalid(b.out + "/buildings.city.json")) {
     std::string ids;
     for (const auto& id : *invalid) ids += " " + id;
     EXPECT_TRUE(invalid->empty()) << "val3dity finds invalid:" << ids;

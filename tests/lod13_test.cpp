@@ -201,15 +201,11 @@ TEST(Lod13, SteppedSolidIsValidByOurCheckAndVal3dity) {
   EXPECT_EQ(party, 3);          // the east edge: base, block and base again
   EXPECT_NEAR(party_area, 12 * 4.0 + 8 * 5.0, 1e-6);
 
-  const fs::path val3dity = fs::path(C3D_SOURCE_DIR).parent_path() / "shared" / "tools" / "val3dity" / "val3dity";
-  if (!fs::exists(val3dity)) GTEST_SKIP() << val3dity << " not found";
   const std::string dir = test::temp_dir("lod13_val3dity");
   write_cityjson(shell, dir + "/stepped.city.json");
-  const std::string cmd = val3dity.string() + " --report " + dir + "/report.json " + dir + "/stepped.city.json >/dev/null 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0);
-  std::ifstream report(dir + "/report.json");
-  const nlohmann::json r = nlohmann::json::parse(report);
-  EXPECT_TRUE(r["validity"].get<bool>()) << r.dump().substr(0, 2000);
+  const auto invalid = test::val3dity_invalid(dir + "/stepped.city.json");
+  if (!invalid) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  EXPECT_TRUE(invalid->empty()) << invalid->front();
 }
 
 TEST(Lod13, InvalidLod22BuildingTakesItsLayersAndSaysWhy) {

@@ -2,10 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <array>
 #include <sstream>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sys/wait.h>
 
 namespace fs = std::filesystem;
@@ -19,6 +22,20 @@ static std::string shared_path(const std::string& sub) {
 
 std::string cimahi_dir() { return shared_path("data/cimahi"); }
 std::string schemas_dir() { return shared_path("schemas"); }
+
+std::optional<std::vector<std::string>> val3dity_invalid(const std::string& cityjson) {
+  const std::string tool = shared_path("tools/val3dity/val3dity");
+  if (tool.empty()) return std::nullopt;
+  const std::string report = cityjson + ".val3dity.json";
+  const std::string cmd = tool + " --report " + report + " " + cityjson + " >/dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const nlohmann::json r = nlohmann::json::parse(std::ifstream(report));
+  std::vector<std::string> invalid;
+  for (const auto& f : r.value("features", nlohmann::json::array()))
+    if (!f.at("validity").get<bool>()) invalid.push_back(f.at("id").get<std::string>());
+  if (invalid.empty() && !r.at("validity").get<bool>()) invalid.push_back("<file>");
+  return invalid;
+}
 
 std::string temp_dir(const std::string& name) {
   // One directory per build tree and test (ctest -j runs tests of one fixture in

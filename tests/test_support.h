@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: where the shared data is, temp dirs, running the
 // CLI, a box-shaped shell.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,10 @@ std::string schemas_dir();
 // A fresh empty directory under the build's temp area (<build>/tests/tmp/<Suite.Test>/name),
 // so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);
+// The reference validator's verdict on a CityJSON file: the ids of the
+// features ../shared/tools/val3dity finds invalid ("<file>" when the file
+// itself fails with no feature named); nullopt when val3dity is absent.
+std::optional<std::vector<std::string>> val3dity_invalid(const std::string& cityjson);
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.
 int run_cli(const std::string& args, std::string* output = nullptr);
