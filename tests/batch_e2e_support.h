@@ -6,6 +6,8 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <csignal>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -215,9 +217,11 @@ inline std::vector<Row> rows_of_parcel(const std::vector<Row>& rows, const std::
 }
 
 // ---------------------------------------------------------------------------
-// A batch as a real child process that can be killed.
+// A batch as a real child process that can be killed; with file_limit, no
+// file it writes may grow past that many bytes (SIGXFSZ ignored, so a write
+// past the limit fails as on a full disk).
 
-inline pid_t spawn_cli(const std::string& args, const std::string& log) {
+inline pid_t spawn_cli(const std::string& args, const std::string& log, rlim_t file_limit = RLIM_INFINITY) {
   std::vector<std::string> argv_s{C3D_CLI_PATH};
   std::istringstream in(args);
   for (std::string a; in >> a;) argv_s.push_back(a);
@@ -228,6 +232,11 @@ inline pid_t spawn_cli(const std::string& args, const std::string& log) {
       dup2(fd, 1);
       dup2(fd, 2);
       close(fd);
+    }
+    if (file_limit != RLIM_INFINITY) {
+      signal(SIGXFSZ, SIG_IGN);
+      rlimit lim{file_limit, file_limit};
+      setrlimit(RLIMIT_FSIZE, &lim);
     }
     std::vector<char*> argv;
     for (auto& a : argv_s) argv.push_back(a.data());

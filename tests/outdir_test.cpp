@@ -39,28 +39,10 @@ size_t parcels_in_summary(const std::string& out) {
   return json::parse(read_file(out + "/summary.json"))["parcels"].size();
 }
 
-// The batch `args` as a child with its file size limited to `bytes` (SIGXFSZ
-// ignored, so a write past the limit fails like a full disk); its exit code.
+// The batch `args` as a child with its file size limited to `bytes`; its exit code.
 int run_with_file_limit(const std::string& args, rlim_t bytes, const std::string& log) {
-  std::vector<std::string> argv_s{C3D_CLI_PATH};
-  std::istringstream in(args);
-  for (std::string a; in >> a;) argv_s.push_back(a);
-  pid_t pid = fork();
-  if (pid == 0) {
-    int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    signal(SIGXFSZ, SIG_IGN);
-    rlimit lim{bytes, bytes};
-    setrlimit(RLIMIT_FSIZE, &lim);
-    std::vector<char*> argv;
-    for (auto& a : argv_s) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
   int status = 0;
-  waitpid(pid, &status, 0);
+  waitpid(spawn_cli(args, log, bytes), &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
