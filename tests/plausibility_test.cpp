@@ -113,6 +113,8 @@ ParcelStatus status_of(const Building& b, std::string* reason = nullptr) {
 TEST(Plausibility, AbsurdModelsAreSuspectRealOnesOk) {
   EXPECT_EQ(status_of(house(7.5, 2, 900)), ParcelStatus::Ok);
   EXPECT_EQ(status_of(house(828, 163, 9.0e6)), ParcelStatus::Ok);  // Burj Khalifa
+  EXPECT_EQ(status_of(house(0.10, 1, 0.25)), ParcelStatus::Suspect);  // a ground patch (AHN3 03102)
+  EXPECT_EQ(status_of(house(2.0, 1, 10)), ParcelStatus::Ok);          // a garden shed
   std::string why;
   // The findings: a LAS Z offset of 1e15, a DTM at -5000 m, at 1e30.
   EXPECT_EQ(status_of(house(2.7e9, 921490774, 1e12), &why), ParcelStatus::Suspect);

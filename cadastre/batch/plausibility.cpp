@@ -34,6 +34,9 @@ std::string implausible(const Building& b, double frame_z) {
     return "terrain at " + num(terrain) + " m lies outside " + elevation_bounds();
   if (!std::isfinite(b.ridge_height) || b.ridge_height > kMaxBuildingHeightM)
     return "ridge " + num(b.ridge_height) + " m above the terrain exceeds " + num(kMaxBuildingHeightM) + " m";
+  if (b.ridge_height < kMinBuildingHeightM)
+    return "ridge " + num(b.ridge_height) + " m above the terrain: lower than any building (" +
+           num(kMinBuildingHeightM) + " m)";
   if (!std::isfinite(b.eave_height) || b.eave_height < kMinEaveHeightM)
     return "eave " + num(b.eave_height) + " m lies more than " + num(-kMinEaveHeightM) + " m below the terrain";
   if (b.storeys < 1 || b.storeys > kMaxStoreys)

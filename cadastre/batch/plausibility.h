@@ -20,6 +20,10 @@ constexpr double kMinElevationM = -1000, kMaxElevationM = 10000;
 // Height above the terrain: the tallest building is 828 m (Burj Khalifa), the
 // tallest planned about 1,000 m (Jeddah Tower).
 constexpr double kMaxBuildingHeightM = 1200;
+// A ridge less than a metre above the terrain is no building any officer
+// would value (a garden shed stands 2 m): a terrace or a ground patch in the
+// building class (AHN3 03102: its ridge 0.10 m up).
+constexpr double kMinBuildingHeightM = 1.0;
 // A roof edge a little under the DTM occurs where a low height layer meets
 // sloping ground (AHN3 03038: -0.01 m); a storey under it, the terrain or the
 // cloud's heights are off.
