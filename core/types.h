@@ -132,6 +132,34 @@ struct Deviation {
   double max = 0, mean = 0, std = 0, rmse = 0;
 };
 
+// What GIS users filter on, after 3DBAG's building attributes (b3_dak_type,
+// b3_h_dak_*, b3_rmse_*, point counts): computed from the building's own roof
+// points by the reconstruction, stored and exported next to the element areas.
+struct BuildingAttributes {
+  // "horizontal", "multiple horizontal", "slanted" (3DBAG's roof types), or
+  // "no points" / "could not detect" where the points do not tell.
+  std::string roof_type;
+  // Heights (local z) of the building's own roof points: min, 50th, 70th
+  // percentile, max. NaN without roof points.
+  double roof_z_min = kNaN, roof_z_50p = kNaN, roof_z_70p = kNaN, roof_z_max = kNaN;
+  long roof_points = 0;          // the building's own roof points
+  double point_density = kNaN;   // roof points per m2 of roof plan area
+  // "good", or why the model rests on too little: e.g. "insufficient points",
+  // "lod fallback" (docs/design.md, "Building attributes").
+  std::string data_quality;
+};
+
+// The same building at a lower level of detail ("1.2" prism, "1.3" layers),
+// for the exports that carry several LoDs: its closed shell, outward, with
+// each face's element type.
+struct LodShell {
+  std::string lod;
+  std::vector<Face> faces;
+  std::vector<ElementType> face_types;  // one per face
+  double volume = 0;                    // m3
+  double roof_rmse = kNaN;              // of the roof points against this shell's roof, m
+};
+
 struct Building {
   std::string id;                 // "<parcel id>_b<k>"
   std::vector<Element> elements;
@@ -151,6 +179,9 @@ struct Building {
   Deviation roof_deviation, wall_deviation;
   // The closed solid: shell faces (ground, walls, roof inside the walls).
   std::vector<Face> solid;
+  BuildingAttributes attributes;
+  // Valid lower LoDs of this building, lowest first (none above `lod`).
+  std::vector<LodShell> lower_lods;
 };
 
 struct Timing {
