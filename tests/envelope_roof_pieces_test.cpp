@@ -65,6 +65,19 @@ TEST(EnvelopeRoofPieces, AThinStripIsGivenToItsNeighbourNotDropped) {
   EXPECT_EQ(a.count({1, true}), 0u);
 }
 
+TEST(EnvelopeRoofPieces, AMergedStripStaysWithinTheRoofsHeights) {
+  // Region 0 (flat, z 3) hangs 4 cm over the west wall and 0.5 m over the
+  // east one: the west strip is a fragment beside the larger east overhang.
+  // Its one neighbour beyond the walls is a steep region (z = 3 + 2 (y - 9)),
+  // whose plane would put the strip's south end 16 m under the roof (AHN3
+  // 09087: such a strip dipped under the terrain); it stays with region 0.
+  const std::vector<RoofRegion> roof{RoofRegion{0, kFlat, {rect(0.96, 1, 11.5, 9)}},
+                                     RoofRegion{1, plane_through({0, 9, 3}, {0, -2, 1}), {rect(0, 9, 12, 10)}}};
+  auto a = areas(roof_pieces(roof, rect(1, 1, 11, 9)));
+  EXPECT_NEAR((a[{0, false}]), 0.04 * 8 + 0.5 * 8, 1e-9);
+  EXPECT_NEAR((a[{1, false}]), 12, 1e-9);
+}
+
 TEST(EnvelopeRoofPieces, AGapBetweenRegionsIsFilledByANeighbour) {
   // 4 mm between the two regions: under the footprint 0.032 m^2 of gap.
   const std::vector<RoofRegion> roof{RoofRegion{0, kFlat, {rect(0, 0, 5.998, 10)}},

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <utility>
 
@@ -30,6 +31,13 @@ constexpr double kSameSideFirst = 1e6;
 // Fragments merged into their region's larger part, then looked for again:
 // merging may leave new fragments, three rounds settle what the partition gives.
 constexpr int kFragmentRounds = 3;
+// A face merged into another region takes that region's plane, extended: on a
+// steep plane a long thin strip reaches far above or below any roof (AHN3
+// 09087: a 4 cm overhang strip of a flat roof, given to a 64 degree neighbour,
+// dipped 16 m under the terrain). A neighbour whose plane puts a vertex of the
+// face more than this beyond the heights the regions span comes after others.
+constexpr double kRoofHeightMargin = 0.5;  // m
+constexpr double kKeepsHeightFirst = 1e9;  // above kSameSideFirst: height before side
 // After noding, an overhang frame's hole touches its outline exactly: pinch
 // points are vertices closer than this (numerically one).
 constexpr double kPinchTol = 1e-9;  // m
@@ -84,21 +92,37 @@ std::vector<int> owner_components(const std::vector<FaceOwner>& owner,
   return comp;
 }
 
-// Faces marked merge take the region of the neighbour they share most boundary
-// with, a neighbour on the same side of the walls first; a face never changes
-// side (the solid's top must cover the footprint exactly). Repeated so chains
-// of slivers resolve.
-void merge_marked(std::vector<FaceOwner>& owner, const std::vector<std::map<int, double>>& shared) {
+// Whether the plane of region `to` keeps every vertex of face `f` within the
+// roof's heights.
+using FitsRoof = std::function<bool(int f, int to)>;
+
+// The neighbour face `f` goes to: most boundary shared, a neighbour on the
+// same side of the walls first, and one whose plane keeps the face within the
+// roof's heights before any other.
+int merge_target(int f, const std::vector<FaceOwner>& owner,
+                 const std::vector<std::map<int, double>>& shared, const FitsRoof& fits) {
+  int best = -1;
+  double best_score = 0;
+  for (const auto& [g, len] : shared[size_t(f)]) {
+    if (owner[size_t(g)].merge || owner[size_t(g)].region < 0) continue;
+    const bool keeps_height = fits(f, owner[size_t(g)].region);
+    const double score = len + (owner[size_t(g)].inside == owner[size_t(f)].inside ? kSameSideFirst : 0.0) +
+                         (keeps_height ? kKeepsHeightFirst : 0.0);
+    if (score > best_score) best = g, best_score = score;
+  }
+  return best;
+}
+
+// Faces marked merge take the region of the neighbour merge_target picks; a
+// face never changes side (the solid's top must cover the footprint
+// exactly). Repeated so chains of slivers resolve.
+void merge_marked(std::vector<FaceOwner>& owner, const std::vector<std::map<int, double>>& shared,
+                  const FitsRoof& fits) {
   for (bool changed = true; changed;) {
     changed = false;
     for (size_t f = 0; f < owner.size(); ++f) {
       if (!owner[f].merge) continue;
-      int best = -1;
-      double best_score = 0;
-      for (const auto& [g, len] : shared[f]) {
-        double score = len + (owner[g].inside == owner[f].inside ? kSameSideFirst : 0.0);
-        if (!owner[g].merge && owner[g].region >= 0 && score > best_score) best = g, best_score = score;
-      }
+      const int best = merge_target(int(f), owner, shared, fits);
       if (best < 0) continue;
       owner[f].region = owner[best].region;  // its side of the walls stays
       owner[f].merge = false;
@@ -153,6 +177,25 @@ MultiPolygon2 onto_edges(MultiPolygon2 plan, const Ring2& ring) {
   return plan;
 }
 
+// FitsRoof over the heights of the regions' plans on their own planes,
+// widened by kRoofHeightMargin.
+FitsRoof fits_roof_heights(const std::vector<RoofRegion>& roof, const MultiPolygon2& faces) {
+  double lo = 1e300, hi = -1e300;
+  for (const auto& r : roof)
+    for (const auto& p : r.plan)
+      for (const Vec2& v : p.outer) {
+        const double z = r.plane.z_at(v.x(), v.y());
+        lo = std::min(lo, z), hi = std::max(hi, z);
+      }
+  return [&roof, &faces, lo, hi](int f, int to) {
+    for (const Vec2& v : faces[size_t(f)].outer) {
+      const double z = roof[size_t(to)].plane.z_at(v.x(), v.y());
+      if (z < lo - kRoofHeightMargin || z > hi + kRoofHeightMargin) return false;
+    }
+    return true;
+  };
+}
+
 }  // namespace
 
 // The roof regions cut by the footprint into pieces inside the walls and
@@ -195,9 +238,10 @@ std::vector<Piece> roof_pieces(const std::vector<RoofRegion>& roof, const Polygo
     owner[f].merge = a < kSliver || (owner[f].region < 0 && a < kGap) || poly::covers(thin, p);
   }
   auto shared = face_neighbours(faces);
-  merge_marked(owner, shared);
+  const FitsRoof fits = fits_roof_heights(roof, faces);
+  merge_marked(owner, shared, fits);
   for (int round = 0; round < kFragmentRounds && mark_fragments(faces, owner, shared); ++round)
-    merge_marked(owner, shared);
+    merge_marked(owner, shared, fits);
 
   std::map<std::pair<int, bool>, MultiPolygon2> groups;
   for (size_t f = 0; f < faces.size(); ++f)
