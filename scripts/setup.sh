@@ -16,6 +16,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libgtest-dev libgmock-dev
   nlohmann-json3-dev libtomlplusplus-dev libcli11-dev
   libxml2-utils libifcplusplus-dev chromium
+  postgresql-15 postgresql-15-postgis-3 libpq-dev slurm-wlm munge
 )
 # Node.js may already come from elsewhere (e.g. nodesource); Debian's npm conflicts with it.
 if ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi
