@@ -132,10 +132,13 @@ def citygml_sums(path):
         if local not in kinds:
             continue
         t = kinds[local]
-        for a in el.iter():
-            if etree.QName(a).localname.endswith("Attribute") and a.get("name") == "isPartyWall":
-                if "true" in "".join(a.itertext()).lower():
-                    t = "party_wall"
+        for a in el.iter():  # CityGML 2.0: <gen:..Attribute name="..">; 3.0: a <gen:name> child
+            if not etree.QName(a).localname.endswith("Attribute"):
+                continue
+            name = a.get("name") or "".join(a.find("{*}name").itertext() if a.find("{*}name") is not None else [])
+            value = a.find("{*}value")
+            if name == "isPartyWall" and value is not None and "true" in "".join(value.itertext()).lower():
+                t = "party_wall"
         area = 0.0
         for poly in el.iter("{*}Polygon"):
             rings = []
@@ -200,14 +203,34 @@ def compare(name, sums, store):
     return ok, f"{name}: sum over the file / store (m2): " + ", ".join(parts)
 
 
+def cityjson_of_seq(path, out):
+    """The CityJSONSeq's features gathered into one CityJSON file (val3dity
+    2.6.0 reading a sequence from stdin writes no report and crashes)."""
+    with open(path) as f:
+        doc = json.loads(f.readline())
+        doc.setdefault("CityObjects", {})
+        doc.setdefault("vertices", [])
+        for line in f:
+            if not line.strip():
+                continue
+            feat = json.loads(line)
+            offset = len(doc["vertices"])
+            shift = lambda b: [shift(x) for x in b] if isinstance(b, list) else b + offset
+            for oid, obj in feat["CityObjects"].items():
+                for g in obj.get("geometry", []):
+                    g["boundaries"] = shift(g["boundaries"])
+                doc["CityObjects"][oid] = obj
+            doc["vertices"].extend(feat["vertices"])
+    json.dump(doc, open(out, "w"))
+
+
 def val3dity_verdicts(val3dity, path):
     with tempfile.TemporaryDirectory() as tmp:
         report = os.path.join(tmp, "r.json")
         if path.endswith(".jsonl"):
-            with open(path) as f:
-                subprocess.run([val3dity, "--report", report, "stdin"], stdin=f, capture_output=True)
-        else:
-            subprocess.run([val3dity, "--report", report, path], capture_output=True)
+            cityjson_of_seq(path, os.path.join(tmp, "seq.city.json"))
+            path = os.path.join(tmp, "seq.city.json")
+        subprocess.run([val3dity, "--report", report, path], capture_output=True)
         r = json.load(open(report))
     return {f["id"]: bool(f["validity"]) for f in r.get("features", [])}
 
