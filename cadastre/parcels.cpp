@@ -257,6 +257,24 @@ std::string field_text(OGRFeature& f, int index) {
   return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
 }
 
+// Every field of the feature, typed as the layer declares it.
+std::vector<ParcelAttribute> feature_attributes(OGRFeature& f) {
+  std::vector<ParcelAttribute> out;
+  for (int i = 0; i < f.GetFieldCount(); ++i) {
+    const OGRFieldDefn* d = f.GetFieldDefnRef(i);
+    ParcelAttribute a;
+    a.name = d->GetNameRef();
+    const OGRFieldType t = d->GetType();
+    a.kind = t == OFTInteger || t == OFTInteger64 ? ParcelAttribute::Kind::Integer
+             : t == OFTReal                       ? ParcelAttribute::Kind::Real
+                                                  : ParcelAttribute::Kind::Text;
+    a.is_null = !f.IsFieldSetAndNotNull(i);
+    if (!a.is_null) a.value = f.GetFieldAsString(i);
+    out.push_back(std::move(a));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string validity_problem(const MultiPolygon2& shape) {
@@ -333,6 +351,7 @@ void read_features(OGRLayer& layer, const FieldIndexes& ix, const ParcelFields& 
     p.right_type = field_text(*feature, ix.right);
     check_text(p.right_type, fields.right_type, fid, path);
     if (ix.area >= 0 && feature->IsFieldSetAndNotNull(ix.area)) p.official_area = feature->GetFieldAsDouble(ix.area);
+    p.attributes = feature_attributes(*feature);
     Checked c = check_shape(shape_from_ogr(*geom), path + ": parcel " + id + " (record " + std::to_string(record) + ")");
     p.shape = std::move(c.shape);
     if (!c.problem.empty()) {

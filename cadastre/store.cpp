@@ -4,8 +4,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cadastre/gpkg_geometry.h"
+#include "cadastre/gpkg_rtree.h"
 #include "cadastre/sqlite_util.h"
+#include "cadastre/store_gis.h"
 #include "cadastre/store_schema.h"
+#include "cadastre/store_styles.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
 #include "core/io/sha256.h"
@@ -44,11 +47,13 @@ struct Store::Impl {
   int srs = 0;
   std::int64_t run_id = 0;
   // Prepared once: writing a parcel is a handful of bound inserts.
-  sql::Stmt del_baunit, del_party, ins_party, ins_baunit, ins_rrr, ins_su, ins_building,
+  sql::Stmt del_baunit, ins_baunit, ins_rrr, ins_su, ins_building,
       ins_element, ins_vu, ins_val, ins_item, upsert_job, pending_job, done_job;
+  store_gis::Writer gis;  // the 2D layers, written beside the 3D rows
 
   void prepare();
   std::int64_t write_building(const Building& b, int index, std::int64_t su, const Vec3& off,
+                              const std::string& parcel_id, const ParcelValuation& v,
                               std::map<std::pair<std::string, int>, std::int64_t>& elements);
   void write_valuation(const ParcelValuation& v, std::int64_t baunit, std::int64_t su,
                        const std::map<std::pair<std::string, int>, std::int64_t>& elements);
@@ -64,24 +69,25 @@ void Store::open(const std::string& path, const std::string& crs_wkt, int epsg) 
   close();
   auto impl = std::make_unique<Impl>();
   impl->db = sql::Db(path, false);
+  gpkg_rtree::register_functions(impl->db);  // before any statement compiles the index triggers
   // Header fields first, while still in rollback-journal mode: they land in the
   // main file at once, where validate_gpkg.py reads them.
   impl->db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10300;");
   impl->db.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON;");
   impl->srs = store_schema::create(impl->db, crs_wkt, epsg);
   impl->prepare();
+  impl->gis = store_gis::Writer(impl->db, impl->srs);
+  store_gis::backfill(impl->db, impl->gis);  // a store of an earlier version
   impl_ = std::move(impl);
 }
 
 void Store::Impl::prepare() {
   const std::string now = kNow;
   del_baunit = sql::Stmt(db, "DELETE FROM la_baunit WHERE parcel_id=?");
-  del_party = sql::Stmt(db, "DELETE FROM la_party WHERE party_key=?");
-  ins_party = sql::Stmt(db, "INSERT INTO la_party (party_key, name, party_type) VALUES (?,?,?)");
   ins_baunit = sql::Stmt(db, "INSERT INTO la_baunit (parcel_id, name, baunit_type) VALUES (?,?,?)");
   ins_rrr = sql::Stmt(db,
-                      "INSERT INTO la_rrr (baunit_id, party_id, rrr_class, rrr_type, share) "
-                      "VALUES (?,?,'right',?,1.0)");
+                      "INSERT INTO la_rrr (baunit_id, party_id, rrr_class, rrr_type, share, local_type) "
+                      "VALUES (?,NULL,'right',?,1.0,?)");
   ins_su = sql::Stmt(db,
                      "INSERT INTO la_spatialunit (geom, baunit_id, parcel_id, layer_index, "
                      "official_area, computed_area, repair_note) VALUES (?,?,?,?,?,?,?)");
@@ -172,8 +178,8 @@ bool Store::parcel_done(const std::string& parcel_id, const std::string& inputs_
 }
 
 std::int64_t Store::Impl::write_building(
-    const Building& b, int index, std::int64_t su, const Vec3& off,
-    std::map<std::pair<std::string, int>, std::int64_t>& elements) {
+    const Building& b, int index, std::int64_t su, const Vec3& off, const std::string& parcel_id,
+    const ParcelValuation& v, std::map<std::pair<std::string, int>, std::int64_t>& elements) {
   std::string kind;
   BuildingTotals t = totals(b);
   auto& s = ins_building;
@@ -186,6 +192,7 @@ std::int64_t Store::Impl::write_building(
     s.bind(d->n).bind(d->max).bind(d->mean).bind(d->std).bind(d->rmse);
   s.run();
   std::int64_t fid = db.last_id();
+  gis.building(b, fid, parcel_id, off, v);
   for (int i = 0; i < int(b.elements.size()); ++i) {
     const Element& e = b.elements[size_t(i)];
     ins_element.bind_blob(gpkg_faces_blob(e.faces, off, srs)).bind(fid).bind(i)
@@ -193,6 +200,7 @@ std::int64_t Store::Impl::write_building(
         .bind(e.azimuth_deg).bind(e.sigma_area).bind(e.support_points).bind(e.rmse)
         .bind(to_string(e.evidence)).bind(e.sigma_shared).run();
     elements[{b.id, i}] = db.last_id();
+    if (e.type == ElementType::Roof) gis.roof_part(e, db.last_id(), i, b.id, parcel_id, off);
   }
   return fid;
 }
@@ -229,22 +237,22 @@ void Store::write_parcel(const Parcel& parcel, const ParcelResult& result,
   if (!impl_) throw InputError("store", "write_parcel before open");
   Impl& m = *impl_;
   sql::Transaction tx(m.db);
-  const std::string party_key = "owner:" + parcel.id;
   m.del_baunit.bind(parcel.id).run();  // cascades to every row of this parcel
-  m.del_party.bind(party_key).run();
-  m.ins_party.bind(party_key).bind("owner of parcel " + parcel.id + " (not in the parcel layer)")
-      .bind("unknown").run();
-  std::int64_t party = m.db.last_id();
   m.ins_baunit.bind(parcel.id).bind("parcel " + parcel.id).bind("basicPropertyUnit").run();
   std::int64_t baunit = m.db.last_id();
-  m.ins_rrr.bind(baunit).bind(party).bind(parcel.right_type).run();
+  // The parcel layer names no owner: the right has no party (docs/design.md).
+  m.ins_rrr.bind(baunit);
+  if (const char* code = store_schema::ladm_right_type(parcel.right_type)) m.ins_rrr.bind(code);
+  else m.ins_rrr.bind_null();
+  m.ins_rrr.bind(parcel.right_type).run();
   m.ins_su.bind_blob(gpkg_multipolygon_blob(parcel.shape, m.srs)).bind(baunit).bind(parcel.id)
       .bind(parcel.index).bind(parcel.official_area).bind(area(parcel.shape))
       .bind(parcel.repair_note).run();
   std::int64_t su = m.db.last_id();
+  m.gis.parcel(parcel, su, result, valuation);
   std::map<std::pair<std::string, int>, std::int64_t> elements;
   for (int k = 0; k < int(result.buildings.size()); ++k)
-    m.write_building(result.buildings[size_t(k)], k, su, frame.origin, elements);
+    m.write_building(result.buildings[size_t(k)], k, su, frame.origin, parcel.id, valuation, elements);
   m.write_valuation(valuation, baunit, su, elements);
   m.upsert_job.bind(parcel.id).bind(parcel.index).bind(to_string(result.status))
       .bind(result.reason).bind(inputs_key);
@@ -269,6 +277,7 @@ void Store::end_run(bool finished) {
     upd.bind(impl_->run_id).run();
   }
   store_schema::update_extents(db);
+  store_styles::update(db);
   tx.commit();
   impl_->run_id = 0;
 }

@@ -145,9 +145,12 @@ BatchModel load_batch_model(const std::string& path) {
   BatchModel m;
   m.frame = latest_frame(db);
   read_crs(db, m);
+  // The layer's own name of the right; a store written before kept it in rrr_type.
+  const std::string right =
+      store_schema::has_column(db, "la_rrr", "local_type") ? "coalesce(r.local_type, r.rrr_type)" : "r.rrr_type";
   sql::Stmt q(db,
               "SELECT su.fid, su.geom, su.parcel_id, su.layer_index, su.official_area, "
-              "su.repair_note, r.rrr_type, j.status, j.reason, j.roof_points, j.wall_points, "
+              "su.repair_note, " + right + ", j.status, j.reason, j.roof_points, j.wall_points, "
               "j.timings FROM la_spatialunit su "
               "LEFT JOIN la_rrr r ON r.baunit_id = su.baunit_id "
               "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id "

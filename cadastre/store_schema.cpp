@@ -4,9 +4,13 @@
 #include <ogr_srs_api.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "cadastre/gpkg_geometry.h"
+#include "cadastre/gpkg_rtree.h"
+#include "cadastre/store_gis.h"
+#include "cadastre/store_styles.h"
 #include "core/error.h"
 
 namespace c3d::store_schema {
@@ -37,6 +41,9 @@ CREATE TABLE IF NOT EXISTS gpkg_geometry_columns (table_name TEXT NOT NULL, colu
   CONSTRAINT uk_gc_table_name UNIQUE (table_name),
   CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) REFERENCES gpkg_contents(table_name),
   CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys (srs_id));
+CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL,
+  definition TEXT NOT NULL, scope TEXT NOT NULL,
+  CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name));
 )SQL";
 
 // LADM / valuation tables. Only GeoPackage column types; every child key has
@@ -53,11 +60,6 @@ CREATE TABLE IF NOT EXISTS la_party (fid INTEGER PRIMARY KEY, party_key TEXT NOT
   name TEXT, party_type TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS la_baunit (fid INTEGER PRIMARY KEY, parcel_id TEXT NOT NULL UNIQUE,
   name TEXT, baunit_type TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS la_rrr (fid INTEGER PRIMARY KEY,
-  baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
-  party_id INTEGER NOT NULL REFERENCES la_party(fid) ON DELETE CASCADE,
-  rrr_class TEXT NOT NULL CHECK (rrr_class IN ('right','restriction','responsibility')),
-  rrr_type TEXT, share DOUBLE);
 CREATE TABLE IF NOT EXISTS la_spatialunit (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
   baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
   parcel_id TEXT NOT NULL UNIQUE, layer_index INTEGER, official_area DOUBLE, computed_area DOUBLE,
@@ -96,8 +98,6 @@ CREATE TABLE IF NOT EXISTS vm_cost_item (fid INTEGER PRIMARY KEY,
   area DOUBLE, sigma_area DOUBLE, unit_cost DOUBLE, amount DOUBLE, sigma_amount DOUBLE,
   support_points INTEGER, rmse DOUBLE);
 CREATE INDEX IF NOT EXISTS ix_run_input_run ON run_input(run_id);
-CREATE INDEX IF NOT EXISTS ix_rrr_baunit ON la_rrr(baunit_id);
-CREATE INDEX IF NOT EXISTS ix_rrr_party ON la_rrr(party_id);
 CREATE INDEX IF NOT EXISTS ix_su_baunit ON la_spatialunit(baunit_id);
 CREATE INDEX IF NOT EXISTS ix_building_su ON building(spatialunit_id);
 CREATE INDEX IF NOT EXISTS ix_vu_baunit ON vm_valuationunit(baunit_id);
@@ -107,6 +107,57 @@ CREATE INDEX IF NOT EXISTS ix_val_run ON vm_valuation(run_id);
 CREATE INDEX IF NOT EXISTS ix_ci_val ON vm_cost_item(valuation_id);
 CREATE INDEX IF NOT EXISTS ix_ci_element ON vm_cost_item(element_fid);
 )SQL";
+
+// LA_RRR by itself: stores written before it used the code lists get it
+// rebuilt (migrate_rrr). party_id may be NULL: ISO 19152 lets a right have
+// no party (LA_RRR - LA_Party is 0..1), which is what a parcel layer without
+// owners gives; rrr_type is an LA_RightType value, local_type the layer's name.
+const char* kRrrColumns = R"SQL( (fid INTEGER PRIMARY KEY,
+  baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
+  party_id INTEGER REFERENCES la_party(fid) ON DELETE CASCADE,
+  rrr_class TEXT NOT NULL CHECK (rrr_class IN ('right','restriction','responsibility')),
+  rrr_type TEXT, share DOUBLE, local_type TEXT))SQL";
+
+// Indonesian land rights (UUPA 5/1960) by their LA_RightType (ISO 19152 Annex
+// J); names already in the code list pass as they are. docs/design.md.
+const std::pair<const char*, const char*> kRightTypes[] = {
+    {"hak milik", "ownership"},          {"hak guna bangunan", "superficies"},
+    {"hak guna usaha", "lease"},         {"hak pakai", "usufruct"},
+    {"hak sewa untuk bangunan", "lease"}, {"hak sewa", "lease"},
+};
+const char* const kLaRightTypes[] = {"agriActivity", "commonOwnership", "customaryType", "fishing",
+                                     "grazing", "informalOccupation", "lease", "occupation", "ownership",
+                                     "ownershipAssumed", "superficies", "tenancy", "usufruct",
+                                     "waterrights"};
+
+// The same mapping in SQL, for rows written before (CASE over lower(x)).
+std::string right_type_sql(const std::string& x) {
+  std::string sql = "CASE lower(trim(" + x + "))";
+  for (const auto& [local, code] : kRightTypes) sql += std::string(" WHEN '") + local + "' THEN '" + code + "'";
+  for (const char* code : kLaRightTypes) sql += std::string(" WHEN lower('") + code + "') THEN '" + code + "'";
+  return sql + " END";
+}
+
+void create_rrr(sql::Db& db) {
+  bool old = false;
+  {
+    sql::Stmt q(db, "SELECT sql FROM sqlite_master WHERE type='table' AND name='la_rrr'");
+    old = q.step() && q.get_text(0).find("local_type") == std::string::npos;
+  }
+  if (old) {
+    db.exec(std::string("CREATE TABLE la_rrr_v2") + kRrrColumns + ";"
+            "INSERT INTO la_rrr_v2 (fid, baunit_id, party_id, rrr_class, rrr_type, share, local_type) "
+            "SELECT fid, baunit_id, party_id, rrr_class, " + right_type_sql("rrr_type") + ", share, rrr_type "
+            "FROM la_rrr; DROP TABLE la_rrr; ALTER TABLE la_rrr_v2 RENAME TO la_rrr;"
+            // 'unknown' is no LA_PartyType: the placeholder owners go, their rights stay without a party.
+            "UPDATE la_rrr SET party_id = NULL WHERE party_id IN "
+            "(SELECT fid FROM la_party WHERE party_type = 'unknown');"
+            "DELETE FROM la_party WHERE party_type = 'unknown';");
+  }
+  db.exec(std::string("CREATE TABLE IF NOT EXISTS la_rrr") + kRrrColumns + ";"
+          "CREATE INDEX IF NOT EXISTS ix_rrr_baunit ON la_rrr(baunit_id);"
+          "CREATE INDEX IF NOT EXISTS ix_rrr_party ON la_rrr(party_id);");
+}
 
 // The job table by itself: stores written before `suspect` existed get it
 // rebuilt with the wider status check (migrate_parcel_job).
@@ -153,10 +204,15 @@ struct Layer {
 };
 
 const Layer kLayers[] = {
+    {"parcel", "Parcels with their valuation (NJOP, tax) and the parcel layer's own fields (2D, for GIS)", true, 0},
+    {"building_footprint", "Buildings for GIS: valid 2D footprint, parcel id, areas and sigma, volume, heights, "
+     "LoD, roof type, value", true, 0},
+    {"roof_part", "Roof elements for GIS: valid 2D plan, 3D area, slope, azimuth, sigma", true, 0},
     {"la_spatialunit", "LADM spatial units: cadastral parcels", true, 0},
-    {"building", "Buildings: LoD 2.2, or an LoD 1.2 prism where 2.2 is not valid (closed solid, or footprint when none)",
-     true, 1},
-    {"building_element", "Building elements: roof, wall, party wall, ground, outer ceiling", true, 1},
+    {"building", "3D buildings: LoD 2.2, or an LoD 1.3 / 1.2 model where 2.2 is not valid (closed solid, or "
+     "footprint when none); for 3D use, building_footprint for GIS", true, 1},
+    {"building_element", "3D building elements: roof, wall, party wall, ground, outer ceiling; for 3D use, "
+     "roof_part for GIS", true, 1},
     {"la_party", "LADM parties", false, 0},
     {"la_baunit", "LADM basic administrative units", false, 0},
     {"la_rrr", "LADM rights, restrictions, responsibilities", false, 0},
@@ -231,7 +287,9 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
   }
   const int srs = register_srs(db, crs_wkt, epsg);
   db.exec(kLadmSchema);
+  create_rrr(db);
   create_parcel_job(db);
+  db.exec(store_gis::kSchema);
   for (const AddedColumn& c : kAddedColumns)
     if (!has_column(db, c.table, c.column))
       db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN " + c.column + " " + c.type);
@@ -248,9 +306,26 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
     else contents.bind_null();
     contents.run();
     if (l.features) columns.bind(l.table).bind("geom").bind("MULTIPOLYGON").bind(srs).bind(l.z).run();
+    if (l.features) gpkg_rtree::create(db, l.table);
   }
+  store_styles::create(db);
   tx.commit();
   return srs;
+}
+
+const char* ladm_right_type(const std::string& local) {
+  std::string l = local;
+  l.erase(0, l.find_first_not_of(" \t"));
+  l.erase(l.find_last_not_of(" \t") + 1);
+  std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  for (const auto& [name, code] : kRightTypes)
+    if (l == name) return code;
+  for (const char* code : kLaRightTypes) {
+    std::string c = code;
+    std::transform(c.begin(), c.end(), c.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    if (l == c) return code;
+  }
+  return nullptr;
 }
 
 bool has_column(const sql::Db& db, const std::string& table, const std::string& column) {

@@ -61,6 +61,16 @@ struct Polygon2 {
 using MultiPolygon2 = std::vector<Polygon2>;
 
 // One cadastral parcel (land parcel, LADM la_spatialunit).
+// One field of the parcel layer's own feature (docs/design.md, "GeoPackage"):
+// the store's `parcel` layer carries it, typed as the layer had it.
+struct ParcelAttribute {
+  enum class Kind { Text, Integer, Real };
+  std::string name;
+  Kind kind = Kind::Text;
+  bool is_null = true;
+  std::string value;  // as OGR writes it (GetFieldAsString)
+};
+
 struct Parcel {
   int index = 0;                   // position in the layer (0-based)
   std::string id;                  // parcel id (field value or feature id)
@@ -68,6 +78,7 @@ struct Parcel {
   double official_area = kNaN;     // certified area from the layer, m2
   MultiPolygon2 shape;             // world coordinates
   std::string repair_note;         // non-empty when an invalid polygon was repaired
+  std::vector<ParcelAttribute> attributes;  // the layer's own fields, layer order
 };
 
 struct ParcelLayer {
