@@ -309,6 +309,7 @@ TEST(BatchE2E, SamePointsInAnotherOrderGiveTheSameModels) {
                             &log),
               0)
         << log;
+    check::expect_judges_agree(dir + "/" + name + "/buildings.city.json");
     std::ifstream in(dir + "/" + name + "/summary.json");
     const nlohmann::json summary = nlohmann::json::parse(in);
     for (const auto& p : summary["parcels"])

@@ -379,7 +379,8 @@ std::vector<std::pair<std::string, Ring2>> grown_cimahi_parcels(double distance)
 
 // A Cimahi cloud (`cloud`: a path, or the Cimahi LAS when empty) batched over
 // another parcel layer: it completes, every building is a valid solid in the
-// CityJSON, and no roof is modelled by two parcels.
+// CityJSON (by our check and by val3dity, agreeing), and no roof is modelled
+// by two parcels.
 void expect_sound_batch_over(const std::string& name, const std::vector<std::pair<std::string, Ring2>>& parcels,
                              std::string cloud = "") {
   const std::string dir = test::temp_dir(name), d = test::cimahi_dir();
@@ -393,6 +394,7 @@ void expect_sound_batch_over(const std::string& name, const std::vector<std::pai
       << log;
   EXPECT_EQ(test::run_cli("validate " + dir + "/out/buildings.city.json", &log), 0) << log;
   EXPECT_NE(log.find(" 0 issue(s)"), std::string::npos) << log;
+  check::expect_judges_agree(dir + "/out/buildings.city.json");
   const BatchModel store = load_batch_model(dir + "/out/cadastre.gpkg");
   ASSERT_EQ(store.results.size(), parcels.size());
   expect_no_roof_modelled_twice(store);
