@@ -9,9 +9,10 @@
 // its polygons inline and no boundary surfaces (its element areas are in the
 // building's attributes). Of the lower LoDs of an LoD 2 model, the highest
 // (1.3 before 1.2) is the lod1Solid, polygons inline: each CityGML LoD holds one
-// solid, and neither version has boundary surfaces for it here. The two versions differ in namespaces and wrappers only: 2.0
-// bldg:boundedBy / gen:stringAttribute / measuredHeight, 3.0 core:boundary with
-// con: surfaces / core:genericAttribute / con:height, on GML 3.2.
+// solid, and neither version has boundary surfaces for it here. The two
+// versions differ in namespaces and wrappers only: 2.0 bldg:boundedBy /
+// gen:stringAttribute / measuredHeight, 3.0 core:boundary with con: surfaces /
+// core:genericAttribute / con:height, on GML 3.2.
 #include <cctype>
 #include <string>
 #include <fstream>
