@@ -1,12 +1,18 @@
 // CityGML writer, 2.0 or 3.0: Building (BuildingPart per roof level) with thematic
 // boundary surfaces in lod2MultiSurface and a lod2Solid whose shell points at those
-// polygons by xlink:href (solid faces that no element face matches are written
-// inline). An LoD 1.2 prism has a lod1Solid instead: in 3.0 with its boundary
-// surfaces in lod1MultiSurface; in 2.0, whose boundary surfaces exist from LoD 2
-// on, with its polygons inline and no boundary surfaces (its element areas are
-// in the building's attributes). The two versions differ in namespaces and wrappers only: 2.0
-// bldg:boundedBy / gen:stringAttribute / measuredHeight, 3.0 core:boundary with
-// con: surfaces / core:genericAttribute / con:height, on GML 3.2.
+// polygons by xlink:href. Each surface once (docs/exports.md): an element's
+// surface holds its faces in the solid (a roof's part inside the walls) and its
+// parts outside it (the overhang; an outer ceiling whole), the solid refers to
+// the former; a solid face on no element is written inline. An LoD 1.2 / 1.3
+// fallback has a lod1Solid instead: in 3.0 with its boundary surfaces in
+// lod1MultiSurface; in 2.0, whose boundary surfaces exist from LoD 2 on, with
+// its polygons inline and no boundary surfaces (its element areas are in the
+// building's attributes). Of the lower LoDs of an LoD 2 model, the highest
+// (1.3 before 1.2) is the lod1Solid, polygons inline: each CityGML LoD holds one
+// solid, and neither version has boundary surfaces for it here. The two
+// versions differ in namespaces and wrappers only: 2.0 bldg:boundedBy /
+// gen:stringAttribute / measuredHeight, 3.0 core:boundary with con: surfaces /
+// core:genericAttribute / con:height, on GML 3.2.
 #include <cctype>
 #include <string>
 #include <fstream>
@@ -14,7 +20,9 @@
 #include <stdexcept>
 
 #include "core/geometry/geometry.h"
+#include "ifc_citygml/attributes.h"
 #include "ifc_citygml/detail.h"
+#include "ifc_citygml/surfaces.h"
 #include "ifc_citygml/export.h"
 
 namespace c3d {
@@ -161,6 +169,18 @@ class GmlWriter {
     str_attr("solidValid", b.solid_valid ? "true" : "false");
     str_attr("lod", b.lod);
     str_attr("lodNote", b.lod_note);
+    const exp::QualityAttributes q = exp::quality_attributes(b, m_.frame);
+    for (const auto& [k, v] : q.texts) str_attr(exp::camel_case(k).c_str(), v);
+    for (const auto& [k, v] : q.numbers) dbl_attr(exp::camel_case(k).c_str(), v, 3);
+    for (const auto& [k, v] : q.counts) int_attr(exp::camel_case(k).c_str(), v);
+    if (const LodShell* l = lod1_shell(b)) str_attr("lod1Solid", "LoD " + l->lod);
+  }
+
+  // This building's surfaces, each once (set by building()).
+  exp::BuildingSurfaces surfaces_;
+
+  std::string solid_polygon_id(const Building& b, size_t j) const {
+    return ncname(b.id) + "_s" + std::to_string(j);
   }
 
   void boundary_surface(const Building& b, size_t e) {
@@ -183,32 +203,60 @@ class GmlWriter {
     dbl_attr("rmse", el.rmse, 4);
     str_attr("wallEvidence", to_string(el.evidence));
     os_ << "<" << surfaces << "><gml:MultiSurface>\n";
-    for (size_t k = 0; k < el.faces.size(); ++k) {
+    for (const auto& p : surfaces_.solid) {
+      if (p.element != int(e)) continue;
       os_ << "<gml:surfaceMember>";
-      polygon(el.faces[k], id + "_f" + std::to_string(k));
+      polygon(p.face, solid_polygon_id(b, size_t(p.solid_face)));
+      os_ << "</gml:surfaceMember>\n";
+    }
+    size_t k = 0;
+    for (const auto& p : surfaces_.outside) {
+      if (p.element != int(e)) continue;
+      os_ << "<gml:surfaceMember>";
+      polygon(p.face, id + "_o" + std::to_string(k++));
       os_ << "</gml:surfaceMember>\n";
     }
     os_ << "</gml:MultiSurface></" << surfaces << ">\n" << close;
   }
 
-  void solid(const Building& b) {
-    if (b.solid.empty()) return;
-    const std::string property = std::string(v3_ ? "core:" : "bldg:") + lod(b) + "Solid";
+  // A solid of these faces; with `refer_to`, the faces on an element by
+  // reference to their polygons in its boundary surfaces.
+  void solid_property(const std::string& property, const std::string& id, const std::vector<Face>& faces,
+                      const Building* refer_to) {
     const char* shell = v3_ ? "gml:Shell" : "gml:CompositeSurface";  // GML 3.2 solids have shells
-    os_ << "<" << property << "><gml:Solid gml:id=\"" << ncname(b.id) << "_solid\"><gml:exterior><"
-        << shell << ">\n";
-    for (size_t j = 0; j < b.solid.size(); ++j) {
-      auto m = exp::matching_element_face(b, b.solid[j]);
-      if (m[0] >= 0 && !prism_in_v2(b)) {  // a 2.0 prism writes no element polygons
-        os_ << "<gml:surfaceMember xlink:href=\"#" << ncname(b.id) << "_e" << m[0] << "_f" << m[1]
-            << "\"/>\n";
+    os_ << "<" << property << "><gml:Solid gml:id=\"" << id << "\"><gml:exterior><" << shell << ">\n";
+    for (size_t j = 0; j < faces.size(); ++j) {
+      if (refer_to && surfaces_.solid[j].element >= 0) {
+        os_ << "<gml:surfaceMember xlink:href=\"#" << solid_polygon_id(*refer_to, j) << "\"/>\n";
       } else {
         os_ << "<gml:surfaceMember>";
-        polygon(b.solid[j], ncname(b.id) + "_s" + std::to_string(j));
+        polygon(faces[j], id + "_" + std::to_string(j));
         os_ << "</gml:surfaceMember>\n";
       }
     }
     os_ << "</" << shell << "></gml:exterior></gml:Solid></" << property << ">\n";
+  }
+
+  // The primary solid: its element faces by reference (inline for a 2.0
+  // prism, which has no boundary surfaces).
+  void solid(const Building& b) {
+    if (b.solid.empty()) return;
+    const std::string property = std::string(v3_ ? "core:" : "bldg:") + lod(b) + "Solid";
+    solid_property(property, ncname(b.id) + "_solid", b.solid, prism_in_v2(b) ? nullptr : &b);
+  }
+
+  // The lower LoD written as the lod1Solid of an LoD 2 model: the highest.
+  static const LodShell* lod1_shell(const Building& b) {
+    if (std::string(lod(b)) != "lod2") return nullptr;
+    const LodShell* best = nullptr;
+    for (const auto& l : b.lower_lods)
+      if (!l.faces.empty() && l.lod.rfind('1', 0) == 0 && (!best || l.lod > best->lod)) best = &l;
+    return best;
+  }
+
+  void lower_solid(const Building& b) {
+    if (const LodShell* l = lod1_shell(b))
+      solid_property(v3_ ? "core:lod1Solid" : "bldg:lod1Solid", ncname(b.id) + "_lod1s", l->faces, nullptr);
   }
 
   void heights(const Building& b) {
@@ -233,10 +281,11 @@ class GmlWriter {
     parcel_reference(r);
     building_attributes(r, b);
     // 2.0: heights, solid, then surfaces; 3.0: surfaces, solid, then heights.
-    if (!v3_) heights(b), solid(b);
+    surfaces_ = exp::building_surfaces(b);
+    if (!v3_) heights(b), lower_solid(b), solid(b);
     if (levels == 1 && !prism_in_v2(b))
       for (size_t e = 0; e < b.elements.size(); ++e) boundary_surface(b, e);
-    if (v3_) solid(b), heights(b);
+    if (v3_) lower_solid(b), solid(b), heights(b);
     const char* part = v3_ ? "bldg:buildingPart" : "bldg:consistsOfBuildingPart";
     for (int l = 0; levels > 1 && l < levels; ++l) {
       os_ << "<" << part << "><bldg:BuildingPart gml:id=\"" << ncname(b.id) << "_part" << l

@@ -8,8 +8,14 @@
 //  - party walls are real walls, so CityGML/CityJSON write them as WallSurface with
 //    the attribute isPartyWall = true (ClosureSurface is reserved for virtual
 //    surfaces); IFC writes IfcWall .USERDEFINED. with ObjectType 'PartyWall'.
+//  - each surface is stored once per LoD (docs/exports.md): the closed solid carries
+//    the element surfaces, and what of an element lies outside it (roof overhangs,
+//    hanging roofs, outer ceilings) is a separate surface of the same element, so a
+//    sum of the surfaces by type equals the store's element totals.
 //  - a building whose roof elements have clearly distinct eave heights (> 1 m apart)
-//    becomes one BuildingPart per roof level; the closed solid stays on the Building.
+//    becomes one BuildingPart per roof level in CityGML; the closed solid stays on
+//    the Building (CityJSON: a roof_level on each semantic surface).
+//  - lower LoDs (Building::lower_lods) are written beside the primary one.
 //  - identifiers are derived from building ids and element positions only, so a rerun
 //    writes identical ids (IFC GlobalIds included).
 // Every writer throws std::runtime_error when the file cannot be written.
@@ -23,6 +29,10 @@ namespace c3d {
 // CityGML 2.0 (version 2) or 3.0 (version 3, on GML 3.2): the same content.
 void write_citygml(const BatchModel& model, const std::string& path, int version = 2);
 void write_cityjson(const BatchModel& model, const std::string& path);
+// CityJSONSeq (CityJSON Text Sequence): a first line holding the CityJSON header
+// (transform, metadata, no objects), then one CityJSONFeature per building with
+// its own vertices, written building by building.
+void write_cityjson_seq(const BatchModel& model, const std::string& path);
 void write_ifc(const BatchModel& model, const std::string& path);
 // One <parcel id>.obj per parcel with buildings (groups per element); returns the files.
 std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir);
@@ -33,10 +43,11 @@ std::vector<std::string> write_step_per_building(const BatchModel& model, const 
                                                  std::vector<std::string>* skipped = nullptr);
 
 // The format names export_formats() accepts: gml (CityGML 2.0), gml3 (CityGML
-// 3.0), cityjson, ifc, obj, step.
+// 3.0), cityjson, cityjsonseq, ifc, obj, step.
 const std::vector<std::string>& export_format_names();
 // Writes the named formats into dir as buildings.gml, buildings.citygml3.gml,
-// buildings.city.json, buildings.ifc, obj/, step/; returns the paths.
+// buildings.city.json, buildings.city.jsonl, buildings.ifc, obj/, step/; returns
+// the paths.
 // Buildings whose STEP solid fails are listed in `skipped` when given (else it throws).
 // Throws std::invalid_argument on an unknown format name.
 std::vector<std::string> export_formats(const BatchModel& model, const std::string& dir,
@@ -44,8 +55,9 @@ std::vector<std::string> export_formats(const BatchModel& model, const std::stri
                                         std::vector<std::string>* skipped = nullptr);
 
 // Reads a CityJSON file written by write_cityjson (or any CityJSON 2.0 file with
-// Building / BuildingPart objects and lod-2 geometry) back into a BatchModel:
-// elements from the MultiSurface semantic surfaces, the solid from the Solid.
+// Building / BuildingPart objects) back into a BatchModel: at the highest LoD,
+// elements from the semantic surfaces (by element_index, of the Solid and the
+// MultiSurface), the solid from the Solid; lower LoDs' Solids as lower_lods.
 // Throws c3d::InputError on malformed files and out-of-range vertex indices.
 BatchModel read_cityjson(const std::string& path);
 

@@ -7,7 +7,8 @@
 namespace c3d {
 
 const std::vector<std::string>& export_format_names() {
-  static const std::vector<std::string> names{"gml", "gml3", "cityjson", "ifc", "obj", "step"};
+  static const std::vector<std::string> names{"gml", "gml3", "cityjson", "cityjsonseq",
+                                                "ifc", "obj", "step"};
   return names;
 }
 
@@ -19,7 +20,7 @@ std::vector<std::string> export_formats(const BatchModel& model, const std::stri
   for (const auto& f : formats)
     if (std::find(names.begin(), names.end(), f) == names.end())
       throw std::invalid_argument("unknown export format '" + f +
-                                  "' (use gml, gml3, cityjson, ifc, obj, step)");
+                                  "' (use gml, gml3, cityjson, cityjsonseq, ifc, obj, step)");
   fs::create_directories(dir);
   std::vector<std::string> out;
   auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
@@ -30,6 +31,10 @@ std::vector<std::string> export_formats(const BatchModel& model, const std::stri
       out.push_back(path("buildings.citygml3.gml"));
     }
     if (f == "cityjson") { write_cityjson(model, path("buildings.city.json")); out.push_back(path("buildings.city.json")); }
+    if (f == "cityjsonseq") {
+      write_cityjson_seq(model, path("buildings.city.jsonl"));
+      out.push_back(path("buildings.city.jsonl"));
+    }
     if (f == "ifc") { write_ifc(model, path("buildings.ifc")); out.push_back(path("buildings.ifc")); }
     if (f == "obj") for (auto& p : write_obj_per_parcel(model, path("obj"))) out.push_back(p);
     if (f == "step") for (auto& p : write_step_per_building(model, path("step"), skipped)) out.push_back(p);

@@ -80,16 +80,22 @@ struct Checker {
 
   struct Use { int face; bool forward; };
 
-  void shell() {
-    if (b.solid.size() < 4) {
-      report(kTooFewPolygons, "solid", std::to_string(b.solid.size()) + " faces");
+  // The shell being checked (the solid, or a lower LoD's) and its name in reports.
+  const std::vector<Face>* solid = nullptr;
+  std::string name = "solid";
+
+  void shell(const std::vector<Face>& faces_in, const std::string& shell_name) {
+    solid = &faces_in;
+    name = shell_name;
+    if (solid->size() < 4) {
+      report(kTooFewPolygons, name, std::to_string(solid->size()) + " faces");
       return;
     }
     VertexSnap snap(opt.snap_tol);
-    std::vector<std::vector<Ids>> faces(b.solid.size());
+    std::vector<std::vector<Ids>> faces(solid->size());
     bool polygons_ok = true;
-    for (size_t f = 0; f < b.solid.size(); ++f)
-      polygons_ok &= polygon(b.solid[f], snap, "solid face " + std::to_string(f), &faces[f]);
+    for (size_t f = 0; f < solid->size(); ++f)
+      polygons_ok &= polygon((*solid)[f], snap, name + " face " + std::to_string(f), &faces[f]);
     if (!polygons_ok) return;  // val3dity stops at the first level with errors
 
     std::map<std::pair<int, int>, std::vector<Use>> edges;
@@ -102,11 +108,11 @@ struct Checker {
     if (!edge_rules(edges)) return;
     if (!vertex_rules(faces, snap.points)) return;
     if (components(faces, edges) > 1) {
-      report(kMultipleConnectedComponents, "solid", "shell falls apart into several pieces");
+      report(kMultipleConnectedComponents, name, "shell falls apart into several pieces");
       return;
     }
     if (signed_volume() <= 0) {
-      report(kPolygonWrongOrientation, "solid", "all faces point inward (negative volume)");
+      report(kPolygonWrongOrientation, name, "all faces point inward (negative volume)");
       return;
     }
     self_intersection(faces, snap);
@@ -121,16 +127,16 @@ struct Checker {
       else if (uses[0].forward == uses[1].forward)
         flipped.push_back(uses[0].face), flipped.push_back(uses[1].face);
     }
-    if (open) report(kShellNotClosed, "solid", std::to_string(open) + " edges used by one face only");
+    if (open) report(kShellNotClosed, name, std::to_string(open) + " edges used by one face only");
     if (nonmanifold)
-      report(kNonManifoldCase, "solid", std::to_string(nonmanifold) + " edges used by more than two faces");
+      report(kNonManifoldCase, name, std::to_string(nonmanifold) + " edges used by more than two faces");
     if (!open && !nonmanifold && !flipped.empty()) {
       // The face that disagrees with most of its neighbours is the flipped one.
       std::map<int, int> votes;
       for (int f : flipped) ++votes[f];
       auto worst = std::max_element(votes.begin(), votes.end(),
                                     [](auto& x, auto& y) { return x.second < y.second; });
-      report(kPolygonWrongOrientation, "solid face " + std::to_string(worst->first),
+      report(kPolygonWrongOrientation, name + " face " + std::to_string(worst->first),
              "face orientation disagrees with its neighbours");
     }
     return !open && !nonmanifold && flipped.empty();
@@ -155,9 +161,9 @@ struct Checker {
       } while (cur != start && steps <= next[v].size());
       if (steps != next[v].size()) {
         char at[96];
-        std::snprintf(at, sizeof at, "solid vertex (%.3f %.3f %.3f)", points[v].x(), points[v].y(),
+        std::snprintf(at, sizeof at, " vertex (%.3f %.3f %.3f)", points[v].x(), points[v].y(),
                       points[v].z());
-        report(kNonManifoldCase, at, "faces around the vertex do not form one fan");
+        report(kNonManifoldCase, name + at, "faces around the vertex do not form one fan");
         return false;
       }
     }
@@ -178,7 +184,7 @@ struct Checker {
 
   double signed_volume() const {
     double v = 0;
-    for (const auto& f : b.solid) {
+    for (const auto& f : *solid) {
       v += f.ring.front().dot(newell_normal(f.ring)) / 6;
       for (const auto& h : f.holes) {
         Vec3 hn = newell_normal(h);
@@ -196,8 +202,8 @@ struct Checker {
     std::vector<Mesh::Vertex_index> vi;
     for (const auto& p : snap.points) vi.push_back(mesh.add_vertex(K::Point_3(p.x(), p.y(), p.z())));
     std::vector<size_t> solid_face;  // of each triangle
-    for (size_t f = 0; f < b.solid.size(); ++f) {
-      exp::Triangles t = exp::triangulate(b.solid[f]);
+    for (size_t f = 0; f < solid->size(); ++f) {
+      exp::Triangles t = exp::triangulate((*solid)[f]);
       Ids flat;
       for (const auto& r : faces[f]) flat.insert(flat.end(), r.begin(), r.end());
       if (t.points.size() != flat.size()) return;  // ring had repeats: skip this test
@@ -211,7 +217,7 @@ struct Checker {
     CGAL::Polygon_mesh_processing::self_intersections(mesh, std::back_inserter(pairs));
     if (pairs.empty()) return;
     size_t f1 = solid_face[size_t(pairs[0].first)], f2 = solid_face[size_t(pairs[0].second)];
-    report(kShellSelfIntersection, "solid faces " + std::to_string(std::min(f1, f2)) + " and " +
+    report(kShellSelfIntersection, name + " faces " + std::to_string(std::min(f1, f2)) + " and " +
                                        std::to_string(std::max(f1, f2)),
            "faces of the shell intersect");
   }
@@ -222,7 +228,8 @@ struct Checker {
 std::vector<ValidationIssue> validate_building(const Building& b, const ValidationOptions& opt) {
   Checker c{b, opt, {}};
   c.elements();
-  c.shell();
+  c.shell(b.solid, "solid");
+  for (const auto& l : b.lower_lods) c.shell(l.faces, "lod " + l.lod + " solid");
   return c.issues;
 }
 

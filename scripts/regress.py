@@ -163,11 +163,16 @@ def roof_overlap(cityjson):
     for oid, o in objs.items():
         owner = o if not o.get("parents") else objs[o["parents"][0]]
         pid = owner.get("attributes", {}).get("parcel_id", oid)
-        for g in o.get("geometry", []):
-            if g["type"] != "MultiSurface" or "semantics" not in g:
+        geoms = o.get("geometry", [])
+        top = max((float(g["lod"]) for g in geoms), default=0)
+        for g in geoms:  # the primary LoD: the solid's roof and the overhangs beside it
+            if float(g["lod"]) != top or g["type"] not in ("MultiSurface", "Solid") or "semantics" not in g:
                 continue
-            kinds = [g["semantics"]["surfaces"][v]["type"] if v is not None else "" for v in g["semantics"]["values"]]
-            for surface, kind in zip(g["boundaries"], kinds):
+            solid = g["type"] == "Solid"
+            bounds = g["boundaries"][0] if solid else g["boundaries"]
+            values = g["semantics"]["values"][0] if solid else g["semantics"]["values"]
+            kinds = [g["semantics"]["surfaces"][v]["type"] if v is not None else "" for v in values]
+            for surface, kind in zip(bounds, kinds):
                 if kind != "RoofSurface":
                     continue
                 poly = ogr.Geometry(ogr.wkbPolygon)

@@ -24,6 +24,7 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/io/point_io.h"
 #include "tests/batch_e2e_support.h"
+#include "tests/export_checks.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
@@ -234,6 +235,7 @@ TEST(BatchE2E, SampleTownBatchWritesConsistentOutputs) {
   ASSERT_NO_FATAL_FAILURE(expect_store_sums_match_summary(db, summary_buildings, &per_parcel));
   ASSERT_NO_FATAL_FAILURE(expect_report_csv_matches_store(out, db, per_parcel, layer.parcels.size()));
   expect_gdal_sees_tables(out);
+  check::expect_judges_agree(out + "/buildings.city.json");
 }
 
 TEST(BatchE2E, AHipRoofKeepsItsFourPlanesWhateverTheOrderOfItsPoints) {
@@ -264,6 +266,7 @@ TEST(BatchE2E, AHipRoofKeepsItsFourPlanesWhateverTheOrderOfItsPoints) {
                           &log),
             0)
       << log;
+  check::expect_judges_agree(dir + "/out/buildings.city.json");
   std::ifstream t(town + "/truth.json"), s(dir + "/out/summary.json");
   const nlohmann::json truth = nlohmann::json::parse(t), summary = nlohmann::json::parse(s);
   int checked = 0;
@@ -306,6 +309,7 @@ TEST(BatchE2E, SamePointsInAnotherOrderGiveTheSameModels) {
                             &log),
               0)
         << log;
+    check::expect_judges_agree(dir + "/" + name + "/buildings.city.json");
     std::ifstream in(dir + "/" + name + "/summary.json");
     const nlohmann::json summary = nlohmann::json::parse(in);
     for (const auto& p : summary["parcels"])

@@ -3,7 +3,11 @@
 // the Cimahi acceptance test: CityGML schema (xmllint) and xlinks, CityJSON schema
 // (ajv) and vertex indices, IFC read back strictly by IFC++ and by web-ifc.
 // Each tool is optional on a developer machine; can_*() says whether it is there.
+#include <algorithm>
 #include <functional>
+#include <gtest/gtest.h>
+#include <iostream>
+#include <sstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -11,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/geometry.h"
+#include "core/types.h"
 #include "tests/export_fixtures.h"
 #include "tests/test_support.h"
 
@@ -63,6 +69,28 @@ inline std::map<std::string, double> citygml_areas(const std::string& xml) {
   return read;
 }
 
+// Area of every gml:Polygon of a CityGML file by its gml:id (exterior minus
+// interiors; an xlink to a polygon is no polygon of its own).
+inline std::map<std::string, double> citygml_polygon_areas(const std::string& xml) {
+  std::map<std::string, double> out;
+  const std::regex poly_re("<gml:Polygon gml:id=\"([^\"]+)\">([\\s\\S]*?)</gml:Polygon>");
+  const std::regex pos_re("<gml:posList[^>]*>([^<]*)</gml:posList>");
+  for (std::sregex_iterator it(xml.begin(), xml.end(), poly_re), end; it != end; ++it) {
+    const std::string body = (*it)[2];
+    Face f;
+    for (std::sregex_iterator jt(body.begin(), body.end(), pos_re); jt != end; ++jt) {
+      std::istringstream in((*jt)[1].str());
+      Ring3 ring;
+      for (double x, y, z; in >> x >> y >> z;) ring.emplace_back(x, y, z);
+      ring.pop_back();  // GML repeats the first point
+      if (f.ring.empty()) f.ring = ring;
+      else f.holes.push_back(ring);
+    }
+    out[(*it)[1]] = area(f);
+  }
+  return out;
+}
+
 // Boundary indices outside [0, vertices): the CityJSON schema cannot see them.
 inline size_t bad_indices(const nlohmann::json& doc) {
   const long long n = doc["vertices"].size();
@@ -76,10 +104,92 @@ inline size_t bad_indices(const nlohmann::json& doc) {
   return bad;
 }
 
+// Area of every surface at each city object's highest LoD, summed over the
+// file by semantic surface type ("WallSurface/party" for a party wall), as a
+// GIS user sums a layer: every geometry of that LoD, polygons minus holes.
+inline std::map<std::string, double> cityjson_type_areas(const nlohmann::json& doc) {
+  std::vector<Vec3> v;
+  const auto& t = doc["transform"];
+  for (const auto& p : doc["vertices"])
+    v.emplace_back(p[0].get<double>() * t["scale"][0].get<double>(), p[1].get<double>() * t["scale"][1].get<double>(),
+                   p[2].get<double>() * t["scale"][2].get<double>());
+  std::map<std::string, double> sum;
+  auto add = [&](const nlohmann::json& surface, const nlohmann::json& so) {
+    Face f;
+    for (size_t r = 0; r < surface.size(); ++r) {
+      Ring3 ring;
+      for (const auto& i : surface[r]) ring.push_back(v.at(i.get<size_t>()));
+      if (r == 0) f.ring = ring;
+      else f.holes.push_back(ring);
+    }
+    sum[so["type"].get<std::string>() + (so.value("is_party_wall", false) ? "/party" : "")] += area(f);
+  };
+  for (const auto& [id, obj] : doc["CityObjects"].items()) {
+    double top = -1;
+    for (const auto& g : obj.value("geometry", nlohmann::json::array())) top = std::max(top, std::stod(g["lod"].get<std::string>()));
+    for (const auto& g : obj.value("geometry", nlohmann::json::array())) {
+      if (std::stod(g["lod"].get<std::string>()) != top) continue;
+      const auto& sem = g["semantics"];
+      const bool solid = g["type"] == "Solid";
+      const auto& bounds = solid ? g["boundaries"][0] : g["boundaries"];
+      const auto& values = solid ? sem["values"][0] : sem["values"];
+      for (size_t k = 0; k < bounds.size(); ++k) add(bounds[k], sem["surfaces"][values[k].get<size_t>()]);
+    }
+  }
+  return sum;
+}
+
+// The same names for the store's element totals.
+inline std::map<std::string, double> store_type_areas(const BatchModel& m) {
+  std::map<std::string, double> sum;
+  for (const auto& r : m.results)
+    for (const auto& b : r.buildings)
+      for (const auto& e : b.elements) {
+        std::string name = e.type == ElementType::Roof ? "RoofSurface"
+                           : e.type == ElementType::Ground ? "GroundSurface"
+                           : e.type == ElementType::OuterCeiling ? "OuterCeilingSurface"
+                                                                 : "WallSurface";
+        sum[name + (e.type == ElementType::PartyWall ? "/party" : "")] += e.area;
+      }
+  return sum;
+}
+
+// Buildings `cadastre3d validate FILE` finds issues with (ids from its lines).
+inline std::set<std::string> validate_invalid(const std::string& file, std::string* log) {
+  test::run_cli("validate " + file, log);
+  std::set<std::string> ids;
+  std::istringstream in(*log);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("validate: ", 0) != 0 && line.find(": ") != std::string::npos)
+      ids.insert(line.substr(0, line.find(": ")));
+  return ids;
+}
+
+// val3dity finds every building of a CityJSON (or CityJSONSeq) file valid,
+// and `cadastre3d validate` reaches the same verdict on each building of a
+// CityJSON file; without val3dity beside the checkout, says so and checks ours.
+inline void expect_judges_agree(const std::string& cityjson) {
+  std::string log;
+  const bool seq = cityjson.size() > 6 && cityjson.substr(cityjson.size() - 6) == ".jsonl";
+  const std::set<std::string> ours = seq ? std::set<std::string>{} : validate_invalid(cityjson, &log);
+  const auto judged = test::val3dity_invalid(cityjson);
+  if (!judged) {
+    std::cout << "val3dity not found beside the checkout: " << cityjson << " judged by our check only\n";
+    EXPECT_TRUE(ours.empty()) << log;
+    return;
+  }
+  const std::set<std::string> val3dity(judged->begin(), judged->end());
+  std::string ids;
+  for (const auto& id : val3dity) ids += " " + id;
+  EXPECT_TRUE(val3dity.empty()) << cityjson << ": val3dity finds invalid:" << ids;
+  if (!seq) EXPECT_EQ(ours, val3dity) << cityjson << ": cadastre3d validate disagrees\n" << log;
+}
+
 inline bool can_ajv() { return !fixture::js_dir().empty() && !test::schemas_dir().empty(); }
 
-inline int ajv(const std::string& file, std::string* out) {
-  std::string schema = test::schemas_dir() + "/cityjson/2.0.2/cityjson.min.schema.json";
+// schema: "cityjson" or "cityjsonfeature" (a CityJSONSeq line) of CityJSON 2.0.2.
+inline int ajv(const std::string& file, std::string* out, const std::string& schema_name = "cityjson") {
+  std::string schema = test::schemas_dir() + "/cityjson/2.0.2/" + schema_name + ".min.schema.json";
   return fixture::sh("cd " + fixture::js_dir() +
                          " && node_modules/.bin/ajv validate --spec=draft7 -c ajv-formats --strict=false -s " +
                          schema + " -d " + file,

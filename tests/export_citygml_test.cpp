@@ -18,6 +18,22 @@ using namespace c3d::check;
 
 namespace {
 
+// The gable house with an LoD 1.2 prism and an LoD 1.3 block (by hand, as the
+// reconstruction will give them) and a roof type.
+BatchModel with_lower_lod(BatchModel m) {
+  Building& g = m.results[0].buildings[0];
+  for (auto [lod, h] : {std::pair{"1.2", 4.5}, {"1.3", 5.25}}) {
+    LodShell l;
+    l.lod = lod;
+    l.faces = test::box_shell({0, 0, 0}, {10, 8, h});
+    l.face_types.assign(l.faces.size(), ElementType::Wall);
+    g.lower_lods.push_back(l);
+  }
+  g.attributes.roof_type = "slanted";
+  g.attributes.roof_z_50p = 4.5;
+  return m;
+}
+
 // Parameter: the CityGML version.
 class CityGml : public ::testing::TestWithParam<int> {
  protected:
@@ -27,7 +43,7 @@ class CityGml : public ::testing::TestWithParam<int> {
     write_citygml(model, path, GetParam());
     xml = fx::read_text(path);
   }
-  BatchModel model = fx::sample_batch();
+  BatchModel model = with_lower_lod(fx::sample_batch());
   std::string dir, path, xml;
 };
 
@@ -58,7 +74,7 @@ TEST_P(CityGml, XlinksResolveAndPolygonsHaveIds) {
   EXPECT_GT(polygons, 0u);
   EXPECT_EQ(polygons, with_id);
   // The solid reuses element polygons: the attached houses' faces are all xlinks.
-  EXPECT_NE(xml.find("xlink:href=\"#c3d_P-002_b1_e5_f0\""), std::string::npos);
+  EXPECT_NE(xml.find("xlink:href=\"#c3d_P-002_b1_s4\""), std::string::npos);
   // Negative: a dangling reference is caught.
   std::string bad = xml;
   bad.replace(bad.find("xlink:href=\"#") + 13, 4, "zzzz");
@@ -94,6 +110,25 @@ TEST_P(CityGml, ElementAreasReadBack) {
         EXPECT_NEAR(it->second, b.elements[e].area, 0.01) << b.id << " element " << e;
       }
   EXPECT_EQ(read.size(), n);
+}
+
+TEST_P(CityGml, EachPolygonOnceSummingToTheElementTotals) {
+  // An element's surface holds its faces in the solid and what lies outside it
+  // (the overhang), the solid refers to them: summed over the file, the LoD 2
+  // polygons give the element totals. Before, the solid's clipped roofs were
+  // polygons of their own beside the whole roofs.
+  double lod2 = 0, lod1 = 0, elements = 0;
+  for (const auto& [id, a] : citygml_polygon_areas(xml)) (id.find("_lod1s") != std::string::npos ? lod1 : lod2) += a;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings)
+      for (const auto& e : b.elements) elements += e.area;
+  EXPECT_NEAR(lod2, elements, 0.01);
+  // The highest lower LoD is the lod1Solid (one solid per CityGML LoD).
+  EXPECT_NEAR(lod1, 2 * 80 + 2 * (10 + 8) * 5.25, 1e-6);
+  EXPECT_NE(xml.find(GetParam() == 3 ? "<core:lod1Solid>" : "<bldg:lod1Solid>"), std::string::npos);
+  EXPECT_NE(xml.find("<gen:value>LoD 1.3</gen:value>"), std::string::npos);
+  EXPECT_NE(xml.find("<gen:value>slanted</gen:value>"), std::string::npos);
+  EXPECT_NE(xml.find("704.500"), std::string::npos);  // roofHeight50p, world z
 }
 
 INSTANTIATE_TEST_SUITE_P(Version, CityGml, ::testing::Values(2, 3),

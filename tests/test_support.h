@@ -17,7 +17,8 @@ std::string schemas_dir();
 std::string temp_dir(const std::string& name);
 // The reference validator's verdict on a CityJSON file: the ids of the
 // features ../shared/tools/val3dity finds invalid ("<file>" when the file
-// itself fails with no feature named); nullopt when val3dity is absent.
+// itself fails with no feature named); nullopt when val3dity is absent. A
+// ".jsonl" file (CityJSONSeq) is judged as one CityJSON file of its features.
 std::optional<std::vector<std::string>> val3dity_invalid(const std::string& cityjson);
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.

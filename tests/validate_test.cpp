@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 
 #include "core/check/polygon_rules.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
+#include "tests/export_checks.h"
 #include "tests/export_fixtures.h"
 #include "tests/test_support.h"
 
@@ -217,4 +219,53 @@ TEST(PolygonRules, AVertexUnderAMillimetreFromAnotherFacesTiltsItOnceSnapped) {
   EXPECT_EQ(read[1].ring[2], wall.ring[0]);
   EXPECT_EQ(codes_of(read[1]), std::vector<int>{kNonPlanarNormalsDeviation});
   EXPECT_EQ(read[0].ring, wall.ring);  // the first read keeps its own
+}
+
+namespace {
+
+// The sample batch and, each on a parcel of its own, gable houses with one
+// defect each: the verdicts val3dity and `cadastre3d validate` must share.
+BatchModel with_defects() {
+  BatchModel m = fx::sample_batch();
+  auto add = [&](const std::string& pid, Building b) {
+    fx::translate(b, {100.0 * double(m.parcels.size()), 100, 0});
+    m.parcels.push_back(fx::parcel(int(m.parcels.size()), pid, m.frame.origin, 0, 1, 0, 1));
+    m.results.push_back(fx::result(m.parcels.back(), {b}));
+  };
+  Building open = fx::gable_house("D-open_b1");
+  open.solid.pop_back();
+  add("D-open", open);
+  Building flipped = fx::gable_house("D-flipped_b1");
+  std::reverse(flipped.solid[2].ring.begin(), flipped.solid[2].ring.end());
+  add("D-flipped", flipped);
+  Building bent = fx::gable_house("D-bent_b1");
+  bent.solid[5].ring[2].z() += 0.2;  // ~4 cm off its plane
+  add("D-bent", bent);
+  Building lod = fx::gable_house("D-lod_b1");
+  LodShell prism;
+  prism.lod = "1.2";
+  prism.faces = test::box_shell({0, 0, 0}, {10, 8, 4});
+  prism.faces.pop_back();  // the LoD 1.2 shell is open
+  prism.face_types.assign(prism.faces.size(), ElementType::Wall);
+  lod.lower_lods = {prism};
+  add("D-lod", lod);
+  return m;
+}
+
+}  // namespace
+
+TEST(Val3dityJudge, AgreesWithValidateOnEveryBuilding) {
+  // The same CityJSON file judged by both, building by building: the valid
+  // buildings pass both, each defect (open shell, flipped face, bent roof, an
+  // open lower LoD) fails both.
+  const std::string dir = test::temp_dir("judge"), path = dir + "/judged.city.json";
+  write_cityjson(with_defects(), path);
+  const auto judged = test::val3dity_invalid(path);
+  if (!judged) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  const std::set<std::string> val3dity(judged->begin(), judged->end());
+  std::string log;
+  const std::set<std::string> ours = check::validate_invalid(path, &log);
+  const std::set<std::string> defects{"D-open_b1", "D-flipped_b1", "D-bent_b1", "D-lod_b1"};
+  EXPECT_EQ(val3dity, defects);
+  EXPECT_EQ(ours, val3dity) << log;
 }
