@@ -4,7 +4,9 @@
 // Conventions shared by every format (see also DESIGN.md, "Elements"):
 //  - coordinates: CityGML/CityJSON carry world coordinates (local + frame.origin,
 //    millimetre resolution); IFC, OBJ and STEP carry coordinates local to
-//    frame.origin (IFC georeferences them with IfcMapConversion + IfcProjectedCRS).
+//    frame.origin (IFC georeferences them with IfcMapConversion + IfcProjectedCRS,
+//    OBJ with an offset file beside each OBJ: float32 readers keep local metres to
+//    the sub-millimetre, world UTM northings only to 1 m).
 //  - party walls are real walls, so CityGML/CityJSON write them as WallSurface with
 //    the attribute isPartyWall = true (ClosureSurface is reserved for virtual
 //    surfaces); IFC writes IfcWall .USERDEFINED. with ObjectType 'PartyWall'.
@@ -34,7 +36,9 @@ void write_cityjson(const BatchModel& model, const std::string& path);
 // its own vertices, written building by building.
 void write_cityjson_seq(const BatchModel& model, const std::string& path);
 void write_ifc(const BatchModel& model, const std::string& path);
-// One <parcel id>.obj per parcel with buildings (groups per element); returns the files.
+// One <parcel id>.obj per parcel with buildings (groups per element), each with
+// <parcel id>.offset.json (world = local + offset, CRS) and, where the CRS is
+// known, <parcel id>.prj beside it; returns the .obj files.
 std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir);
 // One <building id>.step per building solid (OpenCASCADE B-rep); returns the files.
 // A solid OpenCASCADE cannot build throws, or with `skipped` is listed there

@@ -1,8 +1,11 @@
 // IFC4 (ADD2 TC1) STEP writer, own text output: IfcProject -> IfcSite (per parcel)
-// -> IfcBuilding -> IfcBuildingStorey; roof slabs aggregated in an IfcRoof; walls,
-// base slab, outer-ceiling covering contained in the storey. Geometry is one
-// IfcTriangulatedFaceSet per element in coordinates local to the frame origin,
-// georeferenced by IfcMapConversion. GlobalIds are hashes of stable keys.
+// -> IfcBuilding -> one IfcBuildingStorey per storey; roof slabs aggregated in an
+// IfcRoof; each element contained in the storey it belongs to (docs/exports.md,
+// "IFC storeys"), with the IFC4 common property sets whose values we know.
+// Geometry is one IfcTriangulatedFaceSet per element, relative to its storey's
+// placement, in the frame of the frame origin, georeferenced by IfcMapConversion.
+// GlobalIds are hashes of stable keys.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -84,6 +87,61 @@ std::string refs(const std::vector<int>& ids) {
 }
 std::string ref(int id) { return "#" + std::to_string(id); }
 
+// A wall starting this little below a storey level starts on it: the storey
+// height is the eave height over a rounded storey count, so levels are approximate.
+constexpr double kStoreyTolM = 0.05;
+
+// Storey levels of a building: `count` storeys of equal height from the ground
+// floor (terrain_z) to the eave, as Building::storeys counts them.
+struct StoreyLevels {
+  double base = 0, height = 0;
+  int count = 1;
+  explicit StoreyLevels(const Building& b)
+      : base(b.terrain_z), count(std::max(1, b.storeys)) {
+    height = b.eave_height > 0 ? b.eave_height / count : 0;
+    if (height <= 0) count = 1;
+  }
+  double elevation(int k) const { return base + k * height; }
+  int top() const { return count - 1; }
+  // The storey whose level z lies in (clamped to the building's storeys).
+  int at(double z) const {
+    if (height <= 0) return 0;
+    int k = int(std::floor((z - base + kStoreyTolM) / height));
+    return std::clamp(k, 0, top());
+  }
+};
+
+double element_min_z(const Element& el) {
+  double z = INFINITY;
+  for (const auto& f : el.faces)
+    for (const auto& p : f.ring) z = std::min(z, p.z());
+  return z;
+}
+
+// The storey an element belongs to: ground slab the lowest, roof and outer
+// ceiling the top storey, a wall the storey where it starts.
+int storey_of(const Element& el, const StoreyLevels& levels) {
+  switch (el.type) {
+    case ElementType::Ground: return 0;
+    case ElementType::Roof:
+    case ElementType::OuterCeiling: return levels.top();
+    case ElementType::Wall:
+    case ElementType::PartyWall: return levels.at(element_min_z(el));
+  }
+  return 0;
+}
+
+const char* common_pset(ElementType t) {
+  switch (t) {
+    case ElementType::Roof:
+    case ElementType::Ground: return "Pset_SlabCommon";
+    case ElementType::Wall:
+    case ElementType::PartyWall: return "Pset_WallCommon";
+    case ElementType::OuterCeiling: return "Pset_CoveringCommon";
+  }
+  return "";
+}
+
 const char* qto_name(ElementType t) {
   switch (t) {
     case ElementType::Roof:
@@ -161,9 +219,15 @@ class IfcWriter {
     }
   }
 
-  int placement(int relative_to) {
+  // A placement relative to another (none: absolute), raised by z.
+  int placement(int relative_to, double z = 0) {
+    int axis = axis_;
+    if (z != 0) {
+      int at = add("IFCCARTESIANPOINT((0.,0.," + step_real(z) + "))");
+      axis = add("IFCAXIS2PLACEMENT3D(" + ref(at) + ",$,$)");
+    }
     return add("IFCLOCALPLACEMENT(" + (relative_to ? ref(relative_to) : std::string("$")) + "," +
-               ref(axis_) + ")");
+               ref(axis) + ")");
   }
 
   void aggregate(const std::string& key, int whole, const std::vector<int>& parts) {
@@ -229,56 +293,102 @@ class IfcWriter {
   int building(const Building& b, int site_plc) {
     const std::string key = "building/" + b.id;
     int plc = placement(site_plc);
+    // Local z 0 is the building's 0.00 level: its height in the CRS is the frame
+    // origin's, so storey elevations are local z.
+    const double z0 = m_.frame.origin.z();
     int bldg = add("IFCBUILDING('" + ifc_guid(key) + "',$," + step_str(b.id) + ",$,$," + ref(plc) +
-                   ",$,$,.ELEMENT.,$,$,$)");
-    int vol = add("IFCQUANTITYVOLUME('GrossVolume',$,$," + step_real(b.volume) + ",$)");
-    int qto = add("IFCELEMENTQUANTITY('" + ifc_guid(key + "/qto") +
-                  "',$,'Qto_BuildingBaseQuantities',$,$,(" + ref(vol) + "))");
-    define(key + "/qto/rel", bldg, qto);
-    int splc = placement(plc);
-    int storey = add("IFCBUILDINGSTOREY('" + ifc_guid(key + "/storey") + "',$,'Ground floor',$,$," +
-                     ref(splc) + ",$,$,.ELEMENT.," + step_real(b.terrain_z) + ")");
-    aggregate(key, bldg, {storey});
-    contents(b, key, splc, storey);
+                   ",$,$,.ELEMENT.," + step_real(z0) + "," + step_real(z0 + b.terrain_z) + ",$)");
+    building_sets(b, key, bldg);
+    const StoreyLevels levels(b);
+    std::vector<Storey> storeys;
+    for (int k = 0; k < levels.count; ++k) {
+      Storey s;
+      s.elevation = levels.elevation(k);
+      s.placement = placement(plc, s.elevation);
+      const std::string name = k == 0 ? "Ground floor" : "Floor " + std::to_string(k);
+      s.id = add("IFCBUILDINGSTOREY('" + ifc_guid(key + "/storey" + std::to_string(k)) + "',$," +
+                 step_str(name) + ",$,$," + ref(s.placement) + ",$,$,.ELEMENT.," +
+                 step_real(s.elevation) + ")");
+      storeys.push_back(s);
+    }
+    std::vector<int> ids;
+    for (const auto& s : storeys) ids.push_back(s.id);
+    aggregate(key, bldg, ids);
+    contents(b, key, levels, storeys);
     return bldg;
   }
 
-  void contents(const Building& b, const std::string& key, int splc, int storey) {
-    std::vector<int> contained, slabs;
+  // Pset_BuildingCommon (BuildingID, NumberOfStoreys) and the base quantities we know.
+  void building_sets(const Building& b, const std::string& key, int bldg) {
+    std::vector<int> q = {
+        add("IFCQUANTITYLENGTH('Height',$,$," + step_real(b.ridge_height) + ",$)"),
+        add("IFCQUANTITYLENGTH('EavesHeight',$,$," + step_real(b.eave_height) + ",$)"),
+        add("IFCQUANTITYVOLUME('GrossVolume',$,$," + step_real(b.volume) + ",$)")};
+    double footprint = 0;
+    for (const auto& e : b.elements) footprint += e.type == ElementType::Ground ? e.area : 0;
+    if (footprint > 0) q.insert(q.begin() + 2, area_q("FootprintArea", footprint));
+    int qto = add("IFCELEMENTQUANTITY('" + ifc_guid(key + "/qto") +
+                  "',$,'Qto_BuildingBaseQuantities',$,$," + refs(q) + ")");
+    define(key + "/qto/rel", bldg, qto);
+    std::vector<int> p = {prop("BuildingID", "IFCIDENTIFIER(" + step_str(b.id) + ")"),
+                          prop("NumberOfStoreys", "IFCINTEGER(" + std::to_string(b.storeys) + ")")};
+    int pset = add("IFCPROPERTYSET('" + ifc_guid(key + "/common") + "',$,'Pset_BuildingCommon',$," +
+                   refs(p) + ")");
+    define(key + "/common/rel", bldg, pset);
+  }
+
+  struct Storey {
+    int id = 0, placement = 0;
+    double elevation = 0;
+    std::vector<int> contained;
+  };
+
+  void contents(const Building& b, const std::string& key, const StoreyLevels& levels,
+                std::vector<Storey>& storeys) {
+    std::vector<int> slabs;
     double roof_area = 0, roof_plan = 0;
     bool flat = true;
+    Storey& top = storeys[levels.top()];
     for (size_t e = 0; e < b.elements.size(); ++e) {
       const Element& el = b.elements[e];
-      int id = element(b, e, splc);
-      if (!id) continue;
-      if (el.type == ElementType::Roof) {
+      Storey& s = storeys[storey_of(el, levels)];
+      if (el.type == ElementType::Roof) {  // in the IfcRoof, placed on the top storey
+        int id = element(b, e, top.placement, top.elevation);
+        if (!id) continue;
         slabs.push_back(id);
         roof_area += el.area;
         roof_plan += el.plan_area;
         flat = flat && el.slope_deg < 5;
-      } else {
-        contained.push_back(id);
+      } else if (int id = element(b, e, s.placement, s.elevation)) {
+        s.contained.push_back(id);
       }
     }
-    if (!slabs.empty()) {
-      int roof = add("IFCROOF('" + ifc_guid(key + "/roof") + "',$,'Roof',$,$," + ref(placement(splc)) +
-                     ",$," + step_str(b.id + "/roof") + "," + (flat ? ".FLAT_ROOF." : ".NOTDEFINED.") +
-                     ")");
-      aggregate(key + "/roof", roof, slabs);
-      int qto = add("IFCELEMENTQUANTITY('" + ifc_guid(key + "/roof/qto") +
-                    "',$,'Qto_RoofBaseQuantities',$,$,(" + ref(area_q("GrossArea", roof_area)) + "," +
-                    ref(area_q("NetArea", roof_area)) + "," + ref(area_q("ProjectedArea", roof_plan)) +
-                    "))");
-      define(key + "/roof/qto/rel", roof, qto);
-      contained.push_back(roof);
-    }
-    if (!contained.empty())
-      add("IFCRELCONTAINEDINSPATIALSTRUCTURE('" + ifc_guid(key + "/contains") + "',$,$,$," +
-          refs(contained) + "," + ref(storey) + ")");
+    if (!slabs.empty()) top.contained.push_back(roof(b, key, top.placement, slabs, flat, roof_area, roof_plan));
+    for (size_t k = 0; k < storeys.size(); ++k)
+      if (!storeys[k].contained.empty())
+        add("IFCRELCONTAINEDINSPATIALSTRUCTURE('" + ifc_guid(key + "/contains" + std::to_string(k)) +
+            "',$,$,$," + refs(storeys[k].contained) + "," + ref(storeys[k].id) + ")");
   }
 
-  // One IfcTriangulatedFaceSet for all faces of the element (vertices shared).
-  int body(const Element& el) {
+  // The IfcRoof aggregating the roof slabs, with its quantities and Pset_RoofCommon.
+  int roof(const Building& b, const std::string& key, int plc, const std::vector<int>& slabs, bool flat,
+           double area, double plan) {
+    int roof = add("IFCROOF('" + ifc_guid(key + "/roof") + "',$,'Roof',$,$," + ref(placement(plc)) +
+                   ",$," + step_str(b.id + "/roof") + "," + (flat ? ".FLAT_ROOF." : ".NOTDEFINED.") + ")");
+    aggregate(key + "/roof", roof, slabs);
+    int qto = add("IFCELEMENTQUANTITY('" + ifc_guid(key + "/roof/qto") +
+                  "',$,'Qto_RoofBaseQuantities',$,$,(" + ref(area_q("GrossArea", area)) + "," +
+                  ref(area_q("NetArea", area)) + "," + ref(area_q("ProjectedArea", plan)) + "))");
+    define(key + "/roof/qto/rel", roof, qto);
+    int pset = add("IFCPROPERTYSET('" + ifc_guid(key + "/roof/common") + "',$,'Pset_RoofCommon',$,(" +
+                   ref(prop("IsExternal", "IFCBOOLEAN(.T.)")) + "))");
+    define(key + "/roof/common/rel", roof, pset);
+    return roof;
+  }
+
+  // One IfcTriangulatedFaceSet for all faces of the element (vertices shared),
+  // z relative to the storey level `dz`.
+  int body(const Element& el, double dz) {
     std::map<std::array<double, 3>, int> index;
     std::string coords, tris;
     for (const auto& f : el.faces) {
@@ -289,7 +399,7 @@ class IfcWriter {
         auto [it, fresh] = index.try_emplace({p.x(), p.y(), p.z()}, int(index.size()) + 1);
         if (fresh)
           coords += std::string(coords.empty() ? "" : ",") + "(" + step_real(p.x()) + "," +
-                    step_real(p.y()) + "," + step_real(p.z()) + ")";
+                    step_real(p.y()) + "," + step_real(p.z() - dz) + ")";
         local[i] = it->second;
       }
       for (const auto& tr : t.tris)
@@ -303,15 +413,16 @@ class IfcWriter {
     return add("IFCPRODUCTDEFINITIONSHAPE($,$,(" + ref(rep) + "))");
   }
 
-  int element(const Building& b, size_t e, int splc) {
+  // The element placed on the storey placement `plc` at level `dz`.
+  int element(const Building& b, size_t e, int plc, double dz) {
     const Element& el = b.elements[e];
     const std::string tag = b.id + "/e" + std::to_string(e);
     const std::string key = "element/" + tag;
-    int shape = body(el);
+    int shape = body(el, dz);
     if (!shape) return 0;
     std::string name = std::string(to_string(el.type)) + " " + std::to_string(e);
     std::string common = "('" + ifc_guid(key) + "',$," + step_str(name) + ",$,";
-    std::string rest = ref(placement(splc)) + "," + ref(shape) + "," + step_str(tag) + ",";
+    std::string rest = ref(placement(plc)) + "," + ref(shape) + "," + step_str(tag) + ",";
     int id = 0;
     switch (el.type) {
       case ElementType::Roof: id = add("IFCSLAB" + common + "$," + rest + ".ROOF.)"); break;
@@ -325,24 +436,39 @@ class IfcWriter {
         break;
     }
     quantities(el, key, id);
+    common_properties(el, key, id);
     properties(el, key, id);
     return id;
   }
 
+  // Base quantities as IFC4 defines them for the type: the element's area
+  // (Qto_SlabBaseQuantities has no projected area: it is in our own set).
   void quantities(const Element& el, const std::string& key, int id) {
     bool wall = el.type == ElementType::Wall || el.type == ElementType::PartyWall;
     std::vector<int> q = {area_q(wall ? "GrossSideArea" : "GrossArea", el.area),
                           area_q(wall ? "NetSideArea" : "NetArea", el.area)};
-    if (el.type == ElementType::Roof) q.push_back(area_q("ProjectedArea", el.plan_area));
     int qto = add("IFCELEMENTQUANTITY('" + ifc_guid(key + "/qto") + "',$,'" + qto_name(el.type) +
                   "',$,$," + refs(q) + ")");
     define(key + "/qto/rel", id, qto);
   }
 
+  // The common property set of the type, with what we know: every element is
+  // part of the envelope, so IsExternal is true (a party wall too: IFC4 calls a
+  // boundary with another building on the other side external, EXTERNAL_FIRE);
+  // a roof slab's PitchAngle is its slope (radians, the project's angle unit).
+  void common_properties(const Element& el, const std::string& key, int id) {
+    std::vector<int> p = {prop("IsExternal", "IFCBOOLEAN(.T.)")};
+    if (el.type == ElementType::Roof)
+      p.push_back(prop("PitchAngle", "IFCPLANEANGLEMEASURE(" + step_real(el.slope_deg * M_PI / 180, 6) + ")"));
+    int pset = add("IFCPROPERTYSET('" + ifc_guid(key + "/common") + "',$,'" + common_pset(el.type) + "',$," +
+                   refs(p) + ")");
+    define(key + "/common/rel", id, pset);
+  }
+
+  int prop(const char* name, const std::string& value) {
+    return add(std::string("IFCPROPERTYSINGLEVALUE('") + name + "',$," + value + ",$)");
+  }
   void properties(const Element& el, const std::string& key, int id) {
-    auto prop = [&](const char* name, const std::string& value) {
-      return add(std::string("IFCPROPERTYSINGLEVALUE('") + name + "',$," + value + ",$)");
-    };
     std::vector<int> p = {
         prop("ElementType", "IFCLABEL(" + step_str(to_string(el.type)) + ")"),
         prop("Area", "IFCAREAMEASURE(" + step_real(el.area) + ")"),

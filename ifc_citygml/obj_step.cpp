@@ -1,5 +1,6 @@
-// OBJ per parcel (one group per element, triangulated, local coordinates) and a
-// STEP B-rep solid per building through OpenCASCADE (faces sewn into a shell).
+// OBJ per parcel (one group per element, triangulated, local coordinates, with
+// the offset and CRS in files beside it) and a STEP B-rep solid per building
+// through OpenCASCADE (faces sewn into a shell).
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
@@ -22,9 +23,13 @@
 #include <gp_Pln.hxx>
 #include <gp_Pnt.hxx>
 
+#include <cpl_conv.h>
+#include <ogr_spatialref.h>
+
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <utility>
 
@@ -45,13 +50,48 @@ std::string obj_name(const std::string& s) {
   return out.empty() ? "unnamed" : out;
 }
 
+// The model's CRS as ESRI WKT (the .prj dialect GIS tools read), or "" when unknown.
+std::string esri_wkt(const BatchModel& m) {
+  OGRSpatialReference srs;
+  const bool ok = m.epsg > 0 ? srs.importFromEPSG(m.epsg) == OGRERR_NONE
+                             : !m.crs_wkt.empty() && srs.SetFromUserInput(m.crs_wkt.c_str()) == OGRERR_NONE;
+  if (!ok) return "";
+  char* out = nullptr;
+  const char* opts[] = {"FORMAT=WKT1_ESRI", nullptr};
+  std::string wkt = srs.exportToWkt(&out, opts) == OGRERR_NONE && out ? out : "";
+  CPLFree(out);
+  return wkt;
+}
+
+// Beside <stem>.obj: <stem>.offset.json (world = local + offset, CRS) and, when
+// the CRS is known, <stem>.prj (docs/exports.md, "OBJ").
+void write_georeference(const BatchModel& m, const fs::path& obj, const std::string& prj) {
+  const Vec3& o = m.frame.origin;
+  nlohmann::json j = {{"obj", obj.filename().string()},
+                      {"offset", {o.x(), o.y(), o.z()}},
+                      {"world", "local + offset"},
+                      {"units", "metre"},
+                      {"crs", m.epsg > 0 ? nlohmann::json("EPSG:" + std::to_string(m.epsg)) : nlohmann::json()},
+                      {"crs_wkt", m.crs_wkt}};
+  fs::path json = obj;
+  json.replace_extension(".offset.json");
+  std::ofstream(json) << j.dump(2) << "\n";
+  if (prj.empty()) return;
+  fs::path p = obj;
+  p.replace_extension(".prj");
+  std::ofstream(p) << prj << "\n";
+}
+
 void write_obj(const BatchModel& m, const ParcelResult& r, const std::string& path) {
   std::ofstream os(path, std::ios::binary);
   if (!os) throw std::runtime_error(path + ": cannot open for writing");
   const Vec3& o = m.frame.origin;
+  fs::path json = fs::path(path).filename();
+  json.replace_extension(".offset.json");
   os << "# Cadastre3D parcel " << r.parcel_id << "\n# coordinates local: world = local + ("
      << exp::fixed(o.x(), 3) << ", " << exp::fixed(o.y(), 3) << ", " << exp::fixed(o.z(), 3)
-     << ")" << (m.epsg > 0 ? ", EPSG:" + std::to_string(m.epsg) : std::string()) << "\n";
+     << ")" << (m.epsg > 0 ? ", EPSG:" + std::to_string(m.epsg) : std::string()) << "\n"
+     << "# georeference: " << json.string() << " (offset and CRS)\n";
   long base = 1;  // OBJ indices are 1-based and file-global
   for (const auto& b : r.buildings) {
     os << "o " << obj_name(b.id) << "\n";
@@ -135,10 +175,12 @@ class QuietOcc {
 std::vector<std::string> write_obj_per_parcel(const BatchModel& model, const std::string& dir) {
   fs::create_directories(dir);
   std::vector<std::string> files;
+  const std::string prj = esri_wkt(model);
   for (const auto& r : model.results) {
     if (r.buildings.empty()) continue;
     std::string path = (fs::path(dir) / (file_stem_for_id(r.parcel_id) + ".obj")).string();
     write_obj(model, r, path);
+    write_georeference(model, path, prj);
     files.push_back(path);
   }
   return files;

@@ -1,19 +1,22 @@
 // Acceptance of the exports on whole batches: the real Cimahi data (skipped when
 // ../shared/data/cimahi is absent) and a generated sample town (hanging roofs,
 // party walls, two roof levels). One batch per data set writes the store,
-// CityGML, CityJSON, CityJSONSeq and IFC; every building is a valid solid by our
-// validator (on the store and on the CityJSON file) and by val3dity, which agree
-// on each building; every file passes its independent check, every element
-// area read back from each file equals the store's within 0.01 m^2, and the
-// surfaces summed over each file by type give the store's totals.
+// CityGML, CityJSON, CityJSONSeq, IFC and OBJ; every building is a valid solid by
+// our validator (on the store and on the CityJSON file) and by val3dity, which
+// agree on each building; every file passes its independent check, every
+// element area read back from each file equals the store's within 0.01 m^2, and
+// the surfaces summed over each file by type give the store's totals.
 #include <gtest/gtest.h>
 #include <ogr_geometry.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <map>
 #include <regex>
+#include <set>
+#include <sstream>
 
 #include "cadastre/parcels.h"
 #include "cadastre/store.h"
@@ -47,7 +50,7 @@ Batch run_batch(const std::string& cloud, const std::string& parcels, const std:
   r.cloud = cloud;
   r.parcels = parcels;
   r.rc = test::run_cli("batch --quiet --cloud " + cloud + " --parcels " + parcels + " --dtm " + dtm + " --out " +
-                           out + " --formats gml,gml3,cityjson,cityjsonseq,ifc",
+                           out + " --formats gml,gml3,cityjson,cityjsonseq,ifc,obj",
                        &r.log);
   if (r.rc != 0) return r;
   r.store = load_batch_model(out + "/cadastre.gpkg");
@@ -309,6 +312,89 @@ TEST_P(Exports, IfcReadByWebIfcAndIfcPlusPlus) {
   EXPECT_EQ(r.problems, 0) << r.messages;
   for (const auto& [tag, a] : b.area) EXPECT_NEAR(r.gross[tag], a, 0.01) << tag;
 #endif
+}
+
+// IFC: one storey per storey the store counts, every element on one, every
+// element with its common property set's IsExternal (web-ifc and IFC++).
+TEST_P(Exports, IfcStoreysAndCommonPropertySets) {
+  C3D_BATCH(b);
+  const std::string path = b.out + "/buildings.ifc";
+  std::map<std::string, int> storeys;
+  int several = 0;
+  for (const auto& p : b.store.results)
+    for (const auto& bld : p.buildings) several += (storeys[bld.id] = bld.storeys) > 1;
+  EXPECT_GT(several, 0) << "no building of several storeys: nothing checked";
+  if (can_web_ifc()) {
+    int rc = 0;
+    std::string out;
+    nlohmann::json doc = web_ifc(path, &rc, &out);
+    ASSERT_EQ(rc, 0) << out;
+    ASSERT_EQ(doc["buildings"].size(), storeys.size());
+    for (const auto& jb : doc["buildings"])
+      EXPECT_EQ(jb["storeys"].size(), size_t(storeys.at(jb["name"]))) << jb["name"];
+    std::set<std::string> external;
+    for (const auto& p : doc["properties"])
+      if (p["name"] == "IsExternal" && p["value"] == true) external.insert(p["tag"]);
+    for (const auto& e : doc["elements"]) {
+      EXPECT_FALSE(e["storey"].is_null()) << e["tag"];
+      EXPECT_TRUE(external.count(e["tag"])) << e["tag"];
+    }
+  }
+#ifdef C3D_HAVE_IFCPP
+  IfcppRead r = read_with_ifcpp(fx::read_text(path));
+  EXPECT_EQ(r.problems, 0) << r.messages;
+  EXPECT_EQ(r.storeys, storeys);
+  EXPECT_EQ(r.storey.size(), b.area.size());
+  EXPECT_EQ(r.is_external.size(), b.area.size());
+#endif
+}
+
+// OBJ: a float32 reader adding the offset of <parcel>.offset.json to the OBJ's
+// local coordinates gets the store's world coordinates to the millimetre.
+TEST_P(Exports, ObjOffsetFileGivesTheStoresWorldCoordinates) {
+  C3D_BATCH(b);
+  std::map<std::string, std::vector<Vec3>> world;  // OBJ group -> the store's element vertices
+  for (const auto& p : b.store.results)
+    for (const auto& bld : p.buildings)
+      for (size_t e = 0; e < bld.elements.size(); ++e) {
+        auto& w = world[bld.id + "_" + to_string(bld.elements[e].type) + "_" + std::to_string(e)];
+        for (const auto& f : bld.elements[e].faces) {
+          for (const auto& v : f.ring) w.push_back(b.store.frame.to_world(v));
+          for (const auto& h : f.holes)
+            for (const auto& v : h) w.push_back(b.store.frame.to_world(v));
+        }
+      }
+  size_t files = 0, vertices = 0;
+  double worst = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(b.out + "/obj")) {
+    if (entry.path().extension() != ".obj") continue;
+    ++files;
+    std::filesystem::path json = entry.path();
+    json.replace_extension(".offset.json");
+    ASSERT_TRUE(std::filesystem::exists(json)) << json;
+    const auto g = nlohmann::json::parse(fx::read_text(json.string()));
+    const Vec3 offset(g["offset"][0], g["offset"][1], g["offset"][2]);
+    std::istringstream is(fx::read_text(entry.path().string()));
+    std::string group;
+    for (std::string line; std::getline(is, line);) {
+      std::istringstream ls(line);
+      std::string tag;
+      ls >> tag;
+      if (tag == "g") ls >> group;
+      if (tag != "v") continue;
+      float x, y, z;  // as most OBJ readers hold them
+      ls >> x >> y >> z;
+      const Vec3 v(x, y, z);
+      ASSERT_TRUE(world.count(group)) << group;
+      double best = 1e300;
+      for (const auto& w : world[group]) best = std::min(best, (w - (v + offset)).norm());
+      worst = std::max(worst, best);
+      ++vertices;
+    }
+  }
+  EXPECT_GT(files, 10u);
+  EXPECT_GT(vertices, 1000u);
+  EXPECT_LT(worst, 1e-3) << "an OBJ vertex plus the offset is not a store vertex to the mm";
 }
 
 INSTANTIATE_TEST_SUITE_P(Batch, Exports, ::testing::Values("cimahi", "sample_town"),

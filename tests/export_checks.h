@@ -22,12 +22,20 @@
 
 #ifdef C3D_HAVE_IFCPP
 #include <ifcpp/IFC4/include/IfcAreaMeasure.h>
+#include <ifcpp/IFC4/include/IfcBoolean.h>
+#include <ifcpp/IFC4/include/IfcBuilding.h>
+#include <ifcpp/IFC4/include/IfcBuildingStorey.h>
 #include <ifcpp/IFC4/include/IfcElement.h>
 #include <ifcpp/IFC4/include/IfcElementQuantity.h>
 #include <ifcpp/IFC4/include/IfcIdentifier.h>
 #include <ifcpp/IFC4/include/IfcLabel.h>
+#include <ifcpp/IFC4/include/IfcPropertySet.h>
+#include <ifcpp/IFC4/include/IfcPropertySingleValue.h>
 #include <ifcpp/IFC4/include/IfcQuantityArea.h>
+#include <ifcpp/IFC4/include/IfcRelAggregates.h>
+#include <ifcpp/IFC4/include/IfcRelContainedInSpatialStructure.h>
 #include <ifcpp/IFC4/include/IfcRelDefinesByProperties.h>
+#include <ifcpp/IFC4/include/IfcRoof.h>
 #include <ifcpp/model/BuildingModel.h>
 #include <ifcpp/reader/ReaderSTEP.h>
 #endif
@@ -212,6 +220,9 @@ struct IfcppRead {
   std::string messages;
   size_t entities = 0;
   std::map<std::string, double> gross;  // tag -> GrossArea / GrossSideArea
+  std::map<std::string, int> storeys;          // building name -> IfcBuildingStoreys aggregated
+  std::map<std::string, std::string> storey;   // element tag -> name of the storey containing it
+  std::map<std::string, bool> is_external;     // element tag -> Pset_*Common.IsExternal
 };
 
 inline void on_message(void* target, shared_ptr<StatusCallback::Message> m) {
@@ -225,6 +236,53 @@ inline void on_message(void* target, shared_ptr<StatusCallback::Message> m) {
 
 inline std::string narrow(const std::wstring& w) { return std::string(w.begin(), w.end()); }
 
+inline std::string ifcpp_name(const shared_ptr<IfcRoot>& o) {
+  return o && o->m_Name ? narrow(o->m_Name->m_value) : "";
+}
+
+// Storeys per building (IfcRelAggregates) and the storey of every element
+// (IfcRelContainedInSpatialStructure; a slab aggregated in a contained IfcRoof: the roof's).
+inline void read_ifcpp_storeys(BuildingModel& model, IfcppRead& out) {
+  std::map<IfcObjectDefinition*, IfcObjectDefinition*> parent;
+  std::map<IfcObjectDefinition*, std::string> storey_of;
+  for (const auto& [id, e] : model.getMapIfcEntities()) {
+    if (auto agg = std::dynamic_pointer_cast<IfcRelAggregates>(e)) {
+      for (const auto& o : agg->m_RelatedObjects) {
+        parent[o.get()] = agg->m_RelatingObject.get();
+        if (std::dynamic_pointer_cast<IfcBuildingStorey>(o) &&
+            std::dynamic_pointer_cast<IfcBuilding>(agg->m_RelatingObject))
+          ++out.storeys[ifcpp_name(agg->m_RelatingObject)];
+      }
+    } else if (auto c = std::dynamic_pointer_cast<IfcRelContainedInSpatialStructure>(e)) {
+      for (const auto& p : c->m_RelatedElements) storey_of[p.get()] = ifcpp_name(c->m_RelatingStructure);
+    }
+  }
+  for (const auto& [id, e] : model.getMapIfcEntities()) {
+    auto el = std::dynamic_pointer_cast<IfcElement>(e);
+    if (!el || !el->m_Tag || std::dynamic_pointer_cast<IfcRoof>(e)) continue;
+    auto it = storey_of.find(el.get());
+    if (it == storey_of.end() && parent.count(el.get())) it = storey_of.find(parent[el.get()]);
+    if (it != storey_of.end()) out.storey[narrow(el->m_Tag->m_value)] = it->second;
+  }
+}
+
+inline void read_ifcpp_is_external(const IfcRelDefinesByProperties& rel, IfcppRead& out) {
+  auto pset = std::dynamic_pointer_cast<IfcPropertySet>(rel.m_RelatingPropertyDefinition);
+  if (!pset || !pset->m_Name) return;
+  const std::string name = narrow(pset->m_Name->m_value);
+  if (name.rfind("Pset_", 0) != 0 || name.size() < 6 || name.substr(name.size() - 6) != "Common") return;
+  for (const auto& p : pset->m_HasProperties) {
+    auto v = std::dynamic_pointer_cast<IfcPropertySingleValue>(p);
+    if (!v || !v->m_Name || narrow(v->m_Name->m_value) != "IsExternal") continue;
+    auto b = std::dynamic_pointer_cast<IfcBoolean>(v->m_NominalValue);
+    for (const auto& o : rel.m_RelatedObjects) {
+      auto el = std::dynamic_pointer_cast<IfcElement>(o);
+      if (b && el && el->m_Tag && !std::dynamic_pointer_cast<IfcRoof>(o))
+        out.is_external[narrow(el->m_Tag->m_value)] = b->m_value;
+    }
+  }
+}
+
 inline IfcppRead read_with_ifcpp(std::string content) {
   IfcppRead out;
   auto model = std::make_shared<BuildingModel>();
@@ -233,9 +291,11 @@ inline IfcppRead read_with_ifcpp(std::string content) {
   model->setMessageCallBack(&out, &on_message);
   reader.loadModelFromString(content, model);
   out.entities = model->getMapIfcEntities().size();
+  read_ifcpp_storeys(*model, out);
   for (const auto& [id, e] : model->getMapIfcEntities()) {
     auto rel = std::dynamic_pointer_cast<IfcRelDefinesByProperties>(e);
     if (!rel) continue;
+    read_ifcpp_is_external(*rel, out);
     auto qto = std::dynamic_pointer_cast<IfcElementQuantity>(rel->m_RelatingPropertyDefinition);
     if (!qto) continue;
     for (const auto& obj : rel->m_RelatedObjects) {

@@ -41,6 +41,19 @@ class Ifc : public ::testing::Test {
   std::string dir, path, text;
 };
 
+// Known answers of the fixture: attached_a (2 storeys, eave 6 m) has its upper
+// exterior wall (from 4 m) and its roof on the upper floor; two_levels (2 storeys
+// by its eave of 3.5 m) its roofs and the step wall (from 3.5 m) there; the rest,
+// and every element of the one-storey houses, is on the ground floor.
+std::map<std::string, std::string> expected_storeys(const BatchModel& model) {
+  std::map<std::string, std::string> s;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings)
+      for (size_t e = 0; e < b.elements.size(); ++e) s[b.id + "/e" + std::to_string(e)] = "Ground floor";
+  for (const char* tag : {"P-002_b1/e0", "P-002_b1/e4", "P-004_b1/e0", "P-004_b1/e1", "P-004_b1/e6"})
+    s[tag] = "Floor 1";
+  return s;
+}
 
 }  // namespace
 
@@ -113,6 +126,18 @@ TEST_F(Ifc, IfcPlusPlusCatchesBrokenFiles) {
   IfcppRead r2 = read_with_ifcpp(bad);
   EXPECT_GT(r2.problems, 0) << "dangling reference not reported";
 }
+
+TEST_F(Ifc, IfcPlusPlusSeesStoreysAndIsExternal) {
+  // One storey per building and no IsExternal before.
+  IfcppRead r = read_with_ifcpp(text);
+  for (const auto& res : model.results)
+    for (const auto& b : res.buildings) EXPECT_EQ(r.storeys[b.id], b.storeys) << b.id;
+  const auto expected = expected_storeys(model);
+  ASSERT_EQ(r.storey.size(), expected.size());
+  for (const auto& [tag, name] : expected) EXPECT_EQ(r.storey[tag], name) << tag;
+  ASSERT_EQ(r.is_external.size(), expected.size());
+  for (const auto& [tag, ext] : r.is_external) EXPECT_TRUE(ext) << tag;
+}
 #else
 TEST_F(Ifc, IfcPlusPlusReadsItStrictly) { GTEST_SKIP() << "libifcplusplus-dev not found at configure time"; }
 #endif
@@ -135,4 +160,71 @@ TEST_F(Ifc, WebIfcMeshesAndQuantities) {
     if (q["name"] == "GrossArea" || q["name"] == "GrossSideArea") gross[q["tag"]] = q["value"];
   ASSERT_EQ(gross.size(), expected.size());
   for (const auto& [tag, a] : expected) EXPECT_NEAR(gross[tag], a, 0.01) << tag;
+}
+
+// The IFC4 common property set of each kind of element, with the properties we
+// write (all defined there by IFC4 ADD2 TC1), and what web-ifc reads of them.
+TEST_F(Ifc, WebIfcStoreysAndCommonPropertySets) {
+  if (fx::js_dir().empty()) GTEST_SKIP() << "tests/js/node_modules (npm install) or node missing";
+  std::string out;
+  ASSERT_EQ(fx::sh("node " + fx::js_dir() + "/ifc_check.js " + path + " 2>/dev/null", &out), 0) << out;
+  auto doc = nlohmann::json::parse(out.substr(out.find('{')));
+  std::map<std::string, const Building*> building;
+  std::map<std::string, const Element*> element;
+  for (const auto& r : model.results)
+    for (const auto& b : r.buildings) {
+      building[b.id] = &b;
+      for (size_t e = 0; e < b.elements.size(); ++e) element[b.id + "/e" + std::to_string(e)] = &b.elements[e];
+    }
+  // Storeys: Building::storeys of them, equal height from the terrain to the eave.
+  ASSERT_EQ(doc["buildings"].size(), building.size());
+  for (const auto& jb : doc["buildings"]) {
+    const Building& b = *building.at(jb["name"]);
+    ASSERT_EQ(jb["storeys"].size(), size_t(b.storeys)) << b.id;
+    std::map<std::string, double> elevation;
+    for (const auto& s : jb["storeys"]) elevation[s["name"]] = s["elevation"];
+    const double h = b.eave_height / b.storeys;
+    EXPECT_NEAR(elevation["Ground floor"], b.terrain_z, 1e-4) << b.id;
+    if (b.storeys > 1) EXPECT_NEAR(elevation["Floor 1"], b.terrain_z + h, 1e-4) << b.id;
+  }
+  // Every element on its storey, where it was (storey placements applied).
+  const auto expected = expected_storeys(model);
+  ASSERT_EQ(doc["elements"].size(), expected.size());
+  for (const auto& e : doc["elements"]) {
+    const std::string tag = e["tag"];
+    EXPECT_EQ(e["storey"], expected.at(tag)) << tag;
+    double zmin = 1e300;
+    for (const auto& f : element.at(tag)->faces)
+      for (const auto& p : f.ring) zmin = std::min(zmin, p.z());
+    EXPECT_NEAR(e["min_z"].get<double>(), zmin, 1e-3) << tag;
+  }
+  // Common property sets: IsExternal on every element (party walls included),
+  // a roof slab's PitchAngle in radians, the IfcRoof's and the building's sets.
+  const std::map<std::string, std::set<std::string>> defined = {
+      {"Pset_WallCommon", {"IsExternal"}},
+      {"Pset_SlabCommon", {"IsExternal", "PitchAngle"}},
+      {"Pset_CoveringCommon", {"IsExternal"}},
+      {"Pset_RoofCommon", {"IsExternal"}},
+      {"Pset_BuildingCommon", {"BuildingID", "NumberOfStoreys"}}};
+  std::map<std::string, std::map<std::string, nlohmann::json>> common;  // tag -> "pset.name" -> value
+  for (const auto& p : doc["properties"]) {
+    const std::string pset = p["pset"];
+    if (pset.rfind("Pset_", 0) != 0) continue;
+    ASSERT_TRUE(defined.count(pset)) << pset;
+    EXPECT_TRUE(defined.at(pset).count(p["name"])) << pset << "." << p["name"];
+    common[p["tag"]][pset + "." + p["name"].get<std::string>()] = p["value"];
+  }
+  for (const auto& [tag, el] : element) {
+    const char* pset = el->type == ElementType::OuterCeiling ? "Pset_CoveringCommon"
+                       : (el->type == ElementType::Wall || el->type == ElementType::PartyWall) ? "Pset_WallCommon"
+                                                                                               : "Pset_SlabCommon";
+    EXPECT_EQ(common[tag][std::string(pset) + ".IsExternal"], true) << tag;
+    if (el->type == ElementType::Roof)
+      EXPECT_NEAR(common[tag]["Pset_SlabCommon.PitchAngle"].get<double>(), el->slope_deg * M_PI / 180, 1e-6) << tag;
+  }
+  for (const auto& [id, b] : building) {
+    EXPECT_EQ(common[id + "/roof"]["Pset_RoofCommon.IsExternal"], true) << id;
+    EXPECT_EQ(common[id]["Pset_BuildingCommon.NumberOfStoreys"], b->storeys) << id;
+    EXPECT_EQ(common[id]["Pset_BuildingCommon.BuildingID"], id) << id;
+  }
 }

@@ -12,7 +12,10 @@
 #include <STEPControl_Reader.hxx>
 #include <TopoDS_Shape.hxx>
 
+#include <cstdlib>
+#include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "ifc_citygml/export.h"
@@ -50,6 +53,51 @@ TEST(ExportObj, GroupsPerElementWithTheirAreas) {
     std::string g = b.id + "_" + to_string(b.elements[e].type) + "_" + std::to_string(e);
     EXPECT_NEAR(area[g], b.elements[e].area, 0.01) << g;
   }
+}
+
+// The OBJ is local (float32 readers keep local metres to 0.1 mm but world UTM
+// northings only to the metre); P-001.offset.json beside it gives the offset and
+// CRS, P-001.prj the CRS for GIS tools: a float32 reader adding the offset in
+// double gets the model's world coordinates to the millimetre.
+TEST(ExportObj, OffsetFileBesideEachObjGivesWorldCoordinates) {
+  BatchModel m = fx::sample_batch();
+  std::string dir = test::temp_dir("export_obj_georef");
+  for (const auto& obj : write_obj_per_parcel(m, dir)) {
+    std::filesystem::path json = obj, prj = obj;
+    json.replace_extension(".offset.json");
+    prj.replace_extension(".prj");
+    ASSERT_TRUE(std::filesystem::exists(json)) << json;
+    EXPECT_NE(fx::read_text(prj.string()).find("WGS_1984_UTM_Zone_48S"), std::string::npos) << prj;
+    auto g = nlohmann::json::parse(fx::read_text(json.string()));
+    EXPECT_EQ(g["obj"], std::filesystem::path(obj).filename().string());
+    EXPECT_EQ(g["crs"], "EPSG:32748");
+    EXPECT_EQ(g["world"], "local + offset");
+    const Vec3 offset(g["offset"][0], g["offset"][1], g["offset"][2]);
+    EXPECT_EQ(offset, m.frame.origin);
+  }
+  // P-004: every vertex, read as float32 plus the offset, is a model vertex (world) to 1 mm.
+  const Building& b = m.results[3].buildings[0];
+  std::vector<Vec3> world;
+  for (const auto& e : b.elements)
+    for (const auto& f : e.faces)
+      for (const auto& p : f.ring) world.push_back(m.frame.to_world(p));
+  std::istringstream is(fx::read_text(dir + "/P-004.obj"));
+  size_t n = 0;
+  for (std::string line; std::getline(is, line);) {
+    if (line.rfind("v ", 0) != 0) continue;
+    const char* c = line.c_str() + 2;
+    char* end = nullptr;
+    float x = std::strtof(c, &end), y = std::strtof(end, &end), z = std::strtof(end, &end);
+    const Vec3 w = Vec3(x, y, z) + m.frame.origin;
+    double best = 1e300;
+    for (const auto& p : world) best = std::min(best, (p - w).norm());
+    EXPECT_LT(best, 1e-3) << line;
+    ++n;
+  }
+  EXPECT_GT(n, 20u);
+  // Why not world coordinates: a float32 northing near 9.2e6 m is on a 1 m grid.
+  const double northing = m.frame.origin.y() + 0.4;
+  EXPECT_GT(std::abs(double(float(northing)) - northing), 0.1);
 }
 
 // A STEP file as OpenCASCADE reads it, in metres: its volume and box.

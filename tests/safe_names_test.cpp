@@ -71,7 +71,13 @@ void expect_one_file_per_parcel(const std::string& out) {
   const size_t want = parcels_with_buildings(out);
   EXPECT_GT(want, 0u);
   EXPECT_EQ(files_under(out + "/preview").size(), want) << "one preview per parcel with buildings";
-  EXPECT_EQ(files_under(out + "/obj").size(), want) << "one OBJ per parcel with buildings";
+  size_t objs = 0;  // each with its offset file (and .prj) beside it
+  for (const auto& f : files_under(out + "/obj")) {
+    if (fs::path(f).extension() != ".obj") continue;
+    ++objs;
+    EXPECT_TRUE(fs::exists(fs::path(f).replace_extension(".offset.json"))) << f;
+  }
+  EXPECT_EQ(objs, want) << "one OBJ per parcel with buildings";
 }
 
 }  // namespace
