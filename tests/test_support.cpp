@@ -22,6 +22,7 @@ static std::string shared_path(const std::string& sub) {
 
 std::string cimahi_dir() { return shared_path("data/cimahi"); }
 std::string schemas_dir() { return shared_path("schemas"); }
+std::string laz_dir() { return shared_path("data/laz"); }
 
 std::optional<std::vector<std::string>> val3dity_invalid(const std::string& cityjson) {
   const std::string tool = shared_path("tools/val3dity/val3dity");
