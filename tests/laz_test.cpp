@@ -3,7 +3,9 @@
 // point records as the README lists them) and read into identical clouds.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "core/error.h"
 #include "core/io/laz/arithmetic_decoder.h"
@@ -117,6 +119,63 @@ TEST(LazDecode, Format7ReadsLikeFormat3) {
   ASSERT_EQ(f3.points.size(), f7.points.size());
   EXPECT_EQ(f3.classes, f7.classes);
   for (size_t i = 0; i < f3.points.size(); ++i) ASSERT_LT((f3.points[i] - f7.points[i]).norm(), 1e-6) << i;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+void expect_laz_error(const std::string& path, const std::string& problem) {
+  try {
+    read_point_cloud(path);
+    ADD_FAILURE() << path << ": read without error, expected " << problem;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(problem), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+// The LASzip bits of the format byte without a LASzip VLR: a one-line error.
+TEST(LazDecode, CompressedWithoutLaszipVlr) {
+  const std::string path = test::temp_dir("laz_novlr") + "/c.laz";
+  PointCloud c;
+  c.points = {Vec3(1, 2, 3), Vec3(4, 5, 6)};
+  write_las(path, c, 1, 2);
+  std::string bytes = file_bytes(path);
+  bytes[104] = char(uint8_t(bytes[104]) | 0x80);
+  write_bytes(path, bytes);
+  expect_laz_error(path, "LAZ: compressed points but no LASzip VLR");
+}
+
+// Damaged LAZ files: each a one-line InputError, never a crash.
+TEST(LazDecode, DamagedFilesAreInputErrors) {
+  C3D_REQUIRE_LAZ();
+  const std::string good = file_bytes(test::laz_dir() + "/simple.laz");
+  const std::string dir = test::temp_dir("laz_damaged");
+  uint32_t point_offset, vlr = 0;
+  std::memcpy(&point_offset, good.data() + 96, 4);
+  for (size_t pos = 227; pos + 54 < point_offset; pos += 54 + uint8_t(good[pos + 20]) + 256 * uint8_t(good[pos + 21]))
+    if (good.compare(pos + 2, 14, "laszip encoded") == 0) vlr = uint32_t(pos + 54);
+  ASSERT_NE(vlr, 0u) << "no LASzip VLR in simple.laz";
+  const std::vector<std::pair<std::function<void(std::string&)>, std::string>> damage = {
+      {[](std::string& b) { b.resize(b.size() - 100); }, "chunk table offset"},
+      {[&](std::string& b) { b.resize(point_offset + 4); }, "the 4 compressed bytes"},
+      {[&](std::string& b) { b[vlr] = 9; }, "unknown LASzip compressor 9"},
+      {[&](std::string& b) { b[vlr + 34 + 4] = 7; }, "item type 6 version 7"},
+      {[](std::string& b) { std::memset(&b[107], 0x7F, 4); }, "times the"},
+  };
+  for (size_t i = 0; i < damage.size(); ++i) {
+    std::string bytes = good;
+    damage[i].first(bytes);
+    const std::string path = dir + "/damaged" + std::to_string(i) + ".laz";
+    write_bytes(path, bytes);
+    expect_laz_error(path, damage[i].second);
+  }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -164,6 +165,20 @@ std::vector<SeedInput> las_seeds(const std::string& work) {
                    file_bytes(path), 375, false});
   }
   out.push_back({"las-1.4-evlr", ".las", las_with_evlr(work + "/seed.las"), 375, false});
+  return out;
+}
+
+std::vector<SeedInput> laz_seeds() {
+  std::vector<SeedInput> out;
+  // Point-wise v2 from two encoders, and layered v3 chunks of a COPC file.
+  for (const char* name : {"simple.laz", "liblas-generated.laz", "1.2-with-color.copc.laz"}) {
+    const std::string path = std::string(C3D_SOURCE_DIR) + "/../shared/data/laz/" + name;
+    if (!std::filesystem::exists(path)) continue;
+    std::string bytes = file_bytes(path);
+    uint32_t point_offset = 0;  // header and VLRs (the LASzip VLR among them) get field mutations
+    if (bytes.size() >= 100) std::memcpy(&point_offset, bytes.data() + 96, 4);
+    out.push_back({std::string("laz-") + name, ".laz", bytes, std::min<size_t>(point_offset, bytes.size()), false});
+  }
   return out;
 }
 

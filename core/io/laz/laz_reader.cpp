@@ -16,6 +16,12 @@ enum ItemType : uint16_t {
   kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
 };
 constexpr uint32_t kVariableChunks = 0xFFFFFFFFu;
+// Extra bytes a record may carry: each has its own models (up to 4 sets of
+// 2.3 kB), so a damaged item size must not reach 65535 of them. No survey
+// stores more than a few dozen.
+constexpr uint16_t kMaxExtraBytes = 4096;
+// Items of a record: a point, GPS time, colour and extra bytes make four.
+constexpr uint16_t kMaxItems = 16;
 
 template <typename T>
 T load(const uint8_t* p) {
@@ -67,6 +73,9 @@ std::unique_ptr<Items> make_items(const LaszipVlr& vlr, uint32_t record_length) 
   items->layered = vlr.compressor == 3;
   uint32_t offset = 0;
   for (const Item& it : vlr.items) {
+    if ((it.type == kByte || it.type == kByte14) && it.size > kMaxExtraBytes)
+      throw FormatError(std::to_string(it.size) + " extra bytes per point (at most " +
+                        std::to_string(kMaxExtraBytes) + " are read)");
     items->readers.push_back(items->layered ? make_layered(it) : make_v2(it, items->dec));
     items->offsets.push_back(offset);
     offset += it.size;
@@ -99,7 +108,7 @@ std::vector<Chunk> read_chunk_table(const PointData& in, uint32_t chunk_size) {
   const uint64_t table = chunk_table_offset(in), chunks_start = in.point_offset + 8;
   if (load<uint32_t>(in.file + table) != 0) throw FormatError("unknown chunk table version");
   const uint32_t n = load<uint32_t>(in.file + table + 4);
-  if (n > table - chunks_start)  // every chunk holds at least one byte
+  if (n > (table - chunks_start) / in.record_length)  // every chunk starts with a raw record
     throw FormatError("chunk table lists " + std::to_string(n) + " chunks, more than the data holds");
   Decoder dec;
   dec.start(in.file + table + 8, in.file + in.file_size);
@@ -152,6 +161,7 @@ LaszipVlr parse_laszip_vlr(const uint8_t* data, size_t size) {
   vlr.coder = load<uint16_t>(data + 2);
   vlr.chunk_size = load<uint32_t>(data + 12);
   const uint16_t n = load<uint16_t>(data + 32);
+  if (n > kMaxItems) throw FormatError("LASzip VLR lists " + std::to_string(n) + " items");
   if (size < 34 + 6 * size_t(n)) throw FormatError("LASzip VLR lists more items than it holds");
   for (uint16_t i = 0; i < n; ++i) {
     const uint8_t* p = data + 34 + 6 * i;
