@@ -127,7 +127,9 @@ std::vector<Chunk> read_chunk_table(const PointData& in, uint32_t chunk_size) {
   return chunks;
 }
 
-void start_chunk(Items& items, ByteCursor& in, const uint8_t* first) {
+// Starts the items on a chunk's first record; returns the scanner channel
+// (POINT14's context) the next records start in.
+uint32_t start_chunk(Items& items, ByteCursor& in, const uint8_t* first) {
   uint32_t context = 0;
   if (items.layered) {
     in.u32("point count");
@@ -136,6 +138,7 @@ void start_chunk(Items& items, ByteCursor& in, const uint8_t* first) {
   }
   for (size_t i = 0; i < items.readers.size(); ++i) items.readers[i]->init(first + items.offsets[i], context);
   if (!items.layered) items.dec.start(in.pos, in.end);
+  return context;
 }
 
 // Decodes `points` records of one chunk into out.
@@ -143,8 +146,7 @@ void decode_chunk(Items& items, const PointData& in, const Chunk& chunk, uint64_
   ByteCursor cursor{in.file + chunk.begin, in.file + chunk.end};
   const uint8_t* first = cursor.take(in.record_length, "first point");
   std::memcpy(out, first, in.record_length);
-  start_chunk(items, cursor, first);
-  uint32_t context = 0;
+  uint32_t context = start_chunk(items, cursor, first);
   const size_t n_items = items.readers.size();
   for (uint64_t p = 1; p < points; ++p) {
     uint8_t* record = out + p * in.record_length;
