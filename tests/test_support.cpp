@@ -23,6 +23,7 @@ static std::string shared_path(const std::string& sub) {
 
 std::string cimahi_dir() { return shared_path("data/cimahi"); }
 std::string schemas_dir() { return shared_path("schemas"); }
+std::string laz_dir() { return shared_path("data/laz"); }
 
 // A CityJSONSeq file as one CityJSON file beside it (<file>.city.json): the
 // header with every feature's objects, their vertices appended. val3dity 2.6.0

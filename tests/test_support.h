@@ -12,6 +12,8 @@ namespace c3d::test {
 // ../shared/data/cimahi beside the checkout, or "" when absent (tests then skip).
 std::string cimahi_dir();
 std::string schemas_dir();
+// ../shared/data/laz (LAS/LAZ pairs with known hashes), or "" when absent.
+std::string laz_dir();
 // A fresh empty directory under the build's temp area (<build>/tests/tmp/<Suite.Test>/name),
 // so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);

@@ -1,5 +1,5 @@
-// The LAS 1.0-1.4 reader (formats 0-10, CRS from WKT or GeoKeys VLRs) and the
-// LAS writer.
+// The LAS 1.0-1.4 reader (formats 0-10, CRS from WKT or GeoKeys VLRs; LAZ
+// point data decoded by core/io/laz into the same records) and the LAS writer.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +8,8 @@
 
 #include "core/error.h"
 #include "core/io/crs.h"
+#include "core/io/laz/item_reader.h"
+#include "core/io/laz/laz_reader.h"
 #include "core/io/point_io.h"
 #include "core/io/point_io_detail.h"
 
@@ -37,6 +39,7 @@ constexpr std::array<int, 11> kLasRecordSize = {20, 28, 26, 34, 57, 63, 30, 36, 
 
 struct LasHeader {
   int major = 1, minor = 0, format = 0, record_length = 0;
+  bool compressed = false;  // LAZ: the point data is LASzip chunks
   uint16_t header_size = 0, global_encoding = 0;
   uint32_t point_offset = 0, vlr_count = 0, evlr_count = 0;
   uint64_t point_count = 0, evlr_offset = 0;
@@ -67,9 +70,8 @@ LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf
   if (h.major != 1 || h.minor > 4)
     throw InputError(path, "unsupported LAS version " + std::to_string(h.major) + "." +
                                std::to_string(h.minor) + " (1.0-1.4 are read)");
-  if (raw_format & 0xC0)  // LASzip sets the two high bits of the format byte
-    throw InputError(path, "LAZ-compressed points are not supported; convert first, e.g. "
-                           "`pdal translate in.laz out.las` or `las2las -i in.laz -o out.las`");
+  h.compressed = raw_format & 0xC0;  // LASzip sets the two high bits of the format byte
+  raw_format &= 0x3F;
   if (raw_format > 10)
     throw InputError(path, "unknown LAS point format " + std::to_string(raw_format) +
                                " (0-10 are defined)");
@@ -104,7 +106,7 @@ LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf
                                std::to_string(h.point_offset) + " lies beyond the end of the file (" +
                                std::to_string(buf.size()) + " bytes)");
   uint64_t available = (buf.size() - h.point_offset) / h.record_length;
-  if (h.point_count > available)
+  if (!h.compressed && h.point_count > available)
     throw InputError(path, "truncated LAS file: header point count " +
                                std::to_string(h.point_count) + " is larger than the file holds (" +
                                std::to_string(available) + " complete points)");
@@ -128,17 +130,9 @@ int epsg_from_geokeys(const char* data, size_t size) {
          : geographic && geographic != 32767 ? geographic : 0;
 }
 
-// CRS from the VLRs and EVLRs: OGC WKT (2112) wins over GeoKeys (34735).
-std::string las_crs(const std::string& path, const std::vector<char>& buf, const LasHeader& h) {
-  std::string wkt;
-  int epsg = 0;
-  auto visit = [&](const char* rec, uint64_t length, const char* where) {
-    std::string user(rec + 2, strnlen(rec + 2, 16));
-    int id = get<uint16_t>(rec + 18);
-    if (user != "LASF_Projection") return;
-    if (id == 2112) wkt.assign(where, strnlen(where, length));
-    if (id == 34735) epsg = epsg_from_geokeys(where, length);
-  };
+// Calls visit(record header, payload length, payload) for each VLR and EVLR.
+template <typename Visit>
+void visit_vlrs(const std::string& path, const std::vector<char>& buf, const LasHeader& h, Visit visit) {
   size_t pos = h.header_size;
   for (uint32_t i = 0; i < h.vlr_count; ++i) {
     if (pos + 54 > h.point_offset)
@@ -157,6 +151,20 @@ std::string las_crs(const std::string& path, const std::vector<char>& buf, const
     visit(buf.data() + pos, length, buf.data() + pos + 60);
     pos += 60 + length;
   }
+}
+
+std::string vlr_user(const char* rec) { return std::string(rec + 2, strnlen(rec + 2, 16)); }
+
+// CRS from the VLRs and EVLRs: OGC WKT (2112) wins over GeoKeys (34735).
+std::string las_crs(const std::string& path, const std::vector<char>& buf, const LasHeader& h) {
+  std::string wkt;
+  int epsg = 0;
+  visit_vlrs(path, buf, h, [&](const char* rec, uint64_t length, const char* where) {
+    int id = get<uint16_t>(rec + 18);
+    if (vlr_user(rec) != "LASF_Projection") return;
+    if (id == 2112) wkt.assign(where, strnlen(where, length));
+    if (id == 34735) epsg = epsg_from_geokeys(where, length);
+  });
   if (!wkt.empty()) return wkt;
   if (epsg) {
     try {
@@ -199,6 +207,28 @@ std::string crs_vlr(const std::string& wkt, int format, bool* is_wkt) {
   return vlr + payload;
 }
 
+// The point records of a LAZ file, decoded as an uncompressed file holds them.
+std::vector<uint8_t> laz_records(const std::string& path, const std::vector<char>& buf, const LasHeader& h) {
+  try {
+    const char* vlr = nullptr;
+    uint64_t vlr_length = 0;
+    visit_vlrs(path, buf, h, [&](const char* rec, uint64_t length, const char* where) {
+      if (vlr_user(rec) == laz::kLaszipUserId && get<uint16_t>(rec + 18) == laz::kLaszipRecordId)
+        vlr = where, vlr_length = length;
+    });
+    if (!vlr) throw laz::FormatError("compressed points but no LASzip VLR");
+    laz::PointData in;
+    in.file = reinterpret_cast<const uint8_t*>(buf.data());
+    in.file_size = buf.size();
+    in.point_offset = h.point_offset;
+    in.count = h.point_count;
+    in.record_length = uint32_t(h.record_length);
+    return laz::decode_points(in, laz::parse_laszip_vlr(reinterpret_cast<const uint8_t*>(vlr), vlr_length));
+  } catch (const laz::FormatError& e) {
+    throw InputError(path, std::string("LAZ: ") + e.what());
+  }
+}
+
 }  // namespace
 
 PointCloud point_io_detail::read_las(const std::string& path) {
@@ -207,6 +237,8 @@ PointCloud point_io_detail::read_las(const std::string& path) {
   PointCloud cloud;
   cloud.source = path;
   cloud.crs_wkt = las_crs(path, buf, h);
+  std::vector<uint8_t> decoded;
+  if (h.compressed) decoded = laz_records(path, buf, h);
   size_t n = h.point_count;
   cloud.points.resize(n);
   cloud.classes.resize(n);
@@ -215,7 +247,7 @@ PointCloud point_io_detail::read_las(const std::string& path) {
   const bool extended = h.format >= 6;
   const int class_at = extended ? 16 : 15;
   const uint8_t class_mask = extended ? 0xFF : 0x1F;
-  const char* rec = buf.data() + h.point_offset;
+  const char* rec = h.compressed ? reinterpret_cast<const char*>(decoded.data()) : buf.data() + h.point_offset;
   for (size_t i = 0; i < n; ++i, rec += h.record_length) {
     cloud.points[i] = Vec3(get<int32_t>(rec) * h.scale[0] + h.offset[0],
                            get<int32_t>(rec + 4) * h.scale[1] + h.offset[1],
@@ -224,6 +256,14 @@ PointCloud point_io_detail::read_las(const std::string& path) {
     cloud.classes[i] = uint8_t(rec[class_at]) & class_mask;
   }
   return cloud;
+}
+
+std::vector<uint8_t> read_las_records(const std::string& path) {
+  std::vector<char> buf = slurp(path);
+  LasHeader h = parse_las_header(path, buf);
+  if (h.compressed) return laz_records(path, buf, h);
+  const uint8_t* begin = reinterpret_cast<const uint8_t*>(buf.data()) + h.point_offset;
+  return std::vector<uint8_t>(begin, begin + h.point_count * h.record_length);
 }
 
 void write_las(const std::string& path, const PointCloud& cloud, int point_format,

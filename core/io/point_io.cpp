@@ -152,15 +152,12 @@ PointCloud read_xyz(const std::string& path) {
 PointCloud read_point_cloud(const std::string& path) {
   check_regular_file(path);
   std::string ext = extension(path);
-  if (ext == ".laz")
-    throw InputError(path, "LAZ is not supported; convert it to LAS first, e.g. "
-                           "`pdal translate in.laz out.las` or `las2las -i in.laz -o out.las`");
-  if (ext == ".las") return read_las(path);
+  if (ext == ".las" || ext == ".laz") return read_las(path);  // LAZ by its LASzip VLR
   if (ext == ".ply") return read_ply(path);
   if (ext == ".pcd") return read_pcd(path);
   if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".pts") return read_xyz(path);
   throw InputError(path, "unknown point-cloud format '" + ext +
-                             "' (read: .las .ply .pcd .xyz .txt .csv)");
+                             "' (read: .las .laz .ply .pcd .xyz .txt .csv)");
 }
 
 }  // namespace c3d

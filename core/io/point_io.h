@@ -1,15 +1,21 @@
 #pragma once
 // Point-cloud readers and the LAS writer. Every reader returns world
 // coordinates in double and throws InputError("<file>", "<problem>") on bad input.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/types.h"
 
 namespace c3d {
 
-// Dispatches on the extension: .las, .laz (clear error: convert with ...),
-// .ply, .pcd, .xyz/.txt/.csv.
+// Dispatches on the extension: .las, .laz (LASzip-compressed, decoded by
+// core/io/laz), .ply, .pcd, .xyz/.txt/.csv.
 PointCloud read_point_cloud(const std::string& path);
+
+// The raw point records of a LAS or LAZ file (LAZ decoded), in file order:
+// header point count times record length bytes.
+std::vector<uint8_t> read_las_records(const std::string& path);
 
 // Writes LAS 1.<minor_version> with the given point format (0-10); classes are
 // written when present; crs_wkt as an OGC WKT VLR (formats 6-10) or GeoKeys.

@@ -65,6 +65,7 @@ std::vector<Target> targets() {
   auto cloud = [](const std::string& p) { read_point_cloud(p); };
   return {
       {"las", las_seeds, cloud},
+      {"laz", [](const std::string&) { return laz_seeds(); }, cloud},
       {"ply", [](const std::string&) { return ply_seeds(); }, cloud},
       {"pcd", pcd_seeds, cloud},
       {"xyz", [](const std::string&) { return xyz_seeds(); }, cloud},
@@ -170,6 +171,10 @@ Tally fuzz_target(const Target& t, const Options& o, double seconds) {
   fs::create_directories(dir);
   const std::vector<SeedInput> seeds = t.seeds(dir);
   Tally tally;
+  if (seeds.empty()) {
+    std::fprintf(stderr, "fuzz_readers: target %s skipped: no seed inputs (../shared absent)\n", t.name.c_str());
+    return tally;
+  }
   const auto stop = Clock::now() + std::chrono::duration<double>(seconds);
   for (uint64_t i = 0; o.iterations ? i < o.iterations : Clock::now() < stop; ++i) {
     const uint64_t mixed = mix_seed(o.seed, t.name, i);

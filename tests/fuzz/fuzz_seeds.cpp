@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -164,6 +165,27 @@ std::vector<SeedInput> las_seeds(const std::string& work) {
                    file_bytes(path), 375, false});
   }
   out.push_back({"las-1.4-evlr", ".las", las_with_evlr(work + "/seed.las"), 375, false});
+  return out;
+}
+
+std::vector<SeedInput> laz_seeds() {
+  std::vector<SeedInput> out;
+  // Point-wise v2 from two encoders, layered v3 chunks of a COPC file (RGB14)
+  // and of a format 8 file with extra bytes (RGBNIR14, BYTE14), the latter
+  // cut to its first 3000 points (LAS 1.4 point count, bytes 247-254).
+  for (const char* name : {"simple.laz", "liblas-generated.laz", "1.2-with-color.copc.laz",
+                           "las_with_several_extra_byte_bloc.laz"}) {
+    const std::string path = std::string(C3D_SOURCE_DIR) + "/../shared/data/laz/" + name;
+    if (!std::filesystem::exists(path)) continue;
+    std::string bytes = file_bytes(path);
+    if (std::string(name).rfind("las_with", 0) == 0 && bytes.size() > 255) {
+      const uint64_t cut = 3000;
+      std::memcpy(&bytes[247], &cut, 8);
+    }
+    uint32_t point_offset = 0;  // header and VLRs (the LASzip VLR among them) get field mutations
+    if (bytes.size() >= 100) std::memcpy(&point_offset, bytes.data() + 96, 4);
+    out.push_back({std::string("laz-") + name, ".laz", bytes, std::min<size_t>(point_offset, bytes.size()), false});
+  }
   return out;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Small valid inputs for every reader, generated in code (no files in the
-// repository): the fuzzer's starting points.
+// repository; LAZ from ../shared): the fuzzer's starting points.
 #include <string>
 #include <vector>
 
@@ -10,6 +10,8 @@ namespace c3d::fuzz {
 
 // Seeds per reader; work is a scratch directory for the writers that need a file.
 std::vector<SeedInput> las_seeds(const std::string& work);
+// LAZ seeds are files of ../shared/data/laz (no LAZ encoder here): none when absent.
+std::vector<SeedInput> laz_seeds();
 std::vector<SeedInput> ply_seeds();
 std::vector<SeedInput> pcd_seeds(const std::string& work);
 std::vector<SeedInput> xyz_seeds();

@@ -1,0 +1,34 @@
+#pragma once
+// The GPS time predictor of LAZ (GPSTIME11 v2 and POINT14's gps_time layer):
+// four interleaved sequences, each predicting the next time as a multiple of
+// its last integer difference of the double's bit pattern.
+#include <cstdint>
+
+#include "core/io/laz/arithmetic_decoder.h"
+#include "core/io/laz/integer_decompressor.h"
+
+namespace c3d::laz {
+
+class GpsTimeDecoder {
+ public:
+  // layered: POINT14's variant, whose codes lack the "unchanged" symbol.
+  explicit GpsTimeDecoder(bool layered);
+  void init(uint64_t first_bits);
+  uint64_t decode(Decoder& dec);  // the next time's bit pattern
+
+ private:
+  bool decode_after_zero_diff(Decoder& dec);
+  bool decode_after_diff(Decoder& dec);
+  void decode_full(Decoder& dec);
+  int32_t diff_for_multiplier(Decoder& dec, int32_t multi);
+
+  bool layered_;
+  uint32_t last_ = 0, next_ = 0;
+  uint64_t time_[4] = {};
+  int32_t diff_[4] = {};
+  int32_t extreme_[4] = {};
+  SymbolModel multi_, zero_diff_;
+  IntegerDecompressor ic_{32, 9};
+};
+
+}  // namespace c3d::laz

@@ -1,0 +1,99 @@
+#pragma once
+// Pieces the LAZ item decoders share: the error a damaged stream raises, a
+// bounds-checked cursor over a chunk's bytes, the item decoder interface and
+// the small predictors of the LAZ specification.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/io/laz/arithmetic_decoder.h"
+
+namespace c3d::laz {
+
+// A damaged or unsupported LAZ stream; laz_reader turns it into InputError.
+struct FormatError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Reads a chunk's header fields and layer bytes, never past `end`.
+struct ByteCursor {
+  const uint8_t* pos;
+  const uint8_t* end;
+  const uint8_t* take(size_t n, const char* what) {
+    if (size_t(end - pos) < n) throw FormatError(std::string("truncated chunk (") + what + ")");
+    const uint8_t* p = pos;
+    pos += n;
+    return p;
+  }
+  uint32_t u32(const char* what) {
+    uint32_t v;
+    std::memcpy(&v, take(4, what), 4);
+    return v;
+  }
+};
+
+// One item of a point record (LASzip's POINT10, GPSTIME11, RGB12, BYTE,
+// POINT14, ...). A chunk starts with the raw record that init() sees; each
+// later record is decode()d. `context` is the scanner channel: POINT14 sets
+// it, the other layered items follow it.
+class ItemReader {
+ public:
+  virtual ~ItemReader() = default;
+  virtual void read_layer_sizes(ByteCursor&) {}  // layered items only
+  virtual void load_layers(ByteCursor&) {}       // layered items only
+  virtual void init(const uint8_t* first, uint32_t& context) = 0;
+  virtual void decode(uint8_t* out, uint32_t& context) = 0;
+};
+
+// Symbol models keyed by a previous value, made on first use (as the encoder
+// makes them) and reset at each chunk start.
+class ModelBank {
+ public:
+  ModelBank(size_t keys, uint32_t symbols) : symbols_(symbols), models_(keys) {}
+  SymbolModel& operator[](size_t key) {
+    auto& m = models_[key];
+    if (!m) m = std::make_unique<SymbolModel>(symbols_);
+    return *m;
+  }
+  void reset() {
+    for (auto& m : models_)
+      if (m) m->reset();
+  }
+
+ private:
+  uint32_t symbols_;
+  std::vector<std::unique_ptr<SymbolModel>> models_;
+};
+
+// Median of the last five values, updated in LASzip's streaming order.
+class Median5 {
+ public:
+  void reset() {
+    for (int32_t& v : v_) v = 0;
+    high_ = true;
+  }
+  int32_t get() const { return v_[2]; }
+  void add(int32_t v);
+
+ private:
+  int32_t v_[5] = {0, 0, 0, 0, 0};
+  bool high_ = true;
+};
+
+inline uint8_t fold_u8(int32_t n) { return uint8_t(n < 0 ? n + 256 : n > 255 ? n - 256 : n); }
+inline int32_t clamp_u8(int32_t n) { return n < 0 ? 0 : n > 255 ? 255 : n; }
+inline int32_t wrap_add(int32_t a, int32_t b) { return int32_t(uint32_t(a) + uint32_t(b)); }
+
+// Context tables of the LAZ specification: by number of returns n and return r.
+extern const uint8_t kReturnMap[8][8];     // POINT10: 16 contexts
+extern const uint8_t kReturnMap6[16][16];  // POINT14: 6 contexts
+inline uint32_t return_level(uint32_t n, uint32_t r, uint32_t cap) {  // |n - r|, capped
+  const uint32_t d = n > r ? n - r : r - n;
+  return d < cap ? d : cap;
+}
+
+}  // namespace c3d::laz

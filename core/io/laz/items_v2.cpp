@@ -1,0 +1,120 @@
+// The GPSTIME11, RGB12 and BYTE item decoders (compressor version 2) and the
+// RGB predictor the layered RGB items share.
+#include <memory>
+#include <vector>
+
+#include "core/io/laz/gps_time.h"
+#include "core/io/laz/point10.h"
+#include "core/io/laz/rgb.h"
+
+namespace c3d::laz {
+
+namespace {
+
+// One byte of a channel: `low` selects the low or the high byte.
+uint16_t channel_byte(uint16_t v, bool low) { return low ? v & 0xFF : v >> 8; }
+
+// Green and blue's byte (low or high) predicted from red's change in that byte.
+void decode_green_blue(Decoder& dec, RgbModels& m, uint32_t sym, const uint16_t last[3],
+                       uint16_t out[3], bool low) {
+  const int shift = low ? 0 : 8;
+  const int bit_g = low ? 2 : 3, bit_b = low ? 4 : 5;
+  int32_t diff = channel_byte(out[0], low) - channel_byte(last[0], low);
+  uint16_t g = channel_byte(last[1], low), b = channel_byte(last[2], low);
+  if (sym & (1u << bit_g)) {
+    const int32_t corr = int32_t(dec.decode_symbol(m.diff[bit_g]));
+    g = fold_u8(corr + clamp_u8(diff + channel_byte(last[1], low)));
+  }
+  if (sym & (1u << bit_b)) {
+    const int32_t corr = int32_t(dec.decode_symbol(m.diff[bit_b]));
+    diff = (diff + (g - channel_byte(last[1], low))) / 2;
+    b = fold_u8(corr + clamp_u8(diff + channel_byte(last[2], low)));
+  }
+  out[1] = uint16_t(out[1] | (g << shift));
+  out[2] = uint16_t(out[2] | (b << shift));
+}
+
+}  // namespace
+
+void decode_rgb(Decoder& dec, RgbModels& m, const uint16_t last[3], uint16_t out[3]) {
+  const uint32_t sym = dec.decode_symbol(m.byte_used);
+  uint16_t red_low = last[0] & 0xFF, red_high = last[0] >> 8;
+  if (sym & 1) red_low = fold_u8(int32_t(dec.decode_symbol(m.diff[0])) + red_low);
+  if (sym & 2) red_high = fold_u8(int32_t(dec.decode_symbol(m.diff[1])) + red_high);
+  out[0] = uint16_t(red_low | (red_high << 8));
+  if (sym & (1u << 6)) {  // green and blue differ from red
+    out[1] = out[2] = 0;
+    decode_green_blue(dec, m, sym, last, out, true);
+    decode_green_blue(dec, m, sym, last, out, false);
+  } else {
+    out[1] = out[2] = out[0];
+  }
+}
+
+namespace {
+
+class GpsTime11Reader : public ItemReader {
+ public:
+  explicit GpsTime11Reader(Decoder& dec) : dec_(dec) {}
+  void init(const uint8_t* first, uint32_t&) override {
+    uint64_t bits;
+    std::memcpy(&bits, first, 8);
+    gps_.init(bits);
+  }
+  void decode(uint8_t* out, uint32_t&) override {
+    const uint64_t bits = gps_.decode(dec_);
+    std::memcpy(out, &bits, 8);
+  }
+
+ private:
+  Decoder& dec_;
+  GpsTimeDecoder gps_{false};
+};
+
+class Rgb12Reader : public ItemReader {
+ public:
+  explicit Rgb12Reader(Decoder& dec) : dec_(dec) {}
+  void init(const uint8_t* first, uint32_t&) override {
+    models_.reset();
+    std::memcpy(last_, first, 6);
+  }
+  void decode(uint8_t* out, uint32_t&) override {
+    uint16_t rgb[3];
+    decode_rgb(dec_, models_, last_, rgb);
+    std::memcpy(out, rgb, 6);
+    std::memcpy(last_, rgb, 6);
+  }
+
+ private:
+  Decoder& dec_;
+  RgbModels models_;
+  uint16_t last_[3] = {};
+};
+
+class ByteReader : public ItemReader {
+ public:
+  ByteReader(Decoder& dec, uint32_t count) : dec_(dec), models_(count, SymbolModel(256)), last_(count) {}
+  void init(const uint8_t* first, uint32_t&) override {
+    for (SymbolModel& m : models_) m.reset();
+    std::memcpy(last_.data(), first, last_.size());
+  }
+  void decode(uint8_t* out, uint32_t&) override {
+    for (size_t i = 0; i < last_.size(); ++i)
+      out[i] = last_[i] = fold_u8(last_[i] + int32_t(dec_.decode_symbol(models_[i])));
+  }
+
+ private:
+  Decoder& dec_;
+  std::vector<SymbolModel> models_;
+  std::vector<uint8_t> last_;
+};
+
+}  // namespace
+
+std::unique_ptr<ItemReader> make_gpstime11_v2(Decoder& dec) { return std::make_unique<GpsTime11Reader>(dec); }
+std::unique_ptr<ItemReader> make_rgb12_v2(Decoder& dec) { return std::make_unique<Rgb12Reader>(dec); }
+std::unique_ptr<ItemReader> make_byte_v2(Decoder& dec, uint32_t count) {
+  return std::make_unique<ByteReader>(dec, count);
+}
+
+}  // namespace c3d::laz
