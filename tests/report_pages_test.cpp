@@ -10,6 +10,7 @@
 #include <set>
 
 #include "cadastre/report/report.h"
+#include "cadastre/report/report_parts.h"
 #include "cadastre/store.h"
 #include "core/config/config.h"
 #include "tests/report_checks.h"
@@ -143,6 +144,25 @@ TEST(ReportPages, MapHasOnePathPerParcelInItsValueClassColour) {
   EXPECT_NEAR(std::stod(attr(world[0], "data-origin-y")) - y, first.y(), 0.006);
   EXPECT_NE(html.find("class=\"scalebar\""), std::string::npos);
   EXPECT_NE(html.find("class=\"north\""), std::string::npos);
+}
+
+TEST(ReportPages, ValueClassesAreRoundedAndNoneIsEmpty) {
+  using report_detail::value_classes;
+  // Quintile breaks of 1..10 million; the range of 9 million rounds them to 100,000s.
+  const auto even = value_classes({1e6, 2e6, 3e6, 4e6, 5e6, 6e6, 7e6, 8e6, 9e6, 10e6});
+  EXPECT_EQ(even.breaks, (std::vector<double>{3e6, 5e6, 7e6, 9e6}));
+  EXPECT_EQ(even.of(2.9e6), 0u);
+  EXPECT_EQ(even.of(3e6), 1u);
+  EXPECT_EQ(even.of(10e6), 4u);
+  EXPECT_STREQ(even.colour(0), "#ffffb2");
+  EXPECT_STREQ(even.colour(4), "#bd0026");
+  EXPECT_EQ(even.label(1), "3,000,000 &ndash; &lt; 5,000,000");
+  // The top value 4,436,195 would round up to a break of 4,440,000 above every value.
+  const auto near = value_classes({4096000, 4096000, 4436195});
+  ASSERT_EQ(near.breaks, (std::vector<double>{4100000}));
+  EXPECT_EQ(near.of(4436195), 1u);
+  EXPECT_EQ(value_classes({5e6, 5e6}).count(), 1u);
+  EXPECT_EQ(value_classes({}).count(), 1u);
 }
 
 TEST(ReportPages, EveryPageLinksBothWaysAndEveryLinkResolves) {

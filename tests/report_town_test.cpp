@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Parcels of the town: two detail pages, small enough for the test suite
-// (scripts/report_town.sh does 800).
+// (scripts/report_town.sh does 800 parcels).
 constexpr int kParcels = 60;
 
 std::string read(const fs::path& path) {

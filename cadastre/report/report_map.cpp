@@ -128,7 +128,9 @@ ValueClasses report_detail::value_classes(std::vector<double> values) {
   if (values.empty() || !(values.back() > values.front())) return vc;  // one class
   for (size_t k = 1; k < kClasses; ++k) {
     double b = round_break(values[k * values.size() / kClasses], values.back() - values.front());
-    if (b > values.front() && (vc.breaks.empty() || b > vc.breaks.back())) vc.breaks.push_back(b);
+    // Within the values' span, so neither the lowest nor the highest class is empty.
+    if (b > values.front() && b <= values.back() && (vc.breaks.empty() || b > vc.breaks.back()))
+      vc.breaks.push_back(b);
   }
   return vc;
 }
