@@ -219,7 +219,7 @@ std::string report_detail::overview_map(const BatchModel& m, const std::vector<P
        scale_bar(scale, 14, height + 8, kMapWidth / 4);
   s += map_legend(vc, per_class, vals.empty() ? "" : html_escape(vals.front().currency), n, unvalued);
   s += fmt("<text x=\"0\" y=\"%.0f\" class=\"small\">%s, grid north up; x = %.2f + map x, y = %.2f "
-           "&minus; map y (metres). Classes: quintiles of the valued parcels, rounded.</text>",
+           "&minus; map y (metres). Classes: quintiles of the modelled and empty parcels, rounded.</text>",
            height + kStrip + 16, crs.c_str(), origin.x(), origin.y());
   return s + "</svg>";
 }
