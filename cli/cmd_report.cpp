@@ -1,5 +1,6 @@
 // cadastre3d report --store OUT/cadastre.gpkg --out DIR [--config FILE]
-// Writes DIR/report.html and DIR/report.csv from the store alone. With --config
+// Writes DIR/report.html (summary), DIR/report/ (detail pages, one printable
+// page per parcel) and DIR/report.csv from the store alone. With --config
 // the stored model is valued again with that file's valuation section.
 #include <filesystem>
 #include <iostream>
@@ -16,7 +17,7 @@ void register_report(CLI::App& app) {
     std::string store, out, config;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("report", "Write report.html and report.csv from a store");
+  auto* cmd = app.add_subcommand("report", "Write the report (report.html, report/, report.csv) from a store");
   cmd->add_option("--store", args->store, "Cadastre3D store (cadastre.gpkg)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -29,6 +30,7 @@ void register_report(CLI::App& app) {
     write_report_from_store(args->store, args->out, cfg, revalue);
     namespace fs = std::filesystem;
     std::cout << "report: " << (fs::path(args->out) / "report.html").string() << "\n"
+              << "pages:  " << (fs::path(args->out) / "report").string() << "/\n"
               << "csv:    " << (fs::path(args->out) / "report.csv").string() << "\n";
     exit_code() = kExitOk;
   });

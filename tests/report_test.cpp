@@ -26,6 +26,13 @@ std::string read(const std::string& path) {
 
 using c3d::test::parse_csv;
 
+// Every page of the report as one text (the figures live on the detail pages).
+std::string all_pages(const BatchModel& m, const std::vector<ParcelValuation>& v, const ReportInfo& info = {}) {
+  std::string s;
+  for (const auto& f : report_files(m, v, info)) s += f.text;
+  return s;
+}
+
 struct Sample {
   BatchModel model = test::sample_batch(2);
   std::vector<ParcelValuation> vals = value_batch(model, default_config().valuation);
@@ -35,7 +42,7 @@ struct Sample {
 
 TEST(Report, HtmlHasParcelsFiguresChartsAndIsOffline) {
   Sample s;
-  std::string html = report_html(s.model, s.vals, {"Test batch", "unit test", ""});
+  std::string html = all_pages(s.model, s.vals, {"Test batch", "unit test", ""});
   for (const auto& p : s.model.parcels) EXPECT_NE(html.find(p.id), std::string::npos) << p.id;
   EXPECT_NE(html.find("Test batch"), std::string::npos);
   EXPECT_NE(html.find("roof segmentation found no planar component"), std::string::npos);
@@ -151,7 +158,7 @@ TEST(Report, SaysWhichBuildingIsAnLod12PrismAndWhy) {
   Building& b = s.model.results[0].buildings[0];
   b.lod = "1.2";
   b.lod_note = "LoD 2.2 invalid (not_closed): LoD 1.2 prism at the 70th percentile of its roof points";
-  const std::string html = report_html(s.model, s.vals);
+  const std::string html = all_pages(s.model, s.vals);
   EXPECT_NE(html.find(b.id + ": LoD 1.2 (LoD 2.2 invalid (not_closed)"), std::string::npos);
   EXPECT_NE(html.find(s.model.results[1].buildings[0].id + ": LoD 2.2,"), std::string::npos);
   const auto rows = parse_csv(report_csv(s.model, s.vals));

@@ -10,6 +10,7 @@
 #include "cadastre/store.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
+#include "core/io/file_names.h"
 #include "core/text.h"
 #include "valuation/valuation.h"
 
@@ -72,6 +73,22 @@ std::map<std::string, const ParcelValuation*> by_parcel(const std::vector<Parcel
   return m;
 }
 
+const ParcelValuation* find_valuation(const std::map<std::string, const ParcelValuation*>& m,
+                                      const std::string& parcel_id) {
+  auto it = m.find(parcel_id);
+  return it == m.end() ? nullptr : it->second;
+}
+
+bool valued(const ParcelValuation* v) {
+  return v && std::isfinite(v->njop) && std::isfinite(v->tax);
+}
+
+std::string group_page(size_t parcel_index) {
+  return fmt("parcels-%03zu.html", parcel_index / kParcelsPerPage + 1);
+}
+
+std::string parcel_page(const Parcel& p) { return "parcel/" + file_stem_for_id(p.id) + ".html"; }
+
 std::map<ElementType, TypeTotal> type_totals(const ParcelResult& r) {
   std::map<ElementType, TypeTotal> t;
   for (const Building& b : r.buildings) {
@@ -97,8 +114,15 @@ void write_report(const std::string& out_dir, const BatchModel& model,
     out << text;
     if (!out) throw InputError(path, "cannot write report");
   };
-  write("report.html", report_html(model, valuations, info));
-  write("report.csv", report_csv(model, valuations));
+  // Detail pages of an earlier report (more parcels, other ids) must not stay behind.
+  const std::filesystem::path pages = std::filesystem::path(out_dir) / "report";
+  for (const char* sub : {"", "parcel"})
+    for (const auto& e : std::filesystem::directory_iterator(pages / sub, ec))
+      if (e.is_regular_file() && e.path().extension() == ".html") std::filesystem::remove(e.path(), ec);
+  for (const ReportFile& f : report_files(model, valuations, info)) {
+    std::filesystem::create_directories((std::filesystem::path(out_dir) / f.path).parent_path(), ec);
+    write(f.path, f.text);
+  }
 }
 
 void write_report_from_store(const std::string& store_path, const std::string& out_dir,

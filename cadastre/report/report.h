@@ -1,8 +1,10 @@
 #pragma once
-// The officer's report: OUT/report.html (one self-contained offline page:
-// summary, inline SVG charts, per-parcel tables and an axonometric picture of
-// each parcel's buildings coloured by element type) and OUT/report.csv (the
-// same per-parcel and per-element figures).
+// The officer's report, offline HTML with inline SVG (docs/report.md):
+//   OUT/report.html              summary: totals by status, overview map by value,
+//                                labelled charts, index of the detail pages
+//   OUT/report/parcels-NNN.html  50 parcels each: table and per-parcel sections
+//   OUT/report/parcel/<id>.html  one printable A4 page per parcel
+//   OUT/report.csv               the per-parcel and per-element figures
 #include <string>
 #include <vector>
 
@@ -18,7 +20,18 @@ struct ReportInfo {
   std::string run_note;  // e.g. tool version, run start/end
 };
 
+// One file of the report: its path relative to the output folder, its text.
+struct ReportFile {
+  std::string path;
+  std::string text;
+};
+
 // Valuations are matched to parcels by parcel id (any order; missing -> blank).
+// Every file of the report, the summary page first.
+std::vector<ReportFile> report_files(const BatchModel& model,
+                                     const std::vector<ParcelValuation>& valuations,
+                                     const ReportInfo& info = {});
+// The summary page (OUT/report.html) alone.
 std::string report_html(const BatchModel& model, const std::vector<ParcelValuation>& valuations,
                         const ReportInfo& info = {});
 std::string report_csv(const BatchModel& model, const std::vector<ParcelValuation>& valuations);
@@ -26,7 +39,8 @@ std::string report_csv(const BatchModel& model, const std::vector<ParcelValuatio
 // depth and filled by type, the parcel outline underneath.
 std::string parcel_svg(const Parcel& parcel, const ParcelResult& result, const LocalFrame& frame,
                        int width = 360, int height = 260);
-// Writes out_dir/report.html and out_dir/report.csv (creates out_dir).
+// Writes every report file under out_dir (creates folders; removes detail
+// pages an earlier report left there).
 void write_report(const std::string& out_dir, const BatchModel& model,
                   const std::vector<ParcelValuation>& valuations, const ReportInfo& info = {});
 

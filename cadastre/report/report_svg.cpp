@@ -14,6 +14,10 @@ using namespace report_detail;
 
 namespace {
 
+// Up to this many parcels the chart shows one bar each; beyond, a histogram.
+constexpr size_t kBarsUpTo = 30;  // beyond, rotated ids overlap
+constexpr int kMaxBins = 20;
+
 // ---------------------------------------------------------------- pictures
 
 // Isometric view from the south-west, above: screen right = (x - y)/sqrt2,
@@ -71,6 +75,55 @@ std::string path_data(const std::vector<std::vector<Vec2>>& rings, const Vec2& l
   return d;
 }
 
+
+// Bins of a round width (1, 2, 2.5 or 5 x 10^k) so their edges read well.
+double nice_step(double raw) {
+  double decade = std::pow(10.0, std::floor(std::log10(std::max(raw, 1e-9))));
+  for (double f : {1.0, 2.0, 2.5, 5.0})
+    if (f * decade >= raw) return f * decade;
+  return 10 * decade;
+}
+
+// NJOP per parcel in bins of a round width: each bar labelled with its range
+// (million), a count axis and axis titles.
+std::string njop_histogram(const std::vector<std::pair<std::string, const ParcelValuation*>>& rows) {
+  double low = HUGE_VAL, top = -HUGE_VAL;
+  for (const auto& r : rows) low = std::min(low, r.second->njop), top = std::max(top, r.second->njop);
+  // From the lowest value's bin, not from 0: no row of empty bins on the left.
+  const double step = nice_step(std::max(top - low, 1.0) / kMaxBins), start = std::floor(low / step) * step;
+  const int bins = int(std::floor((top - start) / step)) + 1;  // the largest value in the last bin
+  std::vector<int> count(size_t(bins), 0);
+  for (const auto& r : rows) count[size_t(std::clamp(int((r.second->njop - start) / step), 0, bins - 1))]++;
+  const int cmax = std::max(1, *std::max_element(count.begin(), count.end()));
+  const double left = 56, right = 550, top_y = 24, base = 190, bw = (right - left) / bins;
+  const double ystep = nice_step(cmax / 5.0), ytop = std::ceil(cmax / ystep) * ystep;
+  std::string s = "<svg class=\"histogram\" width=\"560\" height=\"300\" viewBox=\"0 0 560 300\" "
+                  "role=\"img\" aria-label=\"Histogram of NJOP per parcel\">";
+  for (double c = 0; c <= ytop + 1e-9; c += ystep) {
+    double y = base - (base - top_y) * c / ytop;
+    s += fmt("<line x1=\"%.0f\" x2=\"%.0f\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.0f\" "
+             "y=\"%.1f\" text-anchor=\"end\" class=\"small\">%g</text>", left, right, y, y, left - 4, y + 4, c);
+  }
+  for (int b = 0; b < bins; ++b) {
+    const double lo = (start + b * step) / 1e6, hi = (start + (b + 1) * step) / 1e6, x = left + b * bw;
+    const double h = (base - top_y) * count[size_t(b)] / ytop;
+    s += fmt("<rect class=\"bin\" data-lo=\"%.17g\" data-hi=\"%.17g\" data-count=\"%d\" x=\"%.1f\" "
+             "y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#a0522d\" stroke=\"#fff\">"
+             "<title>%g&ndash;%g million: %d parcel(s)</title></rect>",
+             start + b * step, start + (b + 1) * step, count[size_t(b)], x, base - h, bw, h, lo, hi,
+             count[size_t(b)]);
+    s += fmt("<text class=\"small\" transform=\"translate(%.1f %.0f) rotate(-60)\" text-anchor=\"end\">"
+             "%g&ndash;%g</text>", x + bw / 2 + 3, base + 8, lo, hi);
+  }
+  s += fmt("<line x1=\"%.0f\" x2=\"%.0f\" y1=\"%.0f\" y2=\"%.0f\" stroke=\"#222\"/>", left, right, base, base);
+  s += fmt("<text x=\"%.0f\" y=\"294\" text-anchor=\"middle\">NJOP per parcel (million %s), "
+           "bins of %g million</text>", (left + right) / 2, html_escape(rows.front().second->currency).c_str(),
+           step / 1e6);
+  s += fmt("<text transform=\"translate(14 %.0f) rotate(-90)\" text-anchor=\"middle\">parcels</text>",
+           (top_y + base) / 2);
+  return s + "</svg>";
+}
+
 }  // namespace
 
 std::string report_detail::legend_svg() {
@@ -122,27 +175,12 @@ std::string report_detail::value_chart(const BatchModel& m,
   auto vmap = by_parcel(vals);
   std::vector<std::pair<std::string, const ParcelValuation*>> rows;
   for (const auto& p : m.parcels)
-    if (auto it = vmap.find(p.id); it != vmap.end()) rows.push_back({p.id, it->second});
+    if (const ParcelValuation* v = find_valuation(vmap, p.id); valued(v)) rows.push_back({p.id, v});  // NaN: no bar
   if (rows.empty()) return "<p>No valuations.</p>";
   double top = 1;
   for (const auto& r : rows) top = std::max(top, r.second->njop + r.second->sigma_njop);
   const int h = 220, base = 190, left = 70;
-  if (rows.size() > 60) {  // histogram of NJOP
-    const int bins = 20;
-    std::vector<int> count(bins, 0);
-    for (const auto& r : rows) count[std::min(bins - 1, int(bins * r.second->njop / top))]++;
-    int cmax = *std::max_element(count.begin(), count.end());
-    std::string s = fmt("<svg width=\"560\" height=\"%d\" viewBox=\"0 0 560 %d\">", h + 20, h + 20);
-    for (int b = 0; b < bins; ++b) {
-      double bh = 170.0 * count[b] / std::max(1, cmax);
-      s += fmt("<rect x=\"%d\" y=\"%.1f\" width=\"22\" height=\"%.1f\" fill=\"#a0522d\"/>",
-               left + b * 24, base - bh, bh);
-    }
-    s += fmt("<text x=\"%d\" y=\"%d\">0</text><text x=\"%d\" y=\"%d\" text-anchor=\"end\">%s</text>",
-             left, base + 16, left + bins * 24, base + 16, money(top).c_str());
-    s += fmt("<text x=\"5\" y=\"20\">parcels (max %d per bin)</text>", cmax);
-    return s + "</svg>";
-  }
+  if (rows.size() > kBarsUpTo) return njop_histogram(rows);
   double step = std::min(40.0, 470.0 / rows.size());
   std::string s = fmt("<svg width=\"560\" height=\"%d\" viewBox=\"0 0 560 %d\">", h + 60, h + 60);
   for (int k = 0; k <= 4; ++k) {

@@ -1,0 +1,159 @@
+// The report of a sample town batch, read as files: every link resolves, the
+// totals equal the store, the pages stay small, and headless Chromium renders
+// the summary and prints a parcel's page on one A4 sheet.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+
+#include "tests/report_checks.h"
+#include "tests/test_support.h"
+
+using namespace c3d::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Parcels of the town: two detail pages, small enough for the test suite
+// (scripts/report_town.sh does 800 parcels).
+constexpr int kParcels = 60;
+
+std::string read(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+double sql_value(const std::string& store, const std::string& sql) {
+  sqlite3* db = nullptr;
+  sqlite3_open_v2(store.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* st = nullptr;
+  double v = std::nan("");
+  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
+    v = sqlite3_column_double(st, 0);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return v;
+}
+
+std::string chromium() {
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    std::string path;
+    FILE* p = popen(("command -v " + std::string(name) + " 2>/dev/null").c_str(), "r");
+    char buf[512] = {0};
+    if (p && fgets(buf, sizeof buf, p)) path = buf;
+    if (p) pclose(p);
+    while (!path.empty() && std::isspace(static_cast<unsigned char>(path.back()))) path.pop_back();
+    if (!path.empty()) return path;
+  }
+  return "";
+}
+
+// PDF page objects ("/Type /Page", not "/Pages").
+int pdf_pages(const std::string& pdf) {
+  static const std::regex re("/Type\\s*/Page[^s]");
+  return int(std::distance(std::sregex_iterator(pdf.begin(), pdf.end(), re), std::sregex_iterator()));
+}
+
+struct Town {
+  std::string dir, out;
+  int rc = -1;
+  std::string log;
+};
+
+const Town& town() {
+  static Town t = [] {
+    Town t;
+    t.dir = temp_dir("report_town");
+    t.out = t.dir + "/out";
+    if (run_cli("sample --out " + t.dir + "/town --parcels " + std::to_string(kParcels) + " --seed 5", &t.log) != 0)
+      return t;
+    t.rc = run_cli("batch --quiet --cloud " + t.dir + "/town/cloud.las --parcels " + t.dir +
+                   "/town/parcels.gpkg --dtm " + t.dir + "/town/dtm.tif --out " + t.out + " --formats obj",
+                   &t.log);
+    return t;
+  }();
+  return t;
+}
+
+}  // namespace
+
+TEST(ReportTown, EveryLinkOfEveryPageResolves) {
+  const Town& t = town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  std::set<std::string> pages;
+  for (const auto& e : fs::recursive_directory_iterator(t.out))
+    if (e.path().extension() == ".html") pages.insert(fs::relative(e.path(), t.out).generic_string());
+  EXPECT_EQ(pages.size(), 1u + 2u + size_t(kParcels));
+  size_t links = 0;
+  for (const std::string& page : pages) {
+    const std::string html = read(fs::path(t.out) / page);
+    EXPECT_LT(html.size(), page == "report.html" ? 600'000u : 800'000u) << page;
+    for (const std::string& h : hrefs(html)) {
+      const std::string target = resolve(page, h);
+      EXPECT_TRUE(pages.count(target.substr(0, target.find('#')))) << page << " -> " << h;
+      ++links;
+    }
+  }
+  EXPECT_GT(links, 4u * kParcels);  // map, table, page, neighbours
+  EXPECT_TRUE(fs::exists(t.out + "/report.csv"));
+}
+
+TEST(ReportTown, TotalsEqualTheStore) {
+  const Town& t = town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  const std::string db = t.out + "/cadastre.gpkg";
+  auto total = row_cells(read(t.out + "/report.html"), "total");
+  EXPECT_EQ(c3d::test::cell_number(total["parcels"]), kParcels);
+  EXPECT_EQ(cell_number(total["buildings"]), sql_value(db, "SELECT count(*) FROM building"));
+  EXPECT_NEAR(cell_number(total["roof"]),
+              sql_value(db, "SELECT sum(area) FROM building_element WHERE element_type='roof'"), 0.006);
+  EXPECT_NEAR(cell_number(total["wall"]),
+              sql_value(db, "SELECT sum(area) FROM building_element WHERE element_type='wall'"), 0.006);
+  for (const char* col : {"land_value", "building_value", "njop", "tax"})
+    EXPECT_NEAR(cell_number(total[col]), sql_value(db, std::string("SELECT sum(") + col + ") FROM vm_valuation"),
+                0.51) << col;
+}
+
+TEST(ReportTown, ChromiumRendersTheSummaryAndPrintsAParcelOnOneA4Page) {
+  const Town& t = town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  const std::string browser = chromium();
+  if (browser.empty()) GTEST_SKIP() << "no chromium for the rendering check";
+  const std::string flags = " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --hide-scrollbars "
+                            "--disable-background-networking --disable-component-update --disable-sync "
+                            "--no-first-run --user-data-dir=" + t.dir + "/chrome";
+  const std::string png = t.dir + "/summary.png", pdf = t.dir + "/parcel.pdf";
+  std::system(("timeout 120 " + browser + flags + " --screenshot=" + png + " --window-size=1400,2400 file://" +
+               t.out + "/report.html >/dev/null 2>&1").c_str());
+  ASSERT_TRUE(fs::exists(png));
+  EXPECT_GT(fs::file_size(png), 80000u);  // a blank page is a few kB
+  // The parcel page of the most table rows: on one A4 sheet.
+  std::string page;
+  size_t most = 0;
+  for (const auto& e : fs::directory_iterator(t.out + "/report/parcel")) {
+    const std::string html = read(e.path());
+    size_t rows = 0;
+    for (size_t at = html.find("<tr>"); at != std::string::npos; at = html.find("<tr>", at + 1)) ++rows;
+    if (rows > most) most = rows, page = e.path().string();
+  }
+  ASSERT_FALSE(page.empty()) << "no parcel page";
+  std::system(("timeout 120 " + browser + flags + " --no-pdf-header-footer --print-to-pdf=" + pdf + " file://" +
+               page + " >/dev/null 2>&1").c_str());
+  ASSERT_TRUE(fs::exists(pdf)) << page;
+  const std::string bytes = read(pdf);
+  EXPECT_EQ(pdf_pages(bytes), 1) << page;
+  // A4 is 210 x 297 mm, 595.3 x 841.9 points.
+  double w = 0, h = 0;
+  const size_t box = bytes.find("/MediaBox [0 0 ");
+  ASSERT_NE(box, std::string::npos);
+  ASSERT_EQ(std::sscanf(bytes.c_str() + box, "/MediaBox [0 0 %lf %lf", &w, &h), 2);
+  EXPECT_NEAR(w, 595.3, 1.0);
+  EXPECT_NEAR(h, 841.9, 1.0);
+}
