@@ -12,3 +12,8 @@ fi
 ninja -C "$build" -j"${JOBS:-1}" c3d_bench_laz >/dev/null
 if [ $# -eq 0 ]; then set -- "$root"/../shared/data/laz/*.laz; fi
 for f in "$@"; do "$build/core/c3d_bench_laz" "$f" "${REPEATS:-10}"; done
+# The same files through laz-perf (scripts/setup.sh installs it into tests/js),
+# on this machine now: the reference the figures above are read against.
+if [ -f "$root/tests/js/node_modules/laz-perf/package.json" ]; then
+  (cd "$root/tests/js" && node laz_reference.js "$@")
+fi
