@@ -5,6 +5,7 @@
 
 #include "cadastre/gpkg_geometry.h"
 #include "cadastre/sqlite_util.h"
+#include "cadastre/store_lods.h"
 #include "cadastre/store_schema.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
@@ -46,6 +47,7 @@ struct Store::Impl {
   // Prepared once: writing a parcel is a handful of bound inserts.
   sql::Stmt del_baunit, del_party, ins_party, ins_baunit, ins_rrr, ins_su, ins_building,
       ins_element, ins_vu, ins_val, ins_item, upsert_job, pending_job, done_job;
+  store_lods::Writer lods;  // attributes and lower LoDs
 
   void prepare();
   std::int64_t write_building(const Building& b, int index, std::int64_t su, const Vec3& off,
@@ -131,6 +133,7 @@ void Store::Impl::prepare() {
   done_job = sql::Stmt(db,
                        "SELECT 1 FROM parcel_job WHERE parcel_id=? AND inputs_key=? AND "
                        "status IN ('ok','empty')");
+  lods = store_lods::Writer(db);
 }
 
 std::int64_t Store::begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
@@ -186,6 +189,7 @@ std::int64_t Store::Impl::write_building(
     s.bind(d->n).bind(d->max).bind(d->mean).bind(d->std).bind(d->rmse);
   s.run();
   std::int64_t fid = db.last_id();
+  lods.write(fid, b, off, srs);
   for (int i = 0; i < int(b.elements.size()); ++i) {
     const Element& e = b.elements[size_t(i)];
     ins_element.bind_blob(gpkg_faces_blob(e.faces, off, srs)).bind(fid).bind(i)
