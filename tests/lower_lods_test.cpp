@@ -228,6 +228,28 @@ TEST(LowerLods, SparseRoofIsFlaggedInsufficient) {
   EXPECT_EQ(a.data_quality.rfind("insufficient points (", 0), 0u) << a.data_quality;
 }
 
+// Two 8 x 8 m houses under one flat roof plane (joined by a 2 x 1 m walkway
+// roof, their footprint comes apart under it): each house's attributes count
+// the points over its own footprint, not its sibling's on the shared plane.
+TEST(LowerLods, HousesSharingARoofPlaneCountTheirOwnPoints) {
+  std::mt19937_64 rng(37);
+  const Plane roof = plane_through({0, 0, 103}, {0, 0.02, 1});
+  ParcelScene s = square_parcel_scene();
+  s.roof_points = sample_plane(roof, 1, 9, 6, 14, 40, 0.02, rng);
+  for (auto part : {sample_plane(roof, 11, 19, 6, 14, 40, 0.02, rng), sample_plane(roof, 9, 11, 9.5, 10.5, 40, 0.02, rng)})
+    s.roof_points.insert(s.roof_points.end(), part.begin(), part.end());
+  const ParcelResult r = reconstruct_parcel(s, params());
+  ASSERT_EQ(r.status, ParcelStatus::Ok) << r.reason;
+  ASSERT_EQ(r.buildings.size(), 2u);
+  for (const auto& b : r.buildings) {
+    EXPECT_NEAR(double(b.attributes.roof_points), 64 * 40, 0.1 * 64 * 40) << b.id;
+    EXPECT_NEAR(b.attributes.point_density, 40, 6) << b.id;
+    EXPECT_EQ(b.attributes.roof_type, "horizontal");
+    ASSERT_NE(shell_at(b, "1.2"), nullptr);
+    EXPECT_NEAR(shell_at(b, "1.2")->volume, 64 * 3.0, 0.15 * 64 * 3.0) << b.id;
+  }
+}
+
 namespace {
 
 std::string write_store(const std::string& path, const BatchModel& m) {

@@ -5,11 +5,25 @@
 
 #include "core/evaluate/evaluate.h"
 #include "core/geometry/geometry.h"
+#include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/reconstruct/lod12.h"
 #include "core/reconstruct/segment/segmentation.h"
 
 namespace c3d {
+
+std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2& footprint, double reach) {
+  if (footprint.outer.size() < 3) return points;
+  const MultiPolygon2 near = poly::buffer({footprint}, reach);
+  std::vector<Vec3> out;
+  for (const auto& p : points)
+    for (const auto& part : near)
+      if (in_polygon_plan(part, p.head<2>())) {
+        out.push_back(p);
+        break;
+      }
+  return out;
+}
 
 std::string roof_type_of(const std::vector<PlaneFit>& planes, long roof_points) {
   if (roof_points <= 0) return "no points";

@@ -304,18 +304,24 @@ std::vector<Vec3> own_roof_points(const ParcelContext& c, const BuildingPlan& bp
 // What the prism and the layers of plan `bp` are built from (see lod12.h):
 // the footprint, with or without its holes, and the building's own roof
 // points over it.
+// With `over_footprint`, only the points near the footprint (over_footprint
+// in lower_lods.h: a plane two houses share gives each the other's points).
 struct PrismSource {
   PrismInput in;
   std::vector<Vec3> own;
+  bool over_footprint = false;
 };
 
-PrismSource prism_source(const ParcelContext& c, const BuildingPlan& bp, const std::string& id, bool holes) {
+PrismSource prism_source(const ParcelContext& c, const BuildingPlan& bp, const std::string& id, bool holes,
+                         bool over_footprint = false) {
   PrismSource s;
+  s.over_footprint = over_footprint;
   PrismInput& in = s.in;
   in.building_id = id;
   in.footprint = prism_footprint(bp.outline, holes);
   if (in.footprint.outer.size() >= 3) in.party_edge = find_party_edges(in.footprint, c.own);
   s.own = own_roof_points(c, bp, in.footprint);
+  if (over_footprint) s.own = c3d::over_footprint(s.own, in.footprint, kOwnPointReachSpacings * c.roofs.spacing);
   for (const auto& q : s.own) in.roof_heights.push_back(q.z());
   in.terrain = c.scene.terrain;
   in.spacing = c.roofs.spacing;
@@ -334,7 +340,7 @@ std::pair<Building, std::string> valid_model(const ParcelContext& c, const Build
   out.first = model(with_holes);
   out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
   if (out.second.empty() || with_holes.in.footprint.holes.empty()) return out;
-  out.first = model(prism_source(c, bp, with_holes.in.building_id, false));
+  out.first = model(prism_source(c, bp, with_holes.in.building_id, false, with_holes.over_footprint));
   out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
   return out;
 }
@@ -373,15 +379,15 @@ void fall_back_to_lower_lod(const ParcelContext& c, ModelledParcel& m) {
   if (tried) c.clock.lap("lod 1.3 / 1.2");
 }
 
-// Every modelled building's attributes from its own roof points (those its
-// LoD 1.2 prism stands on) and its valid lower LoDs: a 2.2 model gets its LoD
+// Every modelled building's attributes from its own roof points over its
+// footprint and its valid lower LoDs (built from the same points): a 2.2 model gets its LoD
 // 1.2 prism and 1.3 layers, a 1.3 fallback its prism.
 void describe_buildings(const ParcelContext& c, ModelledParcel& m) {
   const double min_density = min_good_density(c.p.min_component_area_m2);
   for (size_t k = 0; k < m.buildings.size(); ++k) {
     Building& b = m.buildings[k];
     const BuildingPlan& bp = m.plans[k];
-    const PrismSource src = prism_source(c, bp, b.id, true);
+    const PrismSource src = prism_source(c, bp, b.id, true, true);
     const std::vector<Vec3>& own = src.own;
     std::vector<PlaneFit> planes;
     for (int i : bp.components)
