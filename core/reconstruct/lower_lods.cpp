@@ -25,6 +25,18 @@ std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2
   return out;
 }
 
+Polygon2 ground_footprint(const Building& b) {
+  std::vector<MultiPolygon2> parts;
+  for (const auto& e : b.elements)
+    if (e.type == ElementType::Ground)
+      for (const auto& f : e.faces) {
+        Polygon2 p{to_2d(f.ring), {}};
+        for (const auto& h : f.holes) p.holes.push_back(to_2d(h));
+        parts.push_back(poly::make_valid({p}));  // facing down: clockwise in plan, made valid either way
+      }
+  return parts.empty() ? Polygon2{} : poly::largest(poly::unite_all(parts));
+}
+
 std::string roof_type_of(const std::vector<PlaneFit>& planes, long roof_points) {
   if (roof_points <= 0) return "no points";
   if (planes.empty()) return "could not detect";
@@ -59,7 +71,7 @@ std::string data_quality_of(const Building& b, const BuildingAttributes& a, doub
 }
 
 BuildingAttributes roof_attributes(const Building& b, const std::vector<Vec3>& own_roof_points,
-                                   const std::vector<PlaneFit>& planes, double min_density) {
+                                   const std::vector<PlaneFit>& planes, double plan_area, double min_density) {
   BuildingAttributes a;
   a.roof_points = long(own_roof_points.size());
   a.roof_type = roof_type_of(planes, a.roof_points);
@@ -72,8 +84,7 @@ BuildingAttributes roof_attributes(const Building& b, const std::vector<Vec3>& o
     a.roof_z_70p = quantile_of_sorted(z, kLod12RoofPercentile);
     a.roof_z_max = z.back();
   }
-  const double roof_plan = totals(b).roof_plan;
-  if (roof_plan > 0) a.point_density = double(a.roof_points) / roof_plan;
+  if (plan_area > 0) a.point_density = double(a.roof_points) / plan_area;
   std::vector<Face> roof;
   for (const auto& e : b.elements)
     if (e.type == ElementType::Roof) roof.insert(roof.end(), e.faces.begin(), e.faces.end());

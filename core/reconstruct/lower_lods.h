@@ -28,6 +28,10 @@ constexpr double kOwnPointReachSpacings = 2;
 // each other's points: only those over its own footprint are a house's.
 std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2& footprint, double reach);
 
+// The plan of a building's ground faces (where its walls stand): their union,
+// its largest part; empty without ground faces.
+Polygon2 ground_footprint(const Building& b);
+
 // 3DBAG's roof type: "no points" without roof points, "could not detect"
 // without a plane, "slanted" with any plane steeper than kHorizontalSlopeDeg,
 // else "horizontal" (one level) or "multiple horizontal".
@@ -42,10 +46,11 @@ double min_good_density(double min_component_area_m2);
 // roof points per m2, or a model below LoD 2.2 (a fallback).
 std::string data_quality_of(const Building& b, const BuildingAttributes& a, double min_density);
 
-// The attributes of modelled building `b` from its own roof points and its
-// roof planes; roof_rmse against b's own roof elements.
+// The attributes of modelled building `b` from its own roof points (those
+// over `plan_area` m2) and its roof planes; roof_rmse against b's own roof
+// elements.
 BuildingAttributes roof_attributes(const Building& b, const std::vector<Vec3>& own_roof_points,
-                                   const std::vector<PlaneFit>& planes, double min_density);
+                                   const std::vector<PlaneFit>& planes, double plan_area, double min_density);
 
 // RMSE of the 3D distances of `points` to the nearest of `roof_faces` (3DBAG's
 // b3_rmse_lod*); NaN without points or faces.

@@ -380,19 +380,26 @@ void fall_back_to_lower_lod(const ParcelContext& c, ModelledParcel& m) {
 }
 
 // Every modelled building's attributes from its own roof points over its
-// footprint and its valid lower LoDs (built from the same points): a 2.2 model gets its LoD
+// footprint (an LoD 2.2 model's ground, else its plan's outline) and its
+// valid lower LoDs on that footprint, from the same points: a 2.2 model gets its LoD
 // 1.2 prism and 1.3 layers, a 1.3 fallback its prism.
 void describe_buildings(const ParcelContext& c, ModelledParcel& m) {
   const double min_density = min_good_density(c.p.min_component_area_m2);
   for (size_t k = 0; k < m.buildings.size(); ++k) {
     Building& b = m.buildings[k];
-    const BuildingPlan& bp = m.plans[k];
+    BuildingPlan bp = m.plans[k];
+    if (b.lod == "2.2") {  // the lower LoDs stand where its walls stand, as 3DBAG's share one footprint
+      const Polygon2 ground = ground_footprint(b);
+      if (ground.outer.size() >= 3) bp.outline = ground;
+    }
     const PrismSource src = prism_source(c, bp, b.id, true, true);
     const std::vector<Vec3>& own = src.own;
     std::vector<PlaneFit> planes;
     for (int i : bp.components)
       if (c.roofs.components[size_t(i)].fit.inliers > 0) planes.push_back(c.roofs.components[size_t(i)].fit);
-    b.attributes = roof_attributes(b, own, planes, min_density);
+    const double reach = kOwnPointReachSpacings * c.roofs.spacing;
+    const double over = src.in.footprint.outer.size() >= 3 ? area(poly::buffer({src.in.footprint}, reach)) : 0;
+    b.attributes = roof_attributes(b, own, planes, over > 0 ? over : totals(b).roof_plan, min_density);
     if (b.lod == "1.2") continue;
     auto [prism, why12] = lod12_of(c, bp, src);
     if (why12.empty()) b.lower_lods.push_back(lod_shell_of(prism, own));
