@@ -12,16 +12,11 @@
 
 namespace c3d {
 
-std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2& footprint, double reach) {
+std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2& footprint) {
   if (footprint.outer.size() < 3) return points;
-  const MultiPolygon2 near = poly::buffer({footprint}, reach);
   std::vector<Vec3> out;
   for (const auto& p : points)
-    for (const auto& part : near)
-      if (in_polygon_plan(part, p.head<2>())) {
-        out.push_back(p);
-        break;
-      }
+    if (in_polygon_plan(footprint, p.head<2>())) out.push_back(p);
   return out;
 }
 

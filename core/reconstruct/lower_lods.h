@@ -19,14 +19,10 @@ constexpr double kHorizontalSlopeDeg = 5;
 // (the least step the LoD 1.3 layers keep, lod13.cpp's kMinStepM).
 constexpr double kSameLevelM = 0.5;
 
-// A building's own points count as over its footprint within this many point
-// spacings of it: the footprint's edges are placed from its edge points.
-constexpr double kOwnPointReachSpacings = 2;
-
-// The points within `reach` (in plan) of `footprint`, all of them where the
-// footprint is empty. Houses cut apart under one roof share its planes, and so
-// each other's points: only those over its own footprint are a house's.
-std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2& footprint, double reach);
+// The points over `footprint` (in plan), all of them where the footprint is
+// empty. Houses cut apart under one roof share its planes, and so each
+// other's points: only those over its own footprint are a house's.
+std::vector<Vec3> over_footprint(const std::vector<Vec3>& points, const Polygon2& footprint);
 
 // The plan of a building's ground faces (where its walls stand): their union,
 // its largest part; empty without ground faces.

@@ -304,7 +304,7 @@ std::vector<Vec3> own_roof_points(const ParcelContext& c, const BuildingPlan& bp
 // What the prism and the layers of plan `bp` are built from (see lod12.h):
 // the footprint, with or without its holes, and the building's own roof
 // points over it.
-// With `over_footprint`, only the points near the footprint (over_footprint
+// With `over_footprint`, only the points over the footprint (over_footprint
 // in lower_lods.h: a plane two houses share gives each the other's points).
 struct PrismSource {
   PrismInput in;
@@ -321,7 +321,7 @@ PrismSource prism_source(const ParcelContext& c, const BuildingPlan& bp, const s
   in.footprint = prism_footprint(bp.outline, holes);
   if (in.footprint.outer.size() >= 3) in.party_edge = find_party_edges(in.footprint, c.own);
   s.own = own_roof_points(c, bp, in.footprint);
-  if (over_footprint) s.own = c3d::over_footprint(s.own, in.footprint, kOwnPointReachSpacings * c.roofs.spacing);
+  if (over_footprint) s.own = c3d::over_footprint(s.own, in.footprint);
   for (const auto& q : s.own) in.roof_heights.push_back(q.z());
   in.terrain = c.scene.terrain;
   in.spacing = c.roofs.spacing;
@@ -397,9 +397,8 @@ void describe_buildings(const ParcelContext& c, ModelledParcel& m) {
     std::vector<PlaneFit> planes;
     for (int i : bp.components)
       if (c.roofs.components[size_t(i)].fit.inliers > 0) planes.push_back(c.roofs.components[size_t(i)].fit);
-    const double reach = kOwnPointReachSpacings * c.roofs.spacing;
-    const double over = src.in.footprint.outer.size() >= 3 ? area(poly::buffer({src.in.footprint}, reach)) : 0;
-    b.attributes = roof_attributes(b, own, planes, over > 0 ? over : totals(b).roof_plan, min_density);
+    const double over = src.in.footprint.outer.size() >= 3 ? area(src.in.footprint) : totals(b).roof_plan;
+    b.attributes = roof_attributes(b, own, planes, over, min_density);
     if (b.lod == "1.2") continue;
     auto [prism, why12] = lod12_of(c, bp, src);
     if (why12.empty()) b.lower_lods.push_back(lod_shell_of(prism, own));
