@@ -7,6 +7,7 @@
 #include "cadastre/gpkg_rtree.h"
 #include "cadastre/sqlite_util.h"
 #include "cadastre/store_gis.h"
+#include "cadastre/store_lods.h"
 #include "cadastre/store_schema.h"
 #include "cadastre/store_styles.h"
 #include "core/error.h"
@@ -50,6 +51,7 @@ struct Store::Impl {
   sql::Stmt del_baunit, ins_baunit, ins_rrr, ins_su, ins_building,
       ins_element, ins_vu, ins_val, ins_item, upsert_job, pending_job, done_job;
   store_gis::Writer gis;  // the 2D layers, written beside the 3D rows
+  store_lods::Writer lods;  // attributes and lower LoDs
 
   void prepare();
   std::int64_t write_building(const Building& b, int index, std::int64_t su, const Vec3& off,
@@ -137,6 +139,7 @@ void Store::Impl::prepare() {
   done_job = sql::Stmt(db,
                        "SELECT 1 FROM parcel_job WHERE parcel_id=? AND inputs_key=? AND "
                        "status IN ('ok','empty')");
+  lods = store_lods::Writer(db);
 }
 
 std::int64_t Store::begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
@@ -193,6 +196,7 @@ std::int64_t Store::Impl::write_building(
   s.run();
   std::int64_t fid = db.last_id();
   gis.building(b, fid, parcel_id, off, v);
+  lods.write(fid, b, off, srs);
   for (int i = 0; i < int(b.elements.size()); ++i) {
     const Element& e = b.elements[size_t(i)];
     ins_element.bind_blob(gpkg_faces_blob(e.faces, off, srs)).bind(fid).bind(i)

@@ -6,6 +6,7 @@
 
 #include "cadastre/gpkg_geometry.h"
 #include "cadastre/sqlite_util.h"
+#include "cadastre/store_lods.h"
 #include "cadastre/store_schema.h"
 #include "core/error.h"
 
@@ -95,6 +96,7 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
                "SELECT geom, element_type, area, plan_area, slope_deg, azimuth_deg, sigma_area, "
                "support_points, rmse, wall_evidence, " + shared + " FROM building_element WHERE building_fid=? "
                "ORDER BY element_index");
+  store_lods::Reader lods(db);
   std::vector<Building> out;
   qb.bind(su);
   while (qb.step()) {
@@ -116,6 +118,7 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
     }
     b.lod = qb.is_null(21) ? "2.2" : qb.get_text(21);
     b.lod_note = qb.get_text(22);
+    lods.read(qb.get_int(0), frame.origin, b);
     qe.bind(qb.get_int(0));
     while (qe.step()) {
       Element e;

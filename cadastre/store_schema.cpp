@@ -80,6 +80,10 @@ CREATE TABLE IF NOT EXISTS building_element (fid INTEGER PRIMARY KEY, geom MULTI
   area DOUBLE, plan_area DOUBLE, slope_deg DOUBLE, azimuth_deg DOUBLE, sigma_area DOUBLE,
   support_points INTEGER, rmse DOUBLE, wall_evidence TEXT, sigma_shared DOUBLE,
   UNIQUE (building_fid, element_index));
+CREATE TABLE IF NOT EXISTS building_lod (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
+  lod TEXT NOT NULL, face_types TEXT NOT NULL, volume DOUBLE, roof_rmse DOUBLE,
+  UNIQUE (building_fid, lod));
 CREATE TABLE IF NOT EXISTS vm_valuationunit (fid INTEGER PRIMARY KEY,
   baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
   spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
@@ -194,6 +198,16 @@ const AddedColumn kAddedColumns[] = {
     {"building", "lod_note", "TEXT"},
     {"building_element", "sigma_shared", "DOUBLE"},
     {"run", "parcels_suspect", "INTEGER"},
+    // 3DBAG-style attributes (docs/design.md, "Building attributes"); heights world z.
+    {"building", "roof_type", "TEXT"},
+    {"building", "roof_z_min", "DOUBLE"},
+    {"building", "roof_z_50p", "DOUBLE"},
+    {"building", "roof_z_70p", "DOUBLE"},
+    {"building", "roof_z_max", "DOUBLE"},
+    {"building", "roof_points", "INTEGER"},
+    {"building", "point_density", "DOUBLE"},
+    {"building", "roof_rmse", "DOUBLE"},
+    {"building", "data_quality", "TEXT"},
 };
 
 struct Layer {
@@ -213,6 +227,7 @@ const Layer kLayers[] = {
      "footprint when none); for 3D use, building_footprint for GIS", true, 1},
     {"building_element", "3D building elements: roof, wall, party wall, ground, outer ceiling; for 3D use, "
      "roof_part for GIS", true, 1},
+    {"building_lod", "Lower LoDs of each building: LoD 1.2 prism, LoD 1.3 layers (closed shells)", true, 1},
     {"la_party", "LADM parties", false, 0},
     {"la_baunit", "LADM basic administrative units", false, 0},
     {"la_rrr", "LADM rights, restrictions, responsibilities", false, 0},

@@ -154,9 +154,13 @@ struct BuildingAttributes {
   // percentile, max. NaN without roof points.
   double roof_z_min = kNaN, roof_z_50p = kNaN, roof_z_70p = kNaN, roof_z_max = kNaN;
   long roof_points = 0;          // the building's own roof points
-  double point_density = kNaN;   // roof points per m2 of roof plan area
-  // "good", or why the model rests on too little: e.g. "insufficient points",
-  // "lod fallback" (docs/design.md, "Building attributes").
+  double point_density = kNaN;   // those points per m2 of the plan they were taken over
+  // RMSE of the 3D distances of those points to the primary model's roof
+  // (3DBAG's b3_rmse_lod22 for a 2.2 model), m; NaN without points.
+  double roof_rmse = kNaN;
+  // "good", or why the model rests on too little, "; "-joined: "no roof
+  // points", "insufficient points (...)", "lod fallback (1.3)" (docs/design.md,
+  // "Building attributes").
   std::string data_quality;
 };
 

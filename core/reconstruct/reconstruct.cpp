@@ -4,6 +4,7 @@
 #include <ctime>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <string>
@@ -20,6 +21,7 @@
 #include "core/reconstruct/envelope/envelope.h"
 #include "core/reconstruct/lod12.h"
 #include "core/reconstruct/lod13/lod13.h"
+#include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
 #include "core/reconstruct/ownership/ownership.h"
 #include "core/reconstruct/roof/roof.h"
@@ -299,45 +301,58 @@ std::vector<Vec3> own_roof_points(const ParcelContext& c, const BuildingPlan& bp
   return pts;
 }
 
-// What the prism and the layers of plan `bp` are built from (see lod12.h).
-PrismInput prism_input(const ParcelContext& c, const BuildingPlan& bp, const std::string& id, bool holes) {
+// What the prism and the layers of plan `bp` are built from (see lod12.h):
+// the footprint, with or without its holes, and the building's own roof
+// points over it.
+// With `over_footprint`, only the points over the footprint (over_footprint
+// in lower_lods.h: a plane two houses share gives each the other's points).
+struct PrismSource {
   PrismInput in;
+  std::vector<Vec3> own;
+  bool over_footprint = false;
+};
+
+PrismSource prism_source(const ParcelContext& c, const BuildingPlan& bp, const std::string& id, bool holes,
+                         bool over_footprint = false) {
+  PrismSource s;
+  s.over_footprint = over_footprint;
+  PrismInput& in = s.in;
   in.building_id = id;
   in.footprint = prism_footprint(bp.outline, holes);
   if (in.footprint.outer.size() >= 3) in.party_edge = find_party_edges(in.footprint, c.own);
-  for (const auto& q : own_roof_points(c, bp, in.footprint)) in.roof_heights.push_back(q.z());
+  s.own = own_roof_points(c, bp, in.footprint);
+  if (over_footprint) s.own = c3d::over_footprint(s.own, in.footprint);
+  for (const auto& q : s.own) in.roof_heights.push_back(q.z());
   in.terrain = c.scene.terrain;
   in.spacing = c.roofs.spacing;
   in.default_overhang = c.p.default_overhang_m;
   in.storey_height = c.p.storey_height_m;
-  return in;
+  return s;
 }
 
-// The LoD 1.2 prism of plan `bp` (see lod12.h) and why it fails ("" when it
-// passes check_solid and the face rules); a courtyard's prism that fails is
-// tried again without its holes.
-std::pair<Building, std::string> lod12_of(const ParcelContext& c, const BuildingPlan& bp, const std::string& id) {
+// A model of plan `bp` from `with_holes` (prism_source with its holes) and
+// why it fails ("" when it passes check_solid and the face rules); a
+// courtyard's model that fails is tried again without its holes.
+using LodModel = std::function<Building(const PrismSource&)>;
+std::pair<Building, std::string> valid_model(const ParcelContext& c, const BuildingPlan& bp,
+                                             const PrismSource& with_holes, const LodModel& model) {
   std::pair<Building, std::string> out;
-  for (bool holes : {true, false}) {
-    const PrismInput in = prism_input(c, bp, id, holes);
-    out.first = lod12_prism(in);
-    out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
-    if (out.second.empty() || in.footprint.holes.empty()) break;
-  }
+  out.first = model(with_holes);
+  out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
+  if (out.second.empty() || with_holes.in.footprint.holes.empty()) return out;
+  out.first = model(prism_source(c, bp, with_holes.in.building_id, false, with_holes.over_footprint));
+  out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
   return out;
 }
 
-// The LoD 1.3 of plan `bp` (see lod13/lod13.h) and why it fails ("" when it
-// passes check_solid and the face rules); with a courtyard as lod12_of.
-std::pair<Building, std::string> lod13_of(const ParcelContext& c, const BuildingPlan& bp, const std::string& id) {
-  std::pair<Building, std::string> out;
-  for (bool holes : {true, false}) {
-    const PrismInput in = prism_input(c, bp, id, holes);
-    out.first = lod13_layers(in, own_roof_points(c, bp, in.footprint), face_defect);
-    out.second = out.first.solid_valid ? face_defect(out.first) : out.first.solid_problem;
-    if (out.second.empty() || in.footprint.holes.empty()) break;
-  }
-  return out;
+// The LoD 1.2 prism of plan `bp` (see lod12.h) and why it fails, as valid_model.
+std::pair<Building, std::string> lod12_of(const ParcelContext& c, const BuildingPlan& bp, const PrismSource& src) {
+  return valid_model(c, bp, src, [](const PrismSource& s) { return lod12_prism(s.in); });
+}
+
+// The LoD 1.3 of plan `bp` (see lod13/lod13.h) and why it fails, as valid_model.
+std::pair<Building, std::string> lod13_of(const ParcelContext& c, const BuildingPlan& bp, const PrismSource& src) {
+  return valid_model(c, bp, src, [](const PrismSource& s) { return lod13_layers(s.in, s.own, face_defect); });
 }
 
 // A building whose LoD 2.2 model is still invalid after remodel_defective
@@ -350,17 +365,50 @@ void fall_back_to_lower_lod(const ParcelContext& c, ModelledParcel& m) {
     Building& b = m.buildings[k];
     if (b.solid_valid) continue;  // remodel_defective marked face defects invalid
     tried = true;
-    auto [layered, why13] = lod13_of(c, m.plans[k], b.id);
+    const PrismSource src = prism_source(c, m.plans[k], b.id, true);
+    auto [layered, why13] = lod13_of(c, m.plans[k], src);
     if (why13.empty()) {
       adopt_lod13(b, std::move(layered));
     } else {
-      auto [prism, why] = lod12_of(c, m.plans[k], b.id);
+      auto [prism, why] = lod12_of(c, m.plans[k], src);
       adopt_prism(b, std::move(prism), why);
       b.lod_note += "; no valid LoD 1.3 (" + why13 + ")";
     }
     log::info(b.id + ": " + b.lod_note);
   }
   if (tried) c.clock.lap("lod 1.3 / 1.2");
+}
+
+// Every modelled building's attributes from its own roof points over its
+// footprint (an LoD 2.2 model's ground, else its plan's outline) and its
+// valid lower LoDs on that footprint, from the same points: a 2.2 model gets its LoD
+// 1.2 prism and 1.3 layers, a 1.3 fallback its prism.
+void describe_buildings(const ParcelContext& c, ModelledParcel& m) {
+  const double min_density = min_good_density(c.p.min_component_area_m2);
+  for (size_t k = 0; k < m.buildings.size(); ++k) {
+    Building& b = m.buildings[k];
+    BuildingPlan bp = m.plans[k];
+    if (b.lod == "2.2") {  // the lower LoDs stand where its walls stand, as 3DBAG's share one footprint
+      const Polygon2 ground = ground_footprint(b);
+      if (ground.outer.size() >= 3) bp.outline = ground;
+    }
+    const PrismSource src = prism_source(c, bp, b.id, true, true);
+    const std::vector<Vec3>& own = src.own;
+    std::vector<PlaneFit> planes;
+    for (int i : bp.components)
+      if (c.roofs.components[size_t(i)].fit.inliers > 0) planes.push_back(c.roofs.components[size_t(i)].fit);
+    const double over = src.in.footprint.outer.size() >= 3 ? area(src.in.footprint) : totals(b).roof_plan;
+    b.attributes = roof_attributes(b, own, planes, over, min_density);
+    if (b.lod == "1.2") continue;
+    auto [prism, why12] = lod12_of(c, bp, src);
+    if (why12.empty()) b.lower_lods.push_back(lod_shell_of(prism, own));
+    else log::debug(b.id + ": no LoD 1.2 below its " + b.lod + " (" + why12 + ")");
+    if (b.lod != "2.2") continue;
+    auto [layered, why13] = lod13_of(c, bp, src);
+    if (why13.empty()) b.lower_lods.push_back(lod_shell_of(layered, own));
+    else log::debug(b.id + ": no LoD 1.3 below its 2.2 (" + why13 + ")");
+  }
+  c.clock.lap("lower lods");
 }
 
 // A building with no valid model at any LoD is not reported as modelled (no
@@ -430,6 +478,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     remodel_defective(c, m);
     fall_back_to_lower_lod(c, m);
     const int dropped = drop_unmodellable(m);
+    describe_buildings(c, m);
     if (m.buildings.empty()) {
       r.status = dropped > 0 ? ParcelStatus::Failed : ParcelStatus::Empty;
       r.reason = dropped > 0 ? m.notes : "roof points form no roof plane large enough for a building";

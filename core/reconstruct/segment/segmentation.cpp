@@ -36,7 +36,6 @@ constexpr int kNormalNeighbours = 16;    // normals, and the smoothing of the se
 // span the whole roof and its edges, and no region grows to the minimum);
 // a tree crown or a noisy heap has a fifth of its points on any plane.
 constexpr double kMinPlanarShare = 0.6;
-constexpr int kMinPlanePoints = 10;      // fewer points judge no plane, at any density
 // The spacing of a scan of density rho is at least this over sqrt(rho): points
 // strewn at random lie 0.47 / sqrt(rho) from their nearest (median), and a scan
 // covers a roof at least as evenly; a median nearest distance below it comes

@@ -31,6 +31,8 @@ struct Segmentation {
   double density = 0;       // median points per m2 around a place (0: too few points to tell)
 };
 
+constexpr int kMinPlanePoints = 10;  // fewer points judge no plane, at any density
+
 // The fewest points a roof plane needs at `density` points/m2: those a patch of
 // min_component_area_m2 holds, never more than min_component_points (a dense
 // scan's patch is held to its area) nor fewer than a plane can be judged on.
