@@ -226,31 +226,9 @@ TEST(Lod12, CityGmlWritesLod1SolidSchemaValid) {
   if (!can_xmllint()) GTEST_SKIP() << "xmllint or ../shared/schemas missing";
 }
 
-namespace {
-
-std::string write_store(const std::string& path, const BatchModel& m) {
-  Store s;
-  s.open(path, "", m.epsg);
-  s.begin_run("{}", {}, m.frame);
-  const Config c = default_config();
-  for (size_t i = 0; i < m.parcels.size(); ++i)
-    s.write_parcel(m.parcels[i], m.results[i], value_parcel(m.parcels[i], m.results[i], c.valuation), m.frame);
-  s.end_run();
-  return path;
-}
-
-void sql(const std::string& path, const std::string& statement) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  EXPECT_EQ(sqlite3_exec(db, statement.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  sqlite3_close(db);
-}
-
-}  // namespace
-
 TEST(Lod12, StoreRecordsTheLodAndAnOlderStoreGetsTheColumns) {
   const BatchModel m = batch_with_prism();
-  const std::string path = write_store(test::temp_dir("lod12_store") + "/cadastre.gpkg", m);
+  const std::string path = test::write_store(test::temp_dir("lod12_store") + "/cadastre.gpkg", m);
   BatchModel back = load_batch_model(path);
   const Building& prism = back.results.back().buildings.front();
   EXPECT_EQ(prism.lod, "1.2");
@@ -260,10 +238,10 @@ TEST(Lod12, StoreRecordsTheLodAndAnOlderStoreGetsTheColumns) {
 
   // A store written before the LoD was recorded reads as LoD 2.2, and takes
   // the columns when a batch opens it again.
-  sql(path, "ALTER TABLE building DROP COLUMN lod; ALTER TABLE building DROP COLUMN lod_note;");
+  test::sql_exec(path, "ALTER TABLE building DROP COLUMN lod; ALTER TABLE building DROP COLUMN lod_note;");
   back = load_batch_model(path);
   EXPECT_EQ(back.results.back().buildings.front().lod, "2.2");
-  write_store(path, m);
+  test::write_store(path, m);
   back = load_batch_model(path);
   EXPECT_EQ(back.results.back().buildings.front().lod, "1.2");
 }

@@ -265,24 +265,6 @@ TEST(LowerLods, HousesSharingARoofPlaneCountTheirOwnPoints) {
 
 namespace {
 
-std::string write_store(const std::string& path, const BatchModel& m) {
-  Store s;
-  s.open(path, "", m.epsg);
-  s.begin_run("{}", {}, m.frame);
-  const Config c = default_config();
-  for (size_t i = 0; i < m.parcels.size(); ++i)
-    s.write_parcel(m.parcels[i], m.results[i], value_parcel(m.parcels[i], m.results[i], c.valuation), m.frame);
-  s.end_run();
-  return path;
-}
-
-void sql(const std::string& path, const std::string& statement) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  EXPECT_EQ(sqlite3_exec(db, statement.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  sqlite3_close(db);
-}
-
 // The export fixtures' batch with the gable house's attributes and shells on
 // its first building.
 BatchModel batch_with_lods(Building& modelled) {
@@ -334,7 +316,7 @@ TEST(LowerLods, StoreKeepsAttributesAndShellsAndAnOlderStoreOpens) {
 
   // A store written before they existed opens without them, and takes them
   // when a batch writes into it again.
-  sql(path,
+  sql_exec(path,
       "DROP TABLE building_lod; ALTER TABLE building DROP COLUMN roof_type; "
       "ALTER TABLE building DROP COLUMN data_quality;");
   back = load_batch_model(path);

@@ -38,18 +38,6 @@ std::map<std::string, std::string> files_by_path(const std::vector<ReportFile>& 
   return m;
 }
 
-double sql_sum(const std::string& store, const std::string& sql) {
-  sqlite3* db = nullptr;
-  sqlite3_open_v2(store.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* st = nullptr;
-  double v = std::nan("");
-  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
-    v = sqlite3_column_double(st, 0);
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return v;
-}
-
 std::string read(const std::string& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), {});
@@ -75,14 +63,14 @@ TEST(ReportPages, TotalsRowEqualsTheStoresSums) {
   const std::string db = dir + "/cadastre.gpkg";
   auto total = row_cells(html, "total");
   ASSERT_FALSE(total.empty()) << "no totals row";
-  EXPECT_EQ(cell_number(total["parcels"]), sql_sum(db, "SELECT count(*) FROM la_spatialunit"));
-  EXPECT_EQ(cell_number(total["buildings"]), sql_sum(db, "SELECT count(*) FROM building"));
+  EXPECT_EQ(cell_number(total["parcels"]), sql_number(db, "SELECT count(*) FROM la_spatialunit"));
+  EXPECT_EQ(cell_number(total["buildings"]), sql_number(db, "SELECT count(*) FROM building"));
   for (const char* type : {"roof", "wall", "party_wall", "ground", "outer_ceiling"})
     EXPECT_NEAR(cell_number(total[type]),
-                sql_sum(db, std::string("SELECT coalesce(sum(area),0) FROM building_element WHERE element_type='") +
+                sql_number(db, std::string("SELECT coalesce(sum(area),0) FROM building_element WHERE element_type='") +
                                 type + "'"), 0.006) << type;
   for (const char* col : {"land_value", "building_value", "njop", "tax"})
-    EXPECT_NEAR(cell_number(total[col]), sql_sum(db, std::string("SELECT sum(") + col + ") FROM vm_valuation"), 0.51)
+    EXPECT_NEAR(cell_number(total[col]), sql_number(db, std::string("SELECT sum(") + col + ") FROM vm_valuation"), 0.51)
         << col;
   // By status: the suspect row holds that one parcel, the rows add up to the total.
   EXPECT_EQ(cell_number(row_cells(html, "status-suspect")["parcels"]), 1);

@@ -30,18 +30,6 @@ std::string read(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-double sql_value(const std::string& store, const std::string& sql) {
-  sqlite3* db = nullptr;
-  sqlite3_open_v2(store.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* st = nullptr;
-  double v = std::nan("");
-  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
-    v = sqlite3_column_double(st, 0);
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return v;
-}
-
 std::string chromium() {
   for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
     std::string path;
@@ -111,13 +99,13 @@ TEST(ReportTown, TotalsEqualTheStore) {
   const std::string db = t.out + "/cadastre.gpkg";
   auto total = row_cells(read(t.out + "/report.html"), "total");
   EXPECT_EQ(c3d::test::cell_number(total["parcels"]), kParcels);
-  EXPECT_EQ(cell_number(total["buildings"]), sql_value(db, "SELECT count(*) FROM building"));
+  EXPECT_EQ(cell_number(total["buildings"]), sql_number(db, "SELECT count(*) FROM building"));
   EXPECT_NEAR(cell_number(total["roof"]),
-              sql_value(db, "SELECT sum(area) FROM building_element WHERE element_type='roof'"), 0.006);
+              sql_number(db, "SELECT sum(area) FROM building_element WHERE element_type='roof'"), 0.006);
   EXPECT_NEAR(cell_number(total["wall"]),
-              sql_value(db, "SELECT sum(area) FROM building_element WHERE element_type='wall'"), 0.006);
+              sql_number(db, "SELECT sum(area) FROM building_element WHERE element_type='wall'"), 0.006);
   for (const char* col : {"land_value", "building_value", "njop", "tax"})
-    EXPECT_NEAR(cell_number(total[col]), sql_value(db, std::string("SELECT sum(") + col + ") FROM vm_valuation"),
+    EXPECT_NEAR(cell_number(total[col]), sql_number(db, std::string("SELECT sum(") + col + ") FROM vm_valuation"),
                 0.51) << col;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <sqlite3.h>
 
 #include <array>
 #include <sstream>
@@ -13,6 +14,10 @@
 #include <sys/wait.h>
 
 namespace fs = std::filesystem;
+
+#include "cadastre/store.h"
+#include "core/config/config.h"
+#include "valuation/valuation.h"
 
 namespace c3d::test {
 
@@ -125,6 +130,36 @@ std::vector<Face> box_shell(const Vec3& lo, const Vec3& hi) {
           quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
           quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
           quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
+}
+
+std::string write_store(const std::string& path, const BatchModel& m) {
+  Store s;
+  s.open(path, "", m.epsg);
+  s.begin_run("{}", {}, m.frame);
+  const Config c = default_config();
+  for (size_t i = 0; i < m.parcels.size(); ++i)
+    s.write_parcel(m.parcels[i], m.results[i], value_parcel(m.parcels[i], m.results[i], c.valuation), m.frame);
+  s.end_run();
+  return path;
+}
+
+void sql_exec(const std::string& path, const std::string& statement) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(db, statement.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+  sqlite3_close(db);
+}
+
+double sql_number(const std::string& path, const std::string& query) {
+  sqlite3* db = nullptr;
+  sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* st = nullptr;
+  double v = std::nan("");
+  if (sqlite3_prepare_v2(db, query.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
+    v = sqlite3_column_double(st, 0);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return v;
 }
 
 }  // namespace c3d::test

@@ -17,6 +17,15 @@ std::string laz_dir();
 // A fresh empty directory under the build's temp area (<build>/tests/tmp/<Suite.Test>/name),
 // so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);
+
+// `m` written to a fresh store at `path` (valued with the default
+// configuration), as a batch would; returns path.
+std::string write_store(const std::string& path, const BatchModel& m);
+// Runs an SQL statement on the SQLite file at `path` (the test fails if it does).
+void sql_exec(const std::string& path, const std::string& statement);
+// The first column of the first row `query` gives on the SQLite file at
+// `path`, read-only; NaN when there is none.
+double sql_number(const std::string& path, const std::string& query);
 // The reference validator's verdict on a CityJSON file: the ids of the
 // features ../shared/tools/val3dity finds invalid ("<file>" when the file
 // itself fails with no feature named); nullopt when val3dity is absent. A
