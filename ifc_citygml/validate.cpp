@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <set>
 #include <numeric>
 #include <sstream>
 
@@ -142,32 +143,61 @@ struct Checker {
     return !open && !nonmanifold && flipped.empty();
   }
 
-  // Around each vertex the faces must form one fan (no "two cones touching at a tip").
+  // Around each vertex the faces must form one fan (no "two cones touching at
+  // a tip"). Fans joined through one face count as one: a hole touching its
+  // polygon's outer ring at a vertex (valid for OGC and val3dity) gives that
+  // face two corners there (AHN3 09395's roof).
   bool vertex_rules(const std::vector<std::vector<Ids>>& faces, const std::vector<Vec3>& points) {
-    std::vector<std::map<int, int>> next(points.size());  // at vertex v: prev -> next neighbour
-    for (const auto& f : faces)
-      for (const auto& r : f)
+    struct Corner {
+      int next, face;
+    };
+    std::vector<std::map<int, Corner>> at(points.size());  // at vertex v: prev neighbour -> corner
+    for (size_t f = 0; f < faces.size(); ++f)
+      for (const auto& r : faces[f])
         for (size_t i = 0; i < r.size(); ++i)
-          next[r[i]][r[(i + r.size() - 1) % r.size()]] = r[(i + 1) % r.size()];
+          at[r[i]][r[(i + r.size() - 1) % r.size()]] = {r[(i + 1) % r.size()], int(f)};
     for (size_t v = 0; v < points.size(); ++v) {
-      if (next[v].empty()) continue;
-      int start = next[v].begin()->first, cur = start;
-      size_t steps = 0;
-      do {
-        auto it = next[v].find(cur);
-        if (it == next[v].end()) break;
-        cur = it->second;
-        ++steps;
-      } while (cur != start && steps <= next[v].size());
-      if (steps != next[v].size()) {
-        char at[96];
-        std::snprintf(at, sizeof at, " vertex (%.3f %.3f %.3f)", points[v].x(), points[v].y(),
-                      points[v].z());
-        report(kNonManifoldCase, name + at, "faces around the vertex do not form one fan");
-        return false;
-      }
+      if (at[v].empty() || one_fan(at[v])) continue;
+      char where[96];
+      std::snprintf(where, sizeof where, " vertex (%.3f %.3f %.3f)", points[v].x(), points[v].y(), points[v].z());
+      report(kNonManifoldCase, name + where, "faces around the vertex do not form one fan");
+      return false;
     }
     return true;
+  }
+
+  // Whether the corners at one vertex (prev -> {next, face}) close into fans
+  // that share faces, so that they are one.
+  template <class Corners>
+  static bool one_fan(const Corners& corners) {
+    std::map<int, int> fan_of;  // prev neighbour -> fan
+    std::vector<std::set<int>> fan_faces;
+    for (const auto& [first, c0] : corners) {
+      if (fan_of.count(first)) continue;
+      const int fan = int(fan_faces.size());
+      fan_faces.emplace_back();
+      for (int cur = first;;) {
+        auto it = corners.find(cur);
+        if (it == corners.end() || fan_of.count(cur)) break;
+        fan_of[cur] = fan;
+        fan_faces.back().insert(it->second.face);
+        cur = it->second.next;
+      }
+    }
+    for (const auto& [prev, c] : corners)  // an open fan: not a closed shell here
+      if (!corners.count(c.next)) return false;
+    std::vector<int> group(fan_faces.size());
+    for (size_t k = 0; k < group.size(); ++k) group[k] = int(k);
+    std::function<int(int)> root = [&](int k) { return group[size_t(k)] == k ? k : group[size_t(k)] = root(group[size_t(k)]); };
+    std::map<int, int> face_fan;
+    for (size_t k = 0; k < fan_faces.size(); ++k)
+      for (int f : fan_faces[k]) {
+        auto [it, fresh] = face_fan.try_emplace(f, int(k));
+        if (!fresh) group[size_t(root(int(k)))] = root(it->second);
+      }
+    int roots = 0;
+    for (size_t k = 0; k < group.size(); ++k) roots += root(int(k)) == int(k);
+    return roots == 1;
   }
 
   int components(const std::vector<std::vector<Ids>>& faces,

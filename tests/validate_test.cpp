@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <fstream>
 #include <set>
+
+#include <nlohmann/json.hpp>
 
 #include "core/check/polygon_rules.h"
 #include "ifc_citygml/export.h"
@@ -268,4 +272,55 @@ TEST(Val3dityJudge, AgreesWithValidateOnEveryBuilding) {
   const std::set<std::string> defects{"D-open_b1", "D-flipped_b1", "D-bent_b1", "D-lod_b1"};
   EXPECT_EQ(val3dity, defects);
   EXPECT_EQ(ours, val3dity) << log;
+}
+
+namespace {
+
+// A 2 x 2 x 1 box with a pit in its top: the top face's hole (the pit's rim)
+// touches the face's outer ring at T = (1, 2, 1), a vertex of the wall y = 2
+// too. Valid for OGC and val3dity (AHN3 09395's roof has such a hole).
+nlohmann::json box_with_pit_touching_the_rim() {
+  const std::vector<std::array<int, 3>> v = {{0, 0, 0},    {2000, 0, 0},    {2000, 2000, 0},   {0, 2000, 0},
+                                             {0, 0, 1000}, {2000, 0, 1000}, {2000, 2000, 1000}, {0, 2000, 1000},
+                                             {1000, 2000, 1000}, {1500, 1000, 1000}, {500, 1000, 1000},
+                                             {1000, 1300, 500}};
+  enum { a, b, c, d, e, f, g, h, T, A, B, D };
+  const nlohmann::json shell = {{{a, d, c, b}},       {{a, b, f, e}}, {{b, c, g, f}}, {{c, d, h, T, g}},
+                                {{d, a, e, h}},       {{e, f, g, T, h}, {T, A, B}},
+                                {{T, B, D}},          {{B, A, D}},    {{A, T, D}}};
+  return {{"type", "CityJSON"},
+          {"version", "2.0"},
+          {"transform", {{"scale", {0.001, 0.001, 0.001}}, {"translate", {0, 0, 0}}}},
+          {"CityObjects",
+           {{"pit_b1", {{"type", "Building"}, {"geometry", {{{"type", "Solid"}, {"lod", "2"}, {"boundaries", {shell}}}}}}}}},
+          {"vertices", v}};
+}
+
+}  // namespace
+
+TEST(Val3dityJudge, AHoleTouchingItsOuterRingIsNoPinch) {
+  // Around T the faces form two fans joined through the top face: one fan,
+  // as val3dity sees it. Two boxes meeting at a corner stay two fans.
+  const std::string dir = test::temp_dir("pit"), path = dir + "/pit.city.json", pinch = dir + "/pinch.city.json";
+  nlohmann::json doc = box_with_pit_touching_the_rim();
+  std::ofstream(path) << doc.dump();
+  nlohmann::json& shell = doc["CityObjects"]["pit_b1"]["geometry"][0]["boundaries"][0];
+  shell = nlohmann::json::array();  // the box twice, the second moved to touch the first's corner
+  const int n = int(doc["vertices"].size());
+  for (int k = 0; k < 8; ++k) {
+    auto q = doc["vertices"][size_t(k)];
+    doc["vertices"].push_back({q[0].get<int>() + 2000, q[1].get<int>() + 2000, q[2].get<int>() + 1000});
+  }
+  for (int off : {0, n})
+    for (const auto& r : std::vector<std::array<int, 4>>{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                                          {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}})
+      shell.push_back({{r[0] + off, r[1] + off, r[2] + off, r[3] + off}});
+  std::ofstream(pinch) << doc.dump();
+  std::string log;
+  EXPECT_TRUE(check::validate_invalid(path, &log).empty()) << log;
+  EXPECT_EQ(check::validate_invalid(pinch, &log), std::set<std::string>{"pit_b1"}) << log;
+  const auto judged = test::val3dity_invalid(path);
+  if (!judged) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  EXPECT_TRUE(judged->empty());
+  EXPECT_EQ(*test::val3dity_invalid(pinch), std::vector<std::string>{"pit_b1"});
 }
