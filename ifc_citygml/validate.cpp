@@ -170,34 +170,29 @@ struct Checker {
   // that share faces, so that they are one.
   template <class Corners>
   static bool one_fan(const Corners& corners) {
-    std::map<int, int> fan_of;  // prev neighbour -> fan
-    std::vector<std::set<int>> fan_faces;
-    for (const auto& [first, c0] : corners) {
-      if (fan_of.count(first)) continue;
-      const int fan = int(fan_faces.size());
-      fan_faces.emplace_back();
-      for (int cur = first;;) {
-        auto it = corners.find(cur);
-        if (it == corners.end() || fan_of.count(cur)) break;
-        fan_of[cur] = fan;
-        fan_faces.back().insert(it->second.face);
-        cur = it->second.next;
-      }
-    }
     for (const auto& [prev, c] : corners)  // an open fan: not a closed shell here
       if (!corners.count(c.next)) return false;
-    std::vector<int> group(fan_faces.size());
-    for (size_t k = 0; k < group.size(); ++k) group[k] = int(k);
-    std::function<int(int)> root = [&](int k) { return group[size_t(k)] == k ? k : group[size_t(k)] = root(group[size_t(k)]); };
-    std::map<int, int> face_fan;
-    for (size_t k = 0; k < fan_faces.size(); ++k)
-      for (int f : fan_faces[k]) {
-        auto [it, fresh] = face_fan.try_emplace(f, int(k));
-        if (!fresh) group[size_t(root(int(k)))] = root(it->second);
+    std::map<int, int> fan_of_face;  // face -> the fan it was first met in
+    std::vector<int> joined;         // per fan: the fan it joins (union-find)
+    auto root = [&](int k) {
+      while (joined[size_t(k)] != k) k = joined[size_t(k)];
+      return k;
+    };
+    std::set<int> walked;
+    for (const auto& [first, unused] : corners) {
+      if (walked.count(first)) continue;
+      const int fan = int(joined.size());
+      joined.push_back(fan);
+      for (int cur = first; walked.insert(cur).second;) {
+        const auto& c = corners.at(cur);
+        auto [it, fresh] = fan_of_face.try_emplace(c.face, fan);
+        if (!fresh) joined[size_t(root(fan))] = root(it->second);
+        cur = c.next;
       }
-    int roots = 0;
-    for (size_t k = 0; k < group.size(); ++k) roots += root(int(k)) == int(k);
-    return roots == 1;
+    }
+    int fans = 0;
+    for (size_t k = 0; k < joined.size(); ++k) fans += root(int(k)) == int(k);
+    return fans == 1;
   }
 
   int components(const std::vector<std::vector<Ids>>& faces,
