@@ -146,40 +146,6 @@ std::vector<lod13::LayerPiece> stepped() {
           {{{{2, 2}, {5, 2}, {5, 5}, {2, 5}}, {}}, 6.0}};
 }
 
-// One building's shell as a CityJSON file val3dity reads.
-void write_cityjson(const std::vector<Face>& shell, const std::string& path) {
-  std::map<std::tuple<long, long, long>, int> index;
-  nlohmann::json verts = nlohmann::json::array(), surfaces = nlohmann::json::array();
-  auto ring = [&](const Ring3& r) {
-    nlohmann::json ids = nlohmann::json::array();
-    for (const auto& p : r) {
-      const auto key = std::make_tuple(std::lround(p.x() * 1000), std::lround(p.y() * 1000), std::lround(p.z() * 1000));
-      auto [it, added] = index.emplace(key, int(index.size()));
-      if (added) verts.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key)});
-      ids.push_back(it->second);
-    }
-    return ids;
-  };
-  for (const auto& f : shell) {
-    nlohmann::json s = nlohmann::json::array({ring(f.ring)});
-    for (const auto& h : f.holes) s.push_back(ring(h));
-    surfaces.push_back(s);
-  }
-  nlohmann::json geometry = nlohmann::json::object();
-  geometry["type"] = "Solid";
-  geometry["lod"] = "1.3";
-  geometry["boundaries"] = nlohmann::json::array({surfaces});
-  nlohmann::json doc = nlohmann::json::object();
-  doc["type"] = "CityJSON";
-  doc["version"] = "2.0";
-  doc["transform"]["scale"] = {0.001, 0.001, 0.001};
-  doc["transform"]["translate"] = {0, 0, 0};
-  doc["CityObjects"]["B1"]["type"] = "Building";
-  doc["CityObjects"]["B1"]["geometry"] = nlohmann::json::array({geometry});
-  doc["vertices"] = verts;
-  std::ofstream(path) << doc.dump();
-}
-
 }  // namespace
 
 TEST(Lod13, SteppedSolidIsValidByOurCheckAndVal3dity) {
@@ -202,7 +168,7 @@ TEST(Lod13, SteppedSolidIsValidByOurCheckAndVal3dity) {
   EXPECT_NEAR(party_area, 12 * 4.0 + 8 * 5.0, 1e-6);
 
   const std::string dir = test::temp_dir("lod13_val3dity");
-  write_cityjson(shell, dir + "/stepped.city.json");
+  test::write_solids_cityjson({{"B1", "1.3", shell}}, dir + "/stepped.city.json");
   const auto invalid = test::val3dity_invalid(dir + "/stepped.city.json");
   if (!invalid) GTEST_SKIP() << "../shared/tools/val3dity not found";
   EXPECT_TRUE(invalid->empty()) << invalid->front();

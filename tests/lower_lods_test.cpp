@@ -77,35 +77,6 @@ void expect_valid_shells(const Building& b) {
   }
 }
 
-// The shells as one CityJSON building each, for val3dity.
-void write_shells(const Building& b, const std::string& path) {
-  std::map<std::tuple<long, long, long>, int> index;
-  nlohmann::json verts = nlohmann::json::array(), objects = nlohmann::json::object();
-  auto ring = [&](const Ring3& r) {
-    nlohmann::json ids = nlohmann::json::array();
-    for (const auto& p : r) {
-      const auto key = std::make_tuple(std::lround(p.x() * 1000), std::lround(p.y() * 1000), std::lround(p.z() * 1000));
-      auto [it, added] = index.emplace(key, int(index.size()));
-      if (added) verts.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key)});
-      ids.push_back(it->second);
-    }
-    return ids;
-  };
-  for (const auto& s : b.lower_lods) {
-    nlohmann::json surfaces = nlohmann::json::array();
-    for (const auto& f : s.faces) {
-      nlohmann::json one = nlohmann::json::array({ring(f.ring)});
-      for (const auto& h : f.holes) one.push_back(ring(h));
-      surfaces.push_back(one);
-    }
-    nlohmann::json g = {{"type", "Solid"}, {"lod", s.lod}, {"boundaries", nlohmann::json::array({surfaces})}};
-    objects[b.id + "_lod" + s.lod] = {{"type", "Building"}, {"geometry", nlohmann::json::array({g})}};
-  }
-  nlohmann::json doc = {{"type", "CityJSON"}, {"version", "2.0"}, {"CityObjects", objects}, {"vertices", verts}};
-  doc["transform"] = {{"scale", {0.001, 0.001, 0.001}}, {"translate", {0, 0, 0}}};
-  std::ofstream(path) << doc.dump();
-}
-
 // A flat roof at height z over [x0,x1] x [y0,y1], `density` points per m2.
 std::vector<Vec3> flat(double z, double x0, double x1, double y0, double y1, double density, unsigned seed) {
   std::mt19937_64 rng(seed);
@@ -179,7 +150,9 @@ TEST(LowerLods, GableHouseIsSlantedWithKnownHeightsAndShells) {
   EXPECT_LE(b.lower_lods[1].roof_rmse, prism.roof_rmse + 1e-9);  // layers fit no worse than one prism
 
   const std::string path = test::temp_dir("lower_lods_gable") + "/shells.city.json";
-  write_shells(b, path);
+  std::vector<NamedSolid> shells;
+  for (const auto& s : b.lower_lods) shells.push_back({b.id + "_lod" + s.lod, s.lod, s.faces});
+  write_solids_cityjson(shells, path);
   const auto invalid = test::val3dity_invalid(path);
   if (!invalid) GTEST_SKIP() << "../shared/tools/val3dity not found";
   EXPECT_TRUE(invalid->empty()) << invalid->front();

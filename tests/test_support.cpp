@@ -6,6 +6,9 @@
 #include <sqlite3.h>
 
 #include <array>
+#include <cmath>
+#include <map>
+#include <tuple>
 #include <sstream>
 #include <cstdio>
 #include <filesystem>
@@ -130,6 +133,34 @@ std::vector<Face> box_shell(const Vec3& lo, const Vec3& hi) {
           quad({x1, y1, z0}, {x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}),
           quad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}),
           quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1})};
+}
+
+void write_solids_cityjson(const std::vector<NamedSolid>& solids, const std::string& path) {
+  std::map<std::tuple<long, long, long>, int> index;
+  nlohmann::json verts = nlohmann::json::array(), objects = nlohmann::json::object();
+  auto ring = [&](const Ring3& r) {
+    nlohmann::json ids = nlohmann::json::array();
+    for (const auto& p : r) {
+      const auto key = std::make_tuple(std::lround(p.x() * 1000), std::lround(p.y() * 1000), std::lround(p.z() * 1000));
+      auto [it, added] = index.emplace(key, int(index.size()));
+      if (added) verts.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key)});
+      ids.push_back(it->second);
+    }
+    return ids;
+  };
+  for (const auto& s : solids) {
+    nlohmann::json surfaces = nlohmann::json::array();
+    for (const auto& f : s.faces) {
+      nlohmann::json one = nlohmann::json::array({ring(f.ring)});
+      for (const auto& h : f.holes) one.push_back(ring(h));
+      surfaces.push_back(one);
+    }
+    nlohmann::json g = {{"type", "Solid"}, {"lod", s.lod}, {"boundaries", nlohmann::json::array({surfaces})}};
+    objects[s.id] = {{"type", "Building"}, {"geometry", nlohmann::json::array({g})}};
+  }
+  nlohmann::json doc = {{"type", "CityJSON"}, {"version", "2.0"}, {"CityObjects", objects}, {"vertices", verts}};
+  doc["transform"] = {{"scale", {0.001, 0.001, 0.001}}, {"translate", {0, 0, 0}}};
+  std::ofstream(path) << doc.dump();
 }
 
 std::string write_store(const std::string& path, const BatchModel& m) {

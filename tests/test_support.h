@@ -18,6 +18,14 @@ std::string laz_dir();
 // so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);
 
+// Closed shells as CityJSON, one Building object per solid (vertices on a
+// 1 mm grid), for val3dity to judge shells that no export writes alone.
+struct NamedSolid {
+  std::string id, lod;
+  std::vector<Face> faces;
+};
+void write_solids_cityjson(const std::vector<NamedSolid>& solids, const std::string& path);
+
 // `m` written to a fresh store at `path` (valued with the default
 // configuration), as a batch would; returns path.
 std::string write_store(const std::string& path, const BatchModel& m);
