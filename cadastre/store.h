@@ -83,6 +83,10 @@ void mark_run_finished(const std::string& path);
 BatchModel load_batch_model(const std::string& path);
 // One valuation per parcel, same order as load_batch_model().parcels.
 std::vector<ParcelValuation> load_valuations(const std::string& path);
+// The same for the parcels of these layer indices only (in layer order): a
+// streaming reader takes the store a chunk at a time.
+BatchModel load_batch_model(const std::string& path, const std::vector<int>& layer_indices);
+std::vector<ParcelValuation> load_valuations(const std::string& path, const std::vector<int>& layer_indices);
 std::vector<JobRecord> load_jobs(const std::string& path);
 std::vector<RunRecord> load_runs(const std::string& path);
 

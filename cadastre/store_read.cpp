@@ -141,9 +141,16 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
   return out;
 }
 
-}  // namespace
+// " WHERE su.layer_index IN (...)" for a subset; "" for all (indices are
+// integers, written as literals).
+std::string layer_filter(const std::vector<int>* indices) {
+  if (!indices) return "";
+  std::string w = " WHERE su.layer_index IN (";
+  for (size_t k = 0; k < indices->size(); ++k) w += (k ? "," : "") + std::to_string((*indices)[k]);
+  return w + ")";
+}
 
-BatchModel load_batch_model(const std::string& path) {
+BatchModel read_batch_model(const std::string& path, const std::vector<int>* indices) {
   sql::Db db = open_store(path);
   BatchModel m;
   m.frame = latest_frame(db);
@@ -156,8 +163,8 @@ BatchModel load_batch_model(const std::string& path) {
               "su.repair_note, " + right + ", j.status, j.reason, j.roof_points, j.wall_points, "
               "j.timings FROM la_spatialunit su "
               "LEFT JOIN la_rrr r ON r.baunit_id = su.baunit_id "
-              "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id "
-              "ORDER BY su.layer_index, su.parcel_id");
+              "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id" + layer_filter(indices) +
+              " ORDER BY su.layer_index, su.parcel_id");
   try {
     while (q.step()) {
       Parcel p;
@@ -188,7 +195,7 @@ BatchModel load_batch_model(const std::string& path) {
   return m;
 }
 
-std::vector<ParcelValuation> load_valuations(const std::string& path) {
+std::vector<ParcelValuation> read_valuations(const std::string& path, const std::vector<int>* indices) {
   sql::Db db = open_store(path);
   sql::Stmt q(db,
               "SELECT v.fid, u.parcel_id, v.currency, u.zone, u.quality, v.note, u.land_area, "
@@ -197,8 +204,8 @@ std::vector<ParcelValuation> load_valuations(const std::string& path) {
               "v.building_value, v.sigma_building_value, v.njop, v.sigma_njop, v.tax_rate, "
               "v.njoptkp, v.taxable, v.tax, v.sigma_tax "
               "FROM la_spatialunit su JOIN vm_valuationunit u ON u.spatialunit_id = su.fid "
-              "JOIN vm_valuation v ON v.valuationunit_id = u.fid "
-              "ORDER BY su.layer_index, su.parcel_id");
+              "JOIN vm_valuation v ON v.valuationunit_id = u.fid" + layer_filter(indices) +
+              " ORDER BY su.layer_index, su.parcel_id");
   sql::Stmt qi(db,
                "SELECT building_id, element_index, element_type, quality, area, sigma_area, "
                "unit_cost, amount, sigma_amount, support_points, rmse FROM vm_cost_item "
@@ -238,6 +245,20 @@ std::vector<ParcelValuation> load_valuations(const std::string& path) {
     out.push_back(std::move(v));
   }
   return out;
+}
+
+}  // namespace
+
+BatchModel load_batch_model(const std::string& path) { return read_batch_model(path, nullptr); }
+
+BatchModel load_batch_model(const std::string& path, const std::vector<int>& layer_indices) {
+  return read_batch_model(path, &layer_indices);
+}
+
+std::vector<ParcelValuation> load_valuations(const std::string& path) { return read_valuations(path, nullptr); }
+
+std::vector<ParcelValuation> load_valuations(const std::string& path, const std::vector<int>& layer_indices) {
+  return read_valuations(path, &layer_indices);
 }
 
 std::vector<JobRecord> load_jobs(const std::string& path) {

@@ -165,6 +165,25 @@ TEST(Store, WritesReadsBackAndKeepsAreas) {
   EXPECT_GT(vals[1].land_value, 0);
 }
 
+// A streaming reader takes a chunk of parcels: the same rows as the full read.
+TEST(Store, ReadsASubsetOfParcelsLikeTheWholeStore) {
+  const std::string path = make_store("store_subset", test::sample_batch());
+  const BatchModel all = load_batch_model(path);
+  const BatchModel some = load_batch_model(path, {2, 0});
+  ASSERT_EQ(some.parcels.size(), 2u);
+  EXPECT_EQ(some.parcels[0].id, all.parcels[0].id);  // layer order, whatever order asked
+  EXPECT_EQ(some.parcels[1].id, all.parcels[2].id);
+  EXPECT_EQ(some.results[1].reason, all.results[2].reason);
+  ASSERT_EQ(some.results[0].buildings.size(), all.results[0].buildings.size());
+  EXPECT_DOUBLE_EQ(some.results[0].buildings[0].elements[0].area, all.results[0].buildings[0].elements[0].area);
+  EXPECT_EQ(some.frame.origin, all.frame.origin);
+  const auto vals = load_valuations(path, {1});
+  ASSERT_EQ(vals.size(), 1u);
+  EXPECT_EQ(vals[0].parcel_id, all.parcels[1].id);
+  EXPECT_DOUBLE_EQ(vals[0].land_value, load_valuations(path)[1].land_value);
+  EXPECT_TRUE(load_batch_model(path, {}).parcels.empty());
+}
+
 TEST(Store, GeoPackageTablesHeaderAndForeignKeys) {
   std::string path = make_store("store_tables", test::sample_batch());
   Sqlite db(path);
