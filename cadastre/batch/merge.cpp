@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "cadastre/batch/out_dir.h"
 #include "cadastre/batch/shard.h"
 #include "cadastre/gpkg_rtree.h"
 #include "cadastre/sqlite_util.h"
@@ -220,6 +221,26 @@ MergeSummary merge_stores(const std::vector<std::string>& shards, const std::str
   store.end_run(false);  // counts and extents; finished once the outputs are in place
   store.close();
   return sum;
+}
+
+MergedRun merge_run(const std::vector<std::string>& shards, const std::string& out_dir,
+                    const std::vector<std::string>& formats, bool overwrite, const OutputProgress& progress) {
+  std::filesystem::create_directories(out_dir);
+  const OutDirLock lock(out_dir);
+  if (overwrite) remove_batch_outputs(out_dir);
+  MergedRun m;
+  m.store = (std::filesystem::path(out_dir) / "cadastre.gpkg").string();
+  if (std::filesystem::exists(m.store)) throw InputError(m.store, "exists already; --overwrite replaces it");
+  m.merge = merge_stores(shards, m.store);
+  BatchReport report;  // the model and counts as the merged store holds them
+  report.model = load_batch_model(m.store);
+  report.parcels = report.reconstructed = report.model.parcels.size();
+  for (const auto& r : report.model.results) ++m.status_counts[size_t(r.status)];
+  report.failed = m.status_counts[size_t(ParcelStatus::Failed)];
+  report.suspect = m.status_counts[size_t(ParcelStatus::Suspect)];
+  m.written = write_outputs(report, m.store, out_dir, default_config(), formats, progress);
+  if (m.merge.complete()) mark_run_finished(m.store);  // a finished run: every parcel and output in place
+  return m;
 }
 
 }  // namespace c3d

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "cadastre/batch/outputs.h"
+
 namespace c3d {
 
 struct MergeSummary {
@@ -23,5 +25,19 @@ struct MergeSummary {
 // parameters, inputs, CRS or shard count, a shard given twice, and a parcel in
 // two stores with different content (the same content is taken once).
 MergeSummary merge_stores(const std::vector<std::string>& shards, const std::string& out_store);
+
+struct MergedRun {
+  MergeSummary merge;
+  WrittenOutputs written;
+  std::string store;
+  size_t status_counts[4] = {0, 0, 0, 0};  // by ParcelStatus
+};
+
+// `cadastre3d merge`: merge_stores into OUT/cadastre.gpkg, then the outputs a
+// batch writes (write_outputs), under OUT's lock; --overwrite replaces what a
+// batch or merge wrote into OUT before. The run is marked finished only when
+// every shard and parcel is in.
+MergedRun merge_run(const std::vector<std::string>& shards, const std::string& out_dir,
+                    const std::vector<std::string>& formats, bool overwrite, const OutputProgress& progress = {});
 
 }  // namespace c3d
