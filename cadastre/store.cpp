@@ -143,14 +143,17 @@ void Store::Impl::prepare() {
 }
 
 std::int64_t Store::begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
-                              const LocalFrame& frame) {
+                              const LocalFrame& frame, const std::string& shard) {
   if (!impl_) throw InputError("store", "begin_run before open");
   auto& db = impl_->db;
   sql::Transaction tx(db);
   sql::Stmt run(db, std::string("INSERT INTO run (tool_version, parameters, crs_epsg, origin_x, "
-                                "origin_y, origin_z, started) VALUES (?,?,?,?,?,?,") + kNow + ")");
+                                "origin_y, origin_z, shard, started) VALUES (?,?,?,?,?,?,?,") + kNow + ")");
   run.bind(std::string("cadastre3d ") + C3D_VERSION).bind(params_json).bind(impl_->srs)
-      .bind(frame.origin.x()).bind(frame.origin.y()).bind(frame.origin.z()).run();
+      .bind(frame.origin.x()).bind(frame.origin.y()).bind(frame.origin.z());
+  if (shard.empty()) run.bind_null();
+  else run.bind(shard);
+  run.run();
   impl_->run_id = db.last_id();
   sql::Stmt in(db, "INSERT INTO run_input (run_id, path, sha256, bytes) VALUES (?,?,?,?)");
   for (const auto& f : inputs) in.bind(impl_->run_id).bind(f.path).bind(f.sha256).bind(f.bytes).run();

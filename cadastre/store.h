@@ -27,6 +27,7 @@ struct RunRecord {
   Vec3 origin = Vec3::Zero();
   int parcels_ok = 0, parcels_empty = 0, parcels_failed = 0;
   std::vector<InputFile> inputs;
+  std::string shard;  // "K/N" for a shard's run (--shard), else ""
 };
 
 struct JobRecord {
@@ -48,9 +49,10 @@ class Store {
   // epsg 0 with a WKT registers a custom CRS; both empty: undefined Cartesian.
   void open(const std::string& path, const std::string& crs_wkt, int epsg);
   // Starts a run record: parameters (JSON text), input files (with their
-  // SHA-256), the batch's local frame. Returns the run id.
+  // SHA-256), the batch's local frame, the shard ("K/N"; "" for a whole run).
+  // Returns the run id.
   std::int64_t begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
-                         const LocalFrame& frame = {});
+                         const LocalFrame& frame = {}, const std::string& shard = "");
   // Marks parcels pending (one transaction) unless already done with the same key.
   void mark_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& inputs_keys);
   // True when the parcel was stored ok/empty from the same inputs (for --resume).

@@ -275,9 +275,11 @@ std::vector<JobRecord> load_jobs(const std::string& path) {
 
 std::vector<RunRecord> load_runs(const std::string& path) {
   sql::Db db = open_store(path);
+  const std::string shard = store_schema::has_column(db, "run", "shard") ? "shard" : "NULL";
   sql::Stmt q(db,
               "SELECT fid, tool_version, parameters, started, finished, crs_epsg, origin_x, "
-              "origin_y, origin_z, parcels_ok, parcels_empty, parcels_failed FROM run ORDER BY fid");
+              "origin_y, origin_z, parcels_ok, parcels_empty, parcels_failed, " + shard +
+              " FROM run ORDER BY fid");
   sql::Stmt qi(db, "SELECT path, sha256, bytes FROM run_input WHERE run_id=? ORDER BY fid");
   std::vector<RunRecord> out;
   while (q.step()) {
@@ -292,6 +294,7 @@ std::vector<RunRecord> load_runs(const std::string& path) {
     r.parcels_ok = int(q.get_int(9));
     r.parcels_empty = int(q.get_int(10));
     r.parcels_failed = int(q.get_int(11));
+    r.shard = q.get_text(12);
     qi.bind(r.id);
     while (qi.step()) r.inputs.push_back({qi.get_text(0), qi.get_text(1), qi.get_int(2)});
     qi.reset();

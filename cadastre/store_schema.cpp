@@ -198,6 +198,7 @@ const AddedColumn kAddedColumns[] = {
     {"building", "lod_note", "TEXT"},
     {"building_element", "sigma_shared", "DOUBLE"},
     {"run", "parcels_suspect", "INTEGER"},
+    {"run", "shard", "TEXT"},  // "K/N" of a shard's run (docs/scale.md)
     // 3DBAG-style attributes (docs/design.md, "Building attributes"); heights world z.
     {"building", "roof_type", "TEXT"},
     {"building", "roof_z_min", "DOUBLE"},

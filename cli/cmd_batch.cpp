@@ -2,9 +2,11 @@
 // run_batch (cadastre/batch); this file parses the options and prints.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <set>
+#include <thread>
 
 #include "cadastre/batch/batch.h"
 #include "cadastre/batch/out_dir.h"
@@ -33,6 +35,7 @@ struct BatchOptions {
   bool classify = false;                   // classify the clouds first (core/classify)
   std::string model = C3D_DEFAULT_MODEL;   // the classifier's model
   std::string id_field;                    // --id-field: the parcel id field instead of the config's
+  std::string shard;                       // --shard K/N; a shard writes its store only
 };
 
 // The configuration the batch runs with: the file's, then the command line's overrides.
@@ -83,9 +86,33 @@ int print_counts(const BatchModel& model, bool quiet) {
   return failed + suspect > 0 ? kExitPartial : kExitOk;
 }
 
+// Test hook (tests/slurm_shards_check.sh): C3D_TEST_PAUSE_SHARD="K/N:M" holds
+// shard K/N for a minute once its M-th parcel is stored, so the test can kill
+// the task midway. Returns M, or 0 when the hook does not name this shard.
+size_t pause_after(const Shard& shard) {
+  const char* hook = std::getenv("C3D_TEST_PAUSE_SHARD");
+  const std::string h = hook ? hook : "";
+  const auto colon = h.find(':');
+  if (!shard.active() || colon == std::string::npos || h.substr(0, colon) != to_string(shard)) return 0;
+  return size_t(std::strtoul(h.c_str() + colon + 1, nullptr, 10));
+}
+
+// A shard writes its store only: a report of part of the layer would mislead;
+// `cadastre3d merge` writes the outputs of all shards (docs/scale.md).
+int finish_shard(const BatchReport& report, const std::string& store_path, const BatchOptions& opt,
+                 Progress& progress) {
+  progress.done();
+  mark_run_finished(store_path);
+  if (!opt.quiet)
+    std::cout << "shard " << to_string(opt.settings.shard) << ": " << report.model.parcels.size() << " of "
+              << report.parcels << " parcels in " << store_path << "; `cadastre3d merge` writes the report\n";
+  return print_counts(report.model, opt.quiet);
+}
+
 int run(BatchOptions opt) {
   const auto t_start = std::chrono::steady_clock::now();
   if (opt.quiet) log::set_level(log::Level::Warn);
+  if (!opt.shard.empty()) opt.settings.shard = parse_shard(opt.shard);
   const Config cfg = effective_config(opt);
   if (opt.classify) opt.inputs.classifier_model = opt.model;
   fs::create_directories(opt.out);
@@ -94,8 +121,13 @@ int run(BatchOptions opt) {
   const std::string store_path = (fs::path(opt.out) / "cadastre.gpkg").string();
   StoreSink sink(store_path, opt.settings.resume);
   Progress progress(opt.quiet);
-  opt.settings.progress = [&](const char* stage, size_t done, size_t total) { progress.show(stage, done, total); };
+  const size_t pause = pause_after(opt.settings.shard);
+  opt.settings.progress = [&](const char* stage, size_t done, size_t total) {
+    progress.show(stage, done, total);
+    if (pause && done == pause && std::string(stage) == "reconstruct") std::this_thread::sleep_for(std::chrono::minutes(1));
+  };
   const BatchReport report = run_batch(opt.inputs, cfg, sink, opt.settings);
+  if (opt.settings.shard.active()) return finish_shard(report, store_path, opt, progress);
   const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats,
                                                [&](size_t done, size_t total) { progress.show("outputs", done, total); });
   progress.done();
@@ -109,7 +141,7 @@ int run(BatchOptions opt) {
 
 }  // namespace
 
-void register_batch(CLI::App& app) {
+void register_batch(CLI::App& app, bool parse_only) {
   auto opt = std::make_shared<BatchOptions>();
   auto* cmd = app.add_subcommand(
       "batch",
@@ -148,6 +180,9 @@ void register_batch(CLI::App& app) {
   cmd->add_flag("--overwrite", opt->overwrite,
                 "Replace what an earlier batch wrote into OUT (store, report, exports, previews)")
       ->excludes(resume);
+  cmd->add_option("--shard", opt->shard,
+                  "Model and store only shard K of N (K/N, spatial parts of the whole layer); "
+                  "writes the store only, `merge` joins the shards (docs/scale.md)");
   cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");
   cmd->add_option("--device", opt->device, "Optimizer device: auto, cpu or vulkan")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
@@ -155,7 +190,9 @@ void register_batch(CLI::App& app) {
                 "Classify the clouds first (ground/roof/wall/other, Random Forest), replacing their classes");
   cmd->add_option("--model", opt->model, "Classifier model for --classify")->capture_default_str();
   cmd->add_flag("--quiet", opt->quiet, "Print nothing but warnings and errors");
-  cmd->callback([opt] { exit_code() = run(*opt); });
+  cmd->callback([opt, parse_only] {
+    if (!parse_only) exit_code() = run(*opt);
+  });
 }
 
 }  // namespace c3d::cli

@@ -14,13 +14,16 @@ constexpr int kExitPartial = 3;
 void register_info(CLI::App& app);
 void register_sample(CLI::App& app);
 void register_clip(CLI::App& app);
-void register_batch(CLI::App& app);
+// parse_only: the options are checked, no batch runs (the Slurm runner checks its tasks' options).
+void register_batch(CLI::App& app, bool parse_only = false);
 void register_evaluate(CLI::App& app);
 void register_report(CLI::App& app);
 void register_export(CLI::App& app);
 void register_validate(CLI::App& app);
 void register_optimize(CLI::App& app);
 void register_classify(CLI::App& app);
+void register_merge(CLI::App& app);
+void register_slurm(CLI::App& app);
 
 // Set by a command's callback; returned by main.
 int& exit_code();

@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   register_validate(app);
   register_optimize(app);
   register_classify(app);
+  register_merge(app);
+  register_slurm(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -52,10 +52,10 @@ BatchRun describe_run(const LoadedInputs& in, const BatchInputs& inputs, const C
   return run;
 }
 
-// The parcels to model: all, or with --resume those the sink lacks.
+// The parcels to model: the run's (all, or its shard's), or with --resume those the sink lacks.
 std::vector<size_t> parcels_to_model(BatchSink& sink, const BatchRun& run, bool resume) {
   std::vector<size_t> todo;
-  for (size_t i = 0; i < run.parcel_keys.size(); ++i)
+  for (size_t i : run.in_shard)
     if (!resume || !sink.has_parcel(i, run.parcel_keys[i])) todo.push_back(i);
   return todo;
 }
@@ -213,7 +213,9 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
   report.timings.ingest_s = seconds_since(t_start);
   progress("ingest", 2, 3);
 
-  const BatchRun run = describe_run(in, inputs, cfg, frame);
+  BatchRun run = describe_run(in, inputs, cfg, frame);
+  run.in_shard = shard_parcels(in.layer.parcels, settings.shard);
+  run.shard = to_string(settings.shard);
   progress("ingest", 3, 3);
   sink.begin(run);
   const std::vector<size_t> todo = parcels_to_model(sink, run, settings.resume);
@@ -223,7 +225,8 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
   progress("store", 1, 1);
   report.timings.reconstruct_s = seconds_since(t_start) - report.timings.ingest_s;
   progress("deviation", 0, 1);
-  any_model_deviation(in, cfg.clip, scenes, report);
+  // A shard holds part of the models: the whole fit is for a whole run's outputs.
+  if (!settings.shard.active()) any_model_deviation(in, cfg.clip, scenes, report);
   progress("deviation", 1, 1);
   return report;
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cadastre/batch/shard.h"
 #include "cadastre/parcels.h"
 #include "core/config/config.h"
 #include "core/evaluate/ruler.h"
@@ -43,6 +44,7 @@ struct BatchInputs {
 struct BatchSettings {
   int jobs = 0;         // parallel parcels; 0: all cores; more than kMaxJobsPerCore per core: clamped
   bool resume = false;  // skip parcels the sink already holds from the same key
+  Shard shard;          // --shard K/N: model and store only shard K's parcels (cadastre/batch/shard.h)
   // Stage "ingest" (steps: inputs read, points clipped, inputs hashed), "reconstruct" (after
   // each parcel modelled and stored), "store" (every parcel read back, one
   // step), "deviation" (one step).
@@ -60,6 +62,8 @@ struct BatchRun {
   std::vector<InputFile> inputs;          // every input file with its SHA-256 (read once)
   const std::vector<Parcel>* parcels = nullptr;  // the layer, world coordinates
   std::vector<std::string> parcel_keys;   // per parcel: what its result depends on (resume key)
+  std::vector<size_t> in_shard;           // layer positions this run models: all, or its shard's
+  std::string shard;                      // "K/N", or "" when not sharded
 };
 
 // Where results go. Calls come from one thread at a time.

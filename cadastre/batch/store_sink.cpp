@@ -33,8 +33,12 @@ void StoreSink::begin(const BatchRun& run) {
   if (!dir.empty()) std::filesystem::create_directories(dir);
   if (!keep_other_runs_ && std::filesystem::exists(path_)) refuse_other_run(path_, keys_);
   store_.open(path_, run.crs_wkt, epsg_of(run.crs_wkt));
-  store_.begin_run(run.parameters, run.inputs, run.frame);
-  store_.mark_pending(*parcels_, keys_);
+  store_.begin_run(run.parameters, run.inputs, run.frame, run.shard);
+  // Only the run's own parcels are pending: a shard's store says nothing of the others.
+  std::vector<Parcel> own;
+  std::vector<std::string> own_keys;
+  for (size_t i : run.in_shard) own.push_back((*parcels_)[i]), own_keys.push_back(keys_[i]);
+  store_.mark_pending(own, own_keys);
 }
 
 bool StoreSink::has_parcel(size_t i, const std::string& key) {

@@ -1,0 +1,61 @@
+#include "cadastre/batch/shard.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/geometry/hilbert.h"
+
+namespace c3d {
+namespace {
+
+// Centre of the parcel's bounding box (world); a parcel with no vertex sits at 0,0.
+Vec2 box_centre(const Parcel& p) {
+  bool any = false;
+  Vec2 lo(0, 0), hi(0, 0);
+  for (const auto& poly : p.shape)
+    for (const Vec2& v : poly.outer) {
+      lo = any ? Vec2(lo.cwiseMin(v)) : v;
+      hi = any ? Vec2(hi.cwiseMax(v)) : v;
+      any = true;
+    }
+  return (lo + hi) / 2;
+}
+
+// A whole positive decimal number, or -1.
+long whole_number(const std::string& s) {
+  if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::strtol(s.c_str(), nullptr, 10);
+}
+
+}  // namespace
+
+Shard parse_shard(const std::string& text) {
+  const auto slash = text.find('/');
+  const long k = slash == std::string::npos ? -1 : whole_number(text.substr(0, slash));
+  const long n = slash == std::string::npos ? -1 : whole_number(text.substr(slash + 1));
+  if (k < 1 || n < 1 || k > n)
+    throw InputError("--shard", "'" + text + "' is not K/N with 1 <= K <= N (e.g. 2/4)");
+  return {int(k), int(n)};
+}
+
+std::string to_string(const Shard& s) {
+  return s.active() ? std::to_string(s.k) + "/" + std::to_string(s.n) : "";
+}
+
+std::vector<size_t> shard_parcels(const std::vector<Parcel>& parcels, const Shard& s) {
+  std::vector<size_t> out(parcels.size());
+  std::iota(out.begin(), out.end(), size_t(0));
+  if (!s.active()) return out;
+  std::vector<Vec2> centres;
+  centres.reserve(parcels.size());
+  for (const Parcel& p : parcels) centres.push_back(box_centre(p));
+  const std::vector<size_t> order = hilbert_order(centres);
+  const IndexRange r = part_range(order.size(), s.k, s.n);
+  out.assign(order.begin() + long(r.begin), order.begin() + long(r.end));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace c3d

@@ -1,0 +1,142 @@
+#include "cadastre/batch/slurm.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace c3d {
+namespace {
+
+// Exit status of a batch that finished with failed or suspect parcels
+// (cli/commands.h kExitPartial): a done task, so the finish job still runs.
+constexpr int kBatchPartialExit = 3;
+
+std::string slurm_dir(const std::string& out) { return (fs::path(out) / "slurm").string(); }
+
+std::string shard_out(const SlurmPlan& p, const std::string& k) {
+  return shell_quote((fs::path(p.out) / "shards").string() + "/") + k;
+}
+
+std::string header(const SlurmPlan& p, const std::string& name, const std::string& log) {
+  std::string s = "#!/bin/bash\n#SBATCH --job-name=" + name + "\n#SBATCH --chdir=" + p.workdir +
+                  "\n#SBATCH --output=" + (fs::path(slurm_dir(p.out)) / log).string() + "\n";
+  if (p.cpus_per_task > 0) s += "#SBATCH --cpus-per-task=" + std::to_string(p.cpus_per_task) + "\n";
+  for (const auto& o : p.sbatch_options) s += "#SBATCH " + o + "\n";
+  return s;
+}
+
+std::string shards_script(const SlurmPlan& p) {
+  const std::string n = std::to_string(p.shards);
+  std::string s = header(p, "c3d-shards", "shard-%a.log");
+  s += "#SBATCH --array=1-" + n + "\n"
+       "# Written by `cadastre3d slurm`: task K models shard K/" + n + " of the parcels.\n"
+       "# A killed task reruns with  " + slurm_dir(p.out) + "/rerun.sh K  (or sbatch --array=K this file):\n"
+       "# --resume keeps the parcels it stored, so nothing is written twice.\n"
+       "set -u\nK=$SLURM_ARRAY_TASK_ID\n" + shell_quote(p.exe) + " batch";
+  for (const auto& a : p.batch_args) s += " " + shell_quote(a);
+  s += " --out " + shard_out(p, "$K") + " --shard $K/" + n + " --resume";
+  bool jobs = false;  // the user's --jobs, else the CPUs Slurm gave the task
+  for (const auto& a : p.batch_args) jobs = jobs || a == "--jobs" || a.rfind("--jobs=", 0) == 0;
+  if (!jobs) s += " --jobs ${SLURM_CPUS_PER_TASK:-1}";
+  if (!p.store.empty()) s += " --store " + shell_quote(p.store);
+  s += "\nrc=$?\n# " + std::to_string(kBatchPartialExit) +
+       ": done, some parcels failed or suspect (in the store): the task is done\n"
+       "[ $rc -eq " + std::to_string(kBatchPartialExit) + " ] && exit 0\nexit $rc\n";
+  return s;
+}
+
+std::string finish_script(const SlurmPlan& p) {
+  std::string s = header(p, "c3d-finish", "finish.log") + "# Written by `cadastre3d slurm`: runs after every shard task.\nset -e\n";
+  const std::string formats = p.formats.empty() ? "" : " --formats " + shell_quote(p.formats);
+  const std::string exe = shell_quote(p.exe), out = shell_quote(p.out);
+  if (p.store.empty()) {
+    s += "exec " + exe + " merge --out " + out + " --overwrite" + formats;
+    for (int k = 1; k <= p.shards; ++k) s += " " + shard_out(p, std::to_string(k)) + "/cadastre.gpkg";
+    return s + "\n";
+  }
+  const std::string store = shell_quote(p.store);
+  return s + exe + " report --store " + store + " --out " + out + "\n" + exe + " export --store " + store +
+         " --out " + out + formats + "\n";
+}
+
+std::string rerun_script(const SlurmPlan& p) {
+  return "#!/bin/bash\n"
+         "# Reruns shard tasks (a killed or failed one) and the finish step after them:\n"
+         "#   " + slurm_dir(p.out) + "/rerun.sh K [K...]\n"
+         "# The tasks --resume: parcels already stored stay and are not written twice.\n"
+         "set -euo pipefail\ncd \"$(dirname \"$0\")\"\n"
+         "[ $# -ge 1 ] || { echo \"usage: $0 K [K...]\" >&2; exit 2; }\n"
+         "ks=$(IFS=,; echo \"$*\")\n"
+         "job=$(sbatch --parsable --array=\"$ks\" shards.sbatch); job=${job%%;*}\n"
+         "if [ -f finish.jobid ]; then scancel \"$(cat finish.jobid)\" 2>/dev/null || true; fi\n"
+         "# After the rerun, and after whatever is left of the first array.\n"
+         "dep=afterok:$job\n"
+         "if [ -f shards.jobid ]; then dep=$dep,afterany:$(cat shards.jobid); fi\n"
+         "fin=$(sbatch --parsable --dependency=\"$dep\" finish.sbatch); fin=${fin%%;*}\n"
+         "echo \"$fin\" > finish.jobid\n"
+         "echo \"shards $ks: job $job; finish: job $fin\"\n";
+}
+
+void write_executable(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+  if (!f.flush()) throw InputError(path, "cannot write");
+  f.close();
+  fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec, fs::perm_options::add);
+}
+
+// Runs sbatch --parsable ARGS and returns the job id it prints.
+std::string sbatch(const std::string& args, const std::string& script) {
+  const std::string cmd = "sbatch --parsable " + args + " " + shell_quote(script) + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) throw InputError(script, "cannot run sbatch");
+  std::string out;
+  char buf[256];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int rc = pclose(pipe);
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  if (rc != 0 || out.empty() || out.find_first_not_of("0123456789;") != std::string::npos)
+    throw InputError(script, "sbatch failed: " + out);
+  return out.substr(0, out.find(';'));  // "id;cluster" on a federation
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream f(path);
+  f << text << "\n";
+  if (!f.flush()) throw InputError(path, "cannot write");
+}
+
+}  // namespace
+
+std::string shell_quote(const std::string& text) {
+  std::string q = "'";
+  for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+SlurmScripts write_slurm_scripts(const SlurmPlan& plan) {
+  const std::string dir = slurm_dir(plan.out);
+  fs::create_directories(dir);
+  fs::create_directories(fs::path(plan.out) / "shards");
+  SlurmScripts s{dir + "/shards.sbatch", dir + "/finish.sbatch", dir + "/rerun.sh"};
+  write_executable(s.shards, shards_script(plan));
+  write_executable(s.finish, finish_script(plan));
+  write_executable(s.rerun, rerun_script(plan));
+  return s;
+}
+
+SlurmJobs submit_slurm(const SlurmScripts& scripts) {
+  SlurmJobs j;
+  j.shards = sbatch("", scripts.shards);
+  j.finish = sbatch("--dependency=afterok:" + j.shards, scripts.finish);
+  const fs::path dir = fs::path(scripts.shards).parent_path();
+  write_text((dir / "shards.jobid").string(), j.shards);
+  write_text((dir / "finish.jobid").string(), j.finish);
+  return j;
+}
+
+}  // namespace c3d
