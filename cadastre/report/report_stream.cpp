@@ -1,0 +1,92 @@
+// The report a page of the store at a time (report.h, ReportWriter).
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "cadastre/report/report.h"
+#include "cadastre/report/report_parts.h"
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace c3d {
+
+using namespace report_detail;
+
+namespace {
+
+// What the summary page, the tables and the CSV read of a result: its
+// figures, not its geometry (faces, solids and lower LoDs are the bulk).
+void drop_geometry(ParcelResult& r) {
+  for (Building& b : r.buildings) {
+    std::vector<Face>().swap(b.solid);
+    std::vector<LodShell>().swap(b.lower_lods);
+    for (Element& e : b.elements) std::vector<Face>().swap(e.faces);
+  }
+}
+
+}  // namespace
+
+ReportWriter::ReportWriter(const std::string& out_dir, size_t parcel_count, const BatchModel& header,
+                           ReportInfo info)
+    : out_dir_(out_dir), total_(parcel_count), info_(std::move(info)) {
+  rows_.frame = header.frame, rows_.epsg = header.epsg, rows_.crs_wkt = header.crs_wkt;
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  // Detail pages of an earlier report (more parcels, other ids) must not stay behind.
+  const fs::path pages = fs::path(out_dir) / "report";
+  for (const char* sub : {"", "parcel"})
+    for (const auto& e : fs::directory_iterator(pages / sub, ec))
+      if (e.is_regular_file() && e.path().extension() == ".html") fs::remove(e.path(), ec);
+}
+
+void ReportWriter::write(const std::string& name, const std::string& text) const {
+  const fs::path path = fs::path(out_dir_) / name;
+  std::error_code ec;
+  fs::create_directories(path.parent_path(), ec);
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw InputError(path.string(), "cannot write report");
+}
+
+void ReportWriter::add(BatchModel page, std::vector<ParcelValuation> valuations) {
+  for (size_t i = 0; i < page.parcels.size(); ++i) {
+    rows_.parcels.push_back(std::move(page.parcels[i]));
+    rows_.results.push_back(std::move(page.results[i]));
+  }
+  for (auto& v : valuations) vals_.push_back(std::move(v));
+  if (rows_.parcels.size() > total_)
+    throw std::logic_error("report: the store gave more parcels than it counted");
+  write_ready(false);
+}
+
+// The detail pages of every page of parcels that is whole, with the parcel
+// after it in (its links name it), or all at the end.
+void ReportWriter::write_ready(bool all) {
+  const size_t have = rows_.parcels.size();
+  while (written_ < have) {
+    const size_t to = std::min(written_ + kParcelsPerPage, total_);
+    if (!all && have <= to && to < total_) return;
+    if (!all && have < to) return;
+    write("report/" + group_page(written_), group_html(rows_, vals_, info_, written_, total_));
+    auto vmap = by_parcel(vals_);
+    for (size_t i = written_; i < to && i < have; ++i) {
+      write("report/" + parcel_page(rows_.parcels[i]),
+            parcel_html(rows_, find_valuation(vmap, rows_.parcels[i].id), info_, i, total_));
+      drop_geometry(rows_.results[i]);
+    }
+    written_ = std::min(to, have);
+  }
+}
+
+void ReportWriter::finish() {
+  if (rows_.parcels.size() != total_) {  // the store changed under us: page totals would be wrong
+    throw InputError(info_.source, "the store holds " + std::to_string(rows_.parcels.size()) +
+                                       " parcels, not the " + std::to_string(total_) + " counted");
+  }
+  write_ready(true);
+  write("report.html", report_html(rows_, vals_, info_));
+  write("report.csv", report_csv(rows_, vals_));
+}
+
+}  // namespace c3d
