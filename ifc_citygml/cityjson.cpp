@@ -49,26 +49,43 @@ struct GridHash {
   }
 };
 
+// Distinct vertices a generation of the de-duplicating map holds (~16 MB of
+// map): hundreds of buildings, far more than lie between two neighbours that
+// share a corner in the layer's order, while the map stays bounded.
+constexpr size_t kVertexGeneration = size_t(1) << 18;
+
 // The vertex list, de-duplicated on the grid. A streamed file writes each new
-// vertex to its spool as it comes (only the index map stays in memory); a
-// feature of CityJSONSeq keeps its few vertices in memory.
+// vertex to its spool as it comes; a feature of CityJSONSeq keeps its few
+// vertices in memory. The map keeps two generations: once the current one
+// holds kVertexGeneration vertices it becomes the old one at the next
+// building (a vertex met again moves back to the current one), so memory is
+// bounded and a vertex shared by buildings further apart in the layer's order
+// than two generations is listed twice (docs/exports.md, "CityJSON").
 class Vertices {
  public:
   explicit Vertices(exp::Spool* spool = nullptr) : spool_(spool) {}
   int index(const Vec3& local) {
     const auto k = grid(local);
-    auto [it, fresh] = map_.try_emplace(k, count_);
-    if (!fresh) return it->second;
+    if (auto it = current_.find(k); it != current_.end()) return it->second;
+    if (auto it = old_.find(k); it != old_.end()) return current_[k] = it->second;
     json v = json::array({k[0], k[1], k[2]});
     if (spool_) spool_->out() << (count_ ? "," : "") << v.dump();
     else list_.push_back(std::move(v));
+    current_[k] = count_;
     return count_++;
+  }
+  // Between buildings: start a new generation when the current one is full.
+  void building_done() {
+    if (current_.size() < kVertexGeneration) return;
+    old_ = std::move(current_);
+    current_ = {};
   }
   json take() { return std::move(list_); }
 
  private:
+  using Map = std::unordered_map<std::array<long long, 3>, int, GridHash>;
   exp::Spool* spool_;
-  std::unordered_map<std::array<long long, 3>, int, GridHash> map_;
+  Map current_, old_;
   int count_ = 0;
   json list_ = json::array();
 };
@@ -257,6 +274,7 @@ class CityJsonWriter : public ExportWriter {
         extent_.add(b);
         const std::uint64_t at = objects_.size();
         objects_.out() << json(b.id).dump() << ':' << building_object(vertices_, page, r, b).dump();
+        vertices_.building_done();
         if (!objects_.out()) throw std::runtime_error(path_ + ": write failed");
         placed_.push_back({b.id, at, objects_.size() - at});
       }
