@@ -5,6 +5,7 @@
 //   OUT/report/parcels-NNN.html  50 parcels each: table and per-parcel sections
 //   OUT/report/parcel/<id>.html  one printable A4 page per parcel
 //   OUT/report.csv               the per-parcel and per-element figures
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -65,8 +66,10 @@ class ReportWriter {
   size_t total_;
   ReportInfo info_;
   BatchModel rows_;  // every parcel so far; whole results only of those whose pages wait
-  std::vector<ParcelValuation> vals_;
-  size_t written_ = 0;  // parcels whose detail pages are written
+  std::vector<ParcelValuation> vals_;  // cost items only of parcels whose pages wait
+  size_t written_ = 0;  // parcels whose detail pages (and CSV rows) are written
+  std::string csv_path_;
+  std::ofstream csv_;
 };
 
 // What the report's pages say of a store's latest run. own_run: the batch

@@ -82,6 +82,10 @@ std::string parcel_detail(const Parcel& p, const ParcelResult& r, const ParcelVa
 std::string parcel_rows(const BatchModel& m, const std::vector<ParcelValuation>& vals, size_t from,
                         size_t to, const std::string& link_prefix);
 std::string parcel_table_head();
+// report.csv (report_csv.cpp): its header line, and the rows of one parcel
+// (the parcel's, then one per element).
+std::string csv_header();
+std::string csv_rows(const Parcel& p, const ParcelResult& r, const ParcelValuation* v);
 // Detail page OUT/report/parcels-NNN.html of the parcels from `from` (a
 // multiple of kParcelsPerPage) of `total`; m holds them, their results whole.
 std::string group_html(const BatchModel& m, const std::vector<ParcelValuation>& vals,

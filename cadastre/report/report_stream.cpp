@@ -1,6 +1,7 @@
 // The report a page of the store at a time (report.h, ReportWriter).
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <stdexcept>
 
 #include "cadastre/report/report.h"
@@ -38,6 +39,10 @@ ReportWriter::ReportWriter(const std::string& out_dir, size_t parcel_count, cons
   for (const char* sub : {"", "parcel"})
     for (const auto& e : fs::directory_iterator(pages / sub, ec))
       if (e.is_regular_file() && e.path().extension() == ".html") fs::remove(e.path(), ec);
+  csv_path_ = (fs::path(out_dir) / "report.csv").string();
+  csv_.open(csv_path_, std::ios::binary);  // rows as the parcels' pages are written
+  csv_ << csv_header();
+  if (!csv_) throw InputError(csv_path_, "cannot write report");
 }
 
 void ReportWriter::write(const std::string& name, const std::string& text) const {
@@ -70,11 +75,19 @@ void ReportWriter::write_ready(bool all) {
     if (!all && have < to) return;
     write("report/" + group_page(written_), group_html(rows_, vals_, info_, written_, total_));
     auto vmap = by_parcel(vals_);
+    std::set<std::string> done;
     for (size_t i = written_; i < to && i < have; ++i) {
-      write("report/" + parcel_page(rows_.parcels[i]),
-            parcel_html(rows_, find_valuation(vmap, rows_.parcels[i].id), info_, i, total_));
+      const Parcel& p = rows_.parcels[i];
+      const ParcelValuation* v = find_valuation(vmap, p.id);
+      write("report/" + parcel_page(p), parcel_html(rows_, v, info_, i, total_));
+      csv_ << csv_rows(p, rows_.results[i], v);
       drop_geometry(rows_.results[i]);
+      done.insert(p.id);
     }
+    if (!csv_) throw InputError(csv_path_, "cannot write report");
+    // The summary page needs no cost items: only the detail pages and the CSV did.
+    for (ParcelValuation& v : vals_)
+      if (done.count(v.parcel_id)) std::vector<CostItem>().swap(v.items);
     written_ = std::min(to, have);
   }
 }
@@ -86,7 +99,8 @@ void ReportWriter::finish() {
   }
   write_ready(true);
   write("report.html", report_html(rows_, vals_, info_));
-  write("report.csv", report_csv(rows_, vals_));
+  csv_.close();
+  if (!csv_) throw InputError(csv_path_, "cannot write report");
 }
 
 }  // namespace c3d
