@@ -10,11 +10,16 @@
 namespace c3d {
 
 StorePages::StorePages(const std::string& loc, size_t page_size)
-    : loc_(loc), page_size_(std::max<size_t>(page_size, 1)), header_(load_batch_model(loc, std::vector<int>{})) {
+    : loc_(loc), page_size_(std::max<size_t>(page_size, 1)) {
   for (const JobRecord& j : load_jobs(loc))
     if (j.status != "pending") layer_indices_.push_back(j.layer_index), ++parcel_count_;
   std::sort(layer_indices_.begin(), layer_indices_.end());
   layer_indices_.erase(std::unique(layer_indices_.begin(), layer_indices_.end()), layer_indices_.end());
+  // The frame and CRS come with any read; one parcel's is the smallest that
+  // needs no empty index list (which not every SQL dialect takes).
+  header_ = layer_indices_.empty() ? load_batch_model(loc) : load_batch_model(loc, {layer_indices_[0]});
+  header_.parcels.clear();
+  header_.results.clear();
 }
 
 size_t StorePages::page_count() const { return (layer_indices_.size() + page_size_ - 1) / page_size_; }

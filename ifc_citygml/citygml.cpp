@@ -122,17 +122,17 @@ class GmlWriter : public ExportWriter {
     os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     if (v3_)
       os << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/3.0\""
-             " xmlns:bldg=\"http://www.opengis.net/citygml/building/3.0\""
-             " xmlns:con=\"http://www.opengis.net/citygml/construction/3.0\""
-             " xmlns:gen=\"http://www.opengis.net/citygml/generics/3.0\""
-             " xmlns:gml=\"http://www.opengis.net/gml/3.2\""
-             " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
+            " xmlns:bldg=\"http://www.opengis.net/citygml/building/3.0\""
+            " xmlns:con=\"http://www.opengis.net/citygml/construction/3.0\""
+            " xmlns:gen=\"http://www.opengis.net/citygml/generics/3.0\""
+            " xmlns:gml=\"http://www.opengis.net/gml/3.2\""
+            " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
     else
       os << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/2.0\""
-             " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
-             " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
-             " xmlns:gml=\"http://www.opengis.net/gml\""
-             " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
+            " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
+            " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
+            " xmlns:gml=\"http://www.opengis.net/gml\""
+            " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
     os << "<gml:name>Cadastre3D LoD2 buildings</gml:name>\n";
     envelope(os);
   }

@@ -68,6 +68,7 @@ std::vector<std::string> export_formats(const BatchModel& model, const std::stri
                                         const std::vector<std::string>& formats,
                                         std::vector<std::string>* skipped) {
   for (const auto& f : formats) check_format_name(f);  // all, before writing any
+  std::filesystem::create_directories(dir);
   std::vector<std::string> out;
   for (const auto& f : formats) {
     auto w = export_writer(f, model, dir, skipped);

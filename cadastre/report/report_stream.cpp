@@ -60,8 +60,8 @@ void ReportWriter::add(BatchModel page, std::vector<ParcelValuation> valuations)
     rows_.results.push_back(std::move(page.results[i]));
   }
   for (auto& v : valuations) vals_.push_back(std::move(v));
-  if (rows_.parcels.size() > total_)
-    throw std::logic_error("report: the store gave more parcels than it counted");
+  if (rows_.parcels.size() > total_)  // the store changed under us: page totals would be wrong
+    throw InputError(info_.source, "the store gave more parcels than the " + std::to_string(total_) + " counted");
   write_ready(false);
 }
 
@@ -71,8 +71,8 @@ void ReportWriter::write_ready(bool all) {
   const size_t have = rows_.parcels.size();
   while (written_ < have) {
     const size_t to = std::min(written_ + kParcelsPerPage, total_);
-    if (!all && have <= to && to < total_) return;
-    if (!all && have < to) return;
+    // Ready: the page's parcels are in, and the next parcel too unless it is the last page.
+    if (!all && (have < to || (have == to && to < total_))) return;
     write("report/" + group_page(written_), group_html(rows_, vals_, info_, written_, total_));
     auto vmap = by_parcel(vals_);
     std::set<std::string> done;
