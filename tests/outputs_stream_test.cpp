@@ -106,6 +106,18 @@ TEST(OutputsStream, ExportsAreTheSameForEveryPageSizeAndAsFromTheWholeModel) {
   for (const auto& [name, bytes] : files_under(whole)) EXPECT_EQ(name.find(".part"), std::string::npos) << name;
 }
 
+// The default page size on a store that needs more than one page.
+TEST(OutputsStream, DefaultPagesOfAStoreBiggerThanAPage) {
+  const std::string store =
+      write_store(temp_dir("big") + "/cadastre.gpkg", fixture::grid_batch(int(kOutputPageParcels) + 30));
+  const StorePages pages(store);
+  ASSERT_EQ(pages.page_count(), 2u);
+  const std::string whole = temp_dir("whole"), paged = temp_dir("paged");
+  export_formats(load_batch_model(store), whole, {"gml", "cityjson", "cityjsonseq"});
+  export_pages(pages, paged, {"gml", "cityjson", "cityjsonseq"});
+  expect_same_files(whole, paged);
+}
+
 TEST(OutputsStream, CityJsonObjectsInIdOrderWithSharedVertices) {
   const std::string dir = temp_dir("cj");
   export_pages(StorePages(town_store(), 1), dir, {"cityjson"});
