@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cadastre/store.h"
+#include "cadastre/store_pages.h"
 #include "cli/commands.h"
 #include "ifc_citygml/export.h"
 
@@ -49,19 +50,27 @@ void register_export(CLI::App& app) {
         return std::string();
       });
   cmd->callback([args] {
-    BatchModel model = is_cityjson(args->store) ? read_cityjson(args->store)
-                                                : load_batch_model(args->store);
+    const std::vector<std::string> formats = split(args->formats);
+    std::vector<PagesExport> done;
     size_t buildings = 0;
-    for (const auto& r : model.results) buildings += r.buildings.size();
-    for (const auto& f : split(args->formats)) {
-      auto t0 = std::chrono::steady_clock::now();
-      std::vector<std::string> skipped;
-      auto files = export_formats(model, args->out, {f}, &skipped);
-      for (const auto& w : skipped) std::cerr << "export " << f << ": skipped " << w << "\n";
-      double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::cout << "export " << f << ": " << files.size() << " file(s), " << buildings
-                << " buildings, " << s << " s" << (files.size() == 1 ? " -> " + files[0] : "")
-                << "\n";
+    if (is_cityjson(args->store)) {  // a file this tool wrote: small enough to read whole
+      BatchModel model = read_cityjson(args->store);
+      for (const auto& r : model.results) buildings += r.buildings.size();
+      for (const auto& f : formats) {
+        auto t0 = std::chrono::steady_clock::now();
+        PagesExport e{f};
+        e.files = export_formats(model, args->out, {f}, &e.skipped);
+        e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        done.push_back(std::move(e));
+      }
+    } else {  // a store, a page of parcels at a time
+      done = export_pages(StorePages(args->store), args->out, formats, &buildings);
+    }
+    for (const auto& e : done) {
+      for (const auto& w : e.skipped) std::cerr << "export " << e.format << ": skipped " << w << "\n";
+      std::cout << "export " << e.format << ": " << e.files.size() << " file(s), " << buildings
+                << " buildings, " << e.seconds << " s"
+                << (e.files.size() == 1 ? " -> " + e.files[0] : "") << "\n";
     }
     exit_code() = kExitOk;
   });

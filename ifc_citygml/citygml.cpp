@@ -22,6 +22,7 @@
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/attributes.h"
 #include "ifc_citygml/detail.h"
+#include "ifc_citygml/spool.h"
 #include "ifc_citygml/surfaces.h"
 #include "ifc_citygml/export.h"
 
@@ -38,31 +39,52 @@ std::string ncname(const std::string& s) {
   return out;
 }
 
-class GmlWriter {
+class GmlWriter : public ExportWriter {
  public:
-  GmlWriter(std::ostream& os, const BatchModel& m, int version)
-      : os_(os), m_(m), v3_(version == 3) {}
+  // The body goes to a spool beside the file: the envelope that heads the
+  // file needs every building first.
+  GmlWriter(const BatchModel& header, const std::string& path, int version)
+      : path_(path), body_(path, ".body.part"), os_(body_.out()), frame_(header.frame),
+        epsg_(header.epsg), v3_(version == 3) {}
 
-  void run() {
-    header();
-    for (const auto& r : m_.results)
-      for (const auto& b : r.buildings) building(r, b);
-    os_ << "</core:CityModel>\n";
+  void add(const BatchModel& page) override {
+    page_ = &page;
+    for (const auto& r : page.results)
+      for (const auto& b : r.buildings) {
+        extend_envelope(b);
+        building(r, b);
+      }
+    if (!os_) throw std::runtime_error(path_ + ": write failed");
+  }
+
+  std::vector<std::string> finish() override {
+    std::ofstream file(path_, std::ios::binary);
+    if (!file) throw std::runtime_error(path_ + ": cannot open for writing");
+    header(file);
+    body_.copy_to(file);
+    file << "</core:CityModel>\n";
+    if (!file.flush()) throw std::runtime_error(path_ + ": write failed");
+    return {path_};
   }
 
  private:
+  const std::string path_;
+  exp::Spool body_;
   std::ostream& os_;
-  const BatchModel& m_;
+  const LocalFrame frame_;
+  const int epsg_;
   const bool v3_;
+  const BatchModel* page_ = nullptr;
+  Vec3 lo_ = Vec3::Constant(1e300), hi_ = Vec3::Constant(-1e300);  // element faces, local
 
   std::string srs() const {
-    return m_.epsg > 0 ? " srsName=\"urn:ogc:def:crs:EPSG::" + std::to_string(m_.epsg) + "\"" : "";
+    return epsg_ > 0 ? " srsName=\"urn:ogc:def:crs:EPSG::" + std::to_string(epsg_) + "\"" : "";
   }
 
   void pos_list(const Ring3& ring) {
     os_ << "<gml:posList srsDimension=\"3\">";
     for (size_t i = 0; i <= ring.size(); ++i) {  // GML rings repeat the first point
-      Vec3 w = m_.frame.to_world(ring[i % ring.size()]);
+      Vec3 w = frame_.to_world(ring[i % ring.size()]);
       os_ << (i ? " " : "") << fixed(w.x(), 3) << ' ' << fixed(w.y(), 3) << ' ' << fixed(w.z(), 3);
     }
     os_ << "</gml:posList>";
@@ -96,36 +118,35 @@ class GmlWriter {
   void dbl_attr(const char* name, double v, int decimals) { attr("double", name, fixed(v, decimals)); }
   void int_attr(const char* name, long v) { attr("int", name, std::to_string(v)); }
 
-  void header() {
-    os_ << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  void header(std::ostream& os) const {
+    os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     if (v3_)
-      os_ << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/3.0\""
-             " xmlns:bldg=\"http://www.opengis.net/citygml/building/3.0\""
-             " xmlns:con=\"http://www.opengis.net/citygml/construction/3.0\""
-             " xmlns:gen=\"http://www.opengis.net/citygml/generics/3.0\""
-             " xmlns:gml=\"http://www.opengis.net/gml/3.2\""
-             " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
+      os << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/3.0\""
+            " xmlns:bldg=\"http://www.opengis.net/citygml/building/3.0\""
+            " xmlns:con=\"http://www.opengis.net/citygml/construction/3.0\""
+            " xmlns:gen=\"http://www.opengis.net/citygml/generics/3.0\""
+            " xmlns:gml=\"http://www.opengis.net/gml/3.2\""
+            " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
     else
-      os_ << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/2.0\""
-             " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
-             " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
-             " xmlns:gml=\"http://www.opengis.net/gml\""
-             " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
-    os_ << "<gml:name>Cadastre3D LoD2 buildings</gml:name>\n";
-    envelope();
+      os << "<core:CityModel xmlns:core=\"http://www.opengis.net/citygml/2.0\""
+            " xmlns:bldg=\"http://www.opengis.net/citygml/building/2.0\""
+            " xmlns:gen=\"http://www.opengis.net/citygml/generics/2.0\""
+            " xmlns:gml=\"http://www.opengis.net/gml\""
+            " xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n";
+    os << "<gml:name>Cadastre3D LoD2 buildings</gml:name>\n";
+    envelope(os);
   }
 
-  void envelope() {
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    for (const auto& r : m_.results)
-      for (const auto& b : r.buildings)
-        for (const auto& e : b.elements)
-          for (const auto& f : e.faces)
-            for (const auto& p : f.ring) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
-    if (lo.x() > hi.x()) return;
-    lo = m_.frame.to_world(lo);
-    hi = m_.frame.to_world(hi);
-    os_ << "<gml:boundedBy><gml:Envelope" << srs() << " srsDimension=\"3\"><gml:lowerCorner>"
+  void extend_envelope(const Building& b) {
+    for (const auto& e : b.elements)
+      for (const auto& f : e.faces)
+        for (const auto& p : f.ring) { lo_ = lo_.cwiseMin(p); hi_ = hi_.cwiseMax(p); }
+  }
+
+  void envelope(std::ostream& os) const {
+    if (lo_.x() > hi_.x()) return;
+    const Vec3 lo = frame_.to_world(lo_), hi = frame_.to_world(hi_);
+    os << "<gml:boundedBy><gml:Envelope" << srs() << " srsDimension=\"3\"><gml:lowerCorner>"
         << fixed(lo.x(), 3) << ' ' << fixed(lo.y(), 3) << ' ' << fixed(lo.z(), 3)
         << "</gml:lowerCorner><gml:upperCorner>" << fixed(hi.x(), 3) << ' ' << fixed(hi.y(), 3)
         << ' ' << fixed(hi.z(), 3) << "</gml:upperCorner></gml:Envelope></gml:boundedBy>\n";
@@ -150,7 +171,7 @@ class GmlWriter {
   bool prism_in_v2(const Building& b) const { return !v3_ && std::string(lod(b)) == "lod1"; }
 
   void building_attributes(const ParcelResult& r, const Building& b) {
-    const Parcel* p = exp::parcel_of(m_, r);
+    const Parcel* p = exp::parcel_of(*page_, r);
     str_attr("parcelId", r.parcel_id);
     str_attr("rightType", p ? p->right_type : "");
     BuildingTotals t = totals(b);
@@ -169,7 +190,7 @@ class GmlWriter {
     str_attr("solidValid", b.solid_valid ? "true" : "false");
     str_attr("lod", b.lod);
     str_attr("lodNote", b.lod_note);
-    const exp::QualityAttributes q = exp::quality_attributes(b, m_.frame);
+    const exp::QualityAttributes q = exp::quality_attributes(b, frame_);
     for (const auto& [k, v] : q.texts) str_attr(exp::camel_case(k).c_str(), v);
     for (const auto& [k, v] : q.numbers) dbl_attr(exp::camel_case(k).c_str(), v, 3);
     for (const auto& [k, v] : q.counts) int_attr(exp::camel_case(k).c_str(), v);
@@ -301,12 +322,15 @@ class GmlWriter {
 
 }  // namespace
 
-void write_citygml(const BatchModel& model, const std::string& path, int version) {
+std::unique_ptr<ExportWriter> citygml_writer(const BatchModel& header, const std::string& path, int version) {
   if (version != 2 && version != 3) throw std::invalid_argument("CityGML version must be 2 or 3");
-  std::ofstream os(path, std::ios::binary);
-  if (!os) throw std::runtime_error(path + ": cannot open for writing");
-  GmlWriter(os, model, version).run();
-  if (!os) throw std::runtime_error(path + ": write failed");
+  return std::make_unique<GmlWriter>(header, path, version);
+}
+
+void write_citygml(const BatchModel& model, const std::string& path, int version) {
+  auto w = citygml_writer(model, path, version);
+  w->add(model);
+  w->finish();
 }
 
 }  // namespace c3d

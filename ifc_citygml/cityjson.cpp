@@ -14,6 +14,7 @@
 // BuildingParts: a roof level is the `roof_level` of a semantic surface. Lower
 // LoDs (Building::lower_lods) follow as Solids of lod "1.2" / "1.3" with
 // per-type semantic surfaces.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -27,6 +28,7 @@
 #include "ifc_citygml/attributes.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
+#include "ifc_citygml/spool.h"
 #include "ifc_citygml/surfaces.h"
 
 namespace c3d {
@@ -40,21 +42,51 @@ std::array<long long, 3> grid(const Vec3& local) {
           std::llround(local.z() / kScale)};
 }
 
+// A grid point's integer coordinates, hashed for the de-duplicating map.
+struct GridHash {
+  size_t operator()(const std::array<long long, 3>& k) const {
+    return std::hash<long long>()(k[0] * 73856093LL ^ k[1] * 19349663LL ^ k[2] * 83492791LL);
+  }
+};
+
+// Distinct vertices a generation of the de-duplicating map holds (~16 MB of
+// map): hundreds of buildings, far more than lie between two neighbours that
+// share a corner in the layer's order, while the map stays bounded.
+constexpr size_t kVertexGeneration = size_t(1) << 18;
+
+// The vertex list, de-duplicated on the grid. A streamed file writes each new
+// vertex to its spool as it comes; a feature of CityJSONSeq keeps its few
+// vertices in memory. The map keeps two generations: once the current one
+// holds kVertexGeneration vertices it becomes the old one at the next
+// building (a vertex met again moves back to the current one), so memory is
+// bounded and a vertex shared by buildings further apart in the layer's order
+// than two generations is listed twice (docs/exports.md, "CityJSON").
 class Vertices {
  public:
+  explicit Vertices(exp::Spool* spool = nullptr) : spool_(spool) {}
   int index(const Vec3& local) {
     const auto k = grid(local);
-    auto [it, fresh] = map_.try_emplace(key(k), int(list_.size()));
-    if (fresh) list_.push_back(json::array({k[0], k[1], k[2]}));
-    return it->second;
+    if (auto it = current_.find(k); it != current_.end()) return it->second;
+    if (auto it = old_.find(k); it != old_.end()) return current_[k] = it->second;
+    json v = json::array({k[0], k[1], k[2]});
+    if (spool_) spool_->out() << (count_ ? "," : "") << v.dump();
+    else list_.push_back(std::move(v));
+    current_[k] = count_;
+    return count_++;
+  }
+  // Between buildings: start a new generation when the current one is full.
+  void building_done() {
+    if (current_.size() < kVertexGeneration) return;
+    old_ = std::move(current_);
+    current_ = {};
   }
   json take() { return std::move(list_); }
 
  private:
-  static std::string key(const std::array<long long, 3>& k) {
-    return std::to_string(k[0]) + ',' + std::to_string(k[1]) + ',' + std::to_string(k[2]);
-  }
-  std::unordered_map<std::string, int> map_;
+  using Map = std::unordered_map<std::array<long long, 3>, int, GridHash>;
+  exp::Spool* spool_;
+  Map current_, old_;
+  int count_ = 0;
   json list_ = json::array();
 };
 
@@ -179,35 +211,45 @@ json building_object(Vertices& v, const BatchModel& m, const ParcelResult& r, co
   return obj;
 }
 
-// Bounding box of every face written, on the vertex grid, world coordinates.
-json extent(const BatchModel& m) {
+// Bounding box of every face written, on the vertex grid (local), grown a
+// building at a time.
+struct Extent {
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  auto add = [&](const Face& f) {
+  void add(const Face& f) {
     for (const auto& p : f.ring) {
       const auto k = grid(p);
       const Vec3 q(k[0] * kScale, k[1] * kScale, k[2] * kScale);
       lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
     }
-  };
-  for (const auto& r : m.results)
-    for (const auto& b : r.buildings) {
-      for (const auto& f : b.solid) add(f);
-      for (const auto& e : b.elements) for (const auto& f : e.faces) add(f);
-      for (const auto& l : b.lower_lods) for (const auto& f : l.faces) add(f);
-    }
-  if (lo.x() > hi.x()) return json::array({0, 0, 0, 0, 0, 0});
-  lo += m.frame.origin, hi += m.frame.origin;
-  return json::array({lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()});
-}
+  }
+  void add(const Building& b) {
+    for (const auto& f : b.solid) add(f);
+    for (const auto& e : b.elements) for (const auto& f : e.faces) add(f);
+    for (const auto& l : b.lower_lods) for (const auto& f : l.faces) add(f);
+  }
+  // World coordinates.
+  json to_json(const LocalFrame& frame) const {
+    if (lo.x() > hi.x()) return json::array({0, 0, 0, 0, 0, 0});
+    const Vec3 l = lo + frame.origin, h = hi + frame.origin;
+    return json::array({l.x(), l.y(), l.z(), h.x(), h.y(), h.z()});
+  }
+};
 
 // The CityJSON object without city objects and vertices (the CityJSONSeq header).
-json header(const BatchModel& m) {
+json header(const BatchModel& m, const Extent& extent) {
   const Vec3& t = m.frame.origin;
-  json meta = {{"title", "Cadastre3D buildings"}, {"geographicalExtent", extent(m)}};
+  json meta = {{"title", "Cadastre3D buildings"}, {"geographicalExtent", extent.to_json(m.frame)}};
   if (m.epsg > 0) meta["referenceSystem"] = "https://www.opengis.net/def/crs/EPSG/0/" + std::to_string(m.epsg);
   return {{"type", "CityJSON"}, {"version", "2.0"},
           {"transform", {{"scale", {kScale, kScale, kScale}}, {"translate", {t.x(), t.y(), t.z()}}}},
           {"metadata", meta}, {"CityObjects", json::object()}, {"vertices", json::array()}};
+}
+
+// The frame and CRS of a model, without its parcels.
+BatchModel header_of(const BatchModel& m) {
+  BatchModel h;
+  h.frame = m.frame, h.epsg = m.epsg, h.crs_wkt = m.crs_wkt;
+  return h;
 }
 
 std::ofstream open_for_writing(const std::string& path) {
@@ -216,32 +258,125 @@ std::ofstream open_for_writing(const std::string& path) {
   return os;
 }
 
+
+// One CityJSON file: the city objects go to a spool as they come, with a
+// small index (id, place) that puts them in the order of the id at the end
+// (the order of a JSON object's keys here); the vertices go to a second spool.
+class CityJsonWriter : public ExportWriter {
+ public:
+  CityJsonWriter(const BatchModel& header, const std::string& path)
+      : header_(header_of(header)), path_(path), objects_(path, ".objects.part"),
+        vertex_list_(path, ".vertices.part"), vertices_(&vertex_list_) {}
+
+  void add(const BatchModel& page) override {
+    for (const auto& r : page.results)
+      for (const auto& b : r.buildings) {
+        extent_.add(b);
+        const std::uint64_t at = objects_.size();
+        objects_.out() << json(b.id).dump() << ':' << building_object(vertices_, page, r, b).dump();
+        vertices_.building_done();
+        if (!objects_.out()) throw std::runtime_error(path_ + ": write failed");
+        placed_.push_back({b.id, at, objects_.size() - at});
+      }
+  }
+
+  std::vector<std::string> finish() override {
+    // The document with empty objects and vertices, split where they go.
+    const std::string doc = header(header_, extent_).dump();
+    const std::string objects_at = "{\"CityObjects\":{", vertices_at = "\"vertices\":[]}";
+    if (doc.rfind(objects_at, 0) != 0 || doc.size() < objects_at.size() + vertices_at.size() ||
+        doc.compare(doc.size() - vertices_at.size(), vertices_at.size(), vertices_at) != 0)
+      throw std::logic_error("CityJSON header out of the expected key order");
+    std::ofstream os = open_for_writing(path_);
+    os << objects_at;
+    write_objects(os);
+    os << doc.substr(objects_at.size(), doc.size() - objects_at.size() - 2);  // up to the vertices' '['
+    vertex_list_.copy_to(os);
+    os << "]}";
+    if (!os.flush()) throw std::runtime_error(path_ + ": write failed");
+    return {path_};
+  }
+
+ private:
+  struct Placed {
+    std::string id;
+    std::uint64_t at, bytes;
+  };
+  // In the order of their ids; of two objects with one id the later one (as
+  // assigning to a JSON object's key keeps).
+  void write_objects(std::ostream& os) {
+    std::stable_sort(placed_.begin(), placed_.end(), [](const Placed& a, const Placed& b) { return a.id < b.id; });
+    bool first = true;
+    for (size_t k = 0; k < placed_.size(); ++k) {
+      if (k + 1 < placed_.size() && placed_[k + 1].id == placed_[k].id) continue;
+      if (!first) os << ',';
+      first = false;
+      objects_.copy_to(os, placed_[k].at, placed_[k].bytes);
+    }
+  }
+  const BatchModel header_;
+  const std::string path_;
+  exp::Spool objects_, vertex_list_;
+  Vertices vertices_;
+  Extent extent_;
+  std::vector<Placed> placed_;
+};
+
+// CityJSONSeq: the features go to a spool, since the header line before them
+// holds the extent of them all.
+class CityJsonSeqWriter : public ExportWriter {
+ public:
+  CityJsonSeqWriter(const BatchModel& header, const std::string& path)
+      : header_(header_of(header)), path_(path), features_(path, ".features.part") {}
+
+  void add(const BatchModel& page) override {
+    for (const auto& r : page.results)
+      for (const auto& b : r.buildings) {
+        extent_.add(b);
+        Vertices v;  // each feature has its own vertices
+        json feature = {{"type", "CityJSONFeature"}, {"id", b.id}};
+        feature["CityObjects"][b.id] = building_object(v, page, r, b);
+        feature["vertices"] = v.take();
+        features_.out() << feature.dump() << '\n';
+        if (!features_.out()) throw std::runtime_error(path_ + ": write failed");
+      }
+  }
+
+  std::vector<std::string> finish() override {
+    std::ofstream os = open_for_writing(path_);
+    os << header(header_, extent_).dump() << '\n';
+    features_.copy_to(os);
+    if (!os.flush()) throw std::runtime_error(path_ + ": write failed");
+    return {path_};
+  }
+
+ private:
+  const BatchModel header_;
+  const std::string path_;
+  exp::Spool features_;
+  Extent extent_;
+};
+
 }  // namespace
 
+std::unique_ptr<ExportWriter> cityjson_writer(const BatchModel& header, const std::string& path) {
+  return std::make_unique<CityJsonWriter>(header, path);
+}
+
+std::unique_ptr<ExportWriter> cityjson_seq_writer(const BatchModel& header, const std::string& path) {
+  return std::make_unique<CityJsonSeqWriter>(header, path);
+}
+
 void write_cityjson(const BatchModel& model, const std::string& path) {
-  Vertices v;
-  json doc = header(model);
-  for (const auto& r : model.results)
-    for (const auto& b : r.buildings) doc["CityObjects"][b.id] = building_object(v, model, r, b);
-  doc["vertices"] = v.take();
-  std::ofstream os = open_for_writing(path);
-  os << doc.dump();
-  if (!os) throw std::runtime_error(path + ": write failed");
+  auto w = cityjson_writer(model, path);
+  w->add(model);
+  w->finish();
 }
 
 void write_cityjson_seq(const BatchModel& model, const std::string& path) {
-  std::ofstream os = open_for_writing(path);
-  os << header(model).dump() << '\n';
-  for (const auto& r : model.results)
-    for (const auto& b : r.buildings) {
-      Vertices v;  // each feature has its own vertices
-      json feature = {{"type", "CityJSONFeature"}, {"id", b.id}};
-      feature["CityObjects"][b.id] = building_object(v, model, r, b);
-      feature["vertices"] = v.take();
-      os << feature.dump() << '\n';
-      if (!os) throw std::runtime_error(path + ": write failed");
-    }
-  if (!os) throw std::runtime_error(path + ": write failed");
+  auto w = cityjson_seq_writer(model, path);
+  w->add(model);
+  w->finish();
 }
 
 }  // namespace c3d

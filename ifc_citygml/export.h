@@ -21,12 +21,36 @@
 //  - identifiers are derived from building ids and element positions only, so a rerun
 //    writes identical ids (IFC GlobalIds included).
 // Every writer throws std::runtime_error when the file cannot be written.
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/types.h"
 
 namespace c3d {
+
+// A writer fed a page of parcels at a time, so an export of any size needs the
+// memory of one page (docs/exports.md, "Streamed"). Pages come in layer order
+// and share the header's frame and CRS; finish() writes what needs every page
+// (an envelope, CityJSON's vertex list, IFC's project aggregation), closes the
+// file and returns the files written. Temporary files sit beside the output.
+class ExportWriter {
+ public:
+  virtual ~ExportWriter() = default;
+  virtual void add(const BatchModel& page) = 0;
+  virtual std::vector<std::string> finish() = 0;
+};
+// The writer of one format name (see export_formats) into dir; `header` gives
+// the frame and CRS (its parcels are not written). Throws std::invalid_argument
+// on an unknown name.
+std::unique_ptr<ExportWriter> export_writer(const std::string& format, const BatchModel& header,
+                                            const std::string& dir,
+                                            std::vector<std::string>* skipped = nullptr);
+// The writers themselves (path: the file; OBJ and STEP: the folder).
+std::unique_ptr<ExportWriter> citygml_writer(const BatchModel& header, const std::string& path, int version);
+std::unique_ptr<ExportWriter> cityjson_writer(const BatchModel& header, const std::string& path);
+std::unique_ptr<ExportWriter> cityjson_seq_writer(const BatchModel& header, const std::string& path);
+std::unique_ptr<ExportWriter> ifc_writer(const BatchModel& header, const std::string& path);
 
 // CityGML 2.0 (version 2) or 3.0 (version 3, on GML 3.2): the same content.
 void write_citygml(const BatchModel& model, const std::string& path, int version = 2);

@@ -153,24 +153,41 @@ const char* qto_name(ElementType t) {
   return "";
 }
 
-class IfcWriter {
+// Entities are written as they come; only the site ids wait for the project's
+// aggregation at the end.
+class IfcWriter : public ExportWriter {
  public:
-  IfcWriter(std::ostream& os, const BatchModel& m, const std::string& file_name)
-      : os_(os), m_(m), file_name_(file_name) {}
-
-  void run() {
-    header();
+  IfcWriter(const BatchModel& header, const std::string& path)
+      : path_(path), file_(path, std::ios::binary), os_(file_), frame_(header.frame), epsg_(header.epsg) {
+    if (!file_) throw std::runtime_error(path + ": cannot open for writing");
+    file_name_ = path.substr(path.find_last_of('/') + 1);
+    this->header();
     project();
-    std::vector<int> sites;
-    for (const auto& r : m_.results) sites.push_back(site(r));
-    if (!sites.empty()) aggregate("project", project_, sites);
+  }
+
+  void add(const BatchModel& page) override {
+    page_ = &page;
+    for (const auto& r : page.results) sites_.push_back(site(r));
+    if (!os_) throw std::runtime_error(path_ + ": write failed");
+  }
+
+  std::vector<std::string> finish() override {
+    if (!sites_.empty()) aggregate("project", project_, sites_);
     os_ << "ENDSEC;\nEND-ISO-10303-21;\n";
+    if (!file_.flush()) throw std::runtime_error(path_ + ": write failed");
+    file_.close();
+    return {path_};
   }
 
  private:
+  const std::string path_;
+  std::ofstream file_;
   std::ostream& os_;
-  const BatchModel& m_;
+  const LocalFrame frame_;
+  const int epsg_;
+  const BatchModel* page_ = nullptr;
   std::string file_name_;
+  std::vector<int> sites_;
   int next_ = 1;
   int project_ = 0, body_ = 0, footprint_ = 0, axis_ = 0;
 
@@ -211,9 +228,9 @@ class IfcWriter {
     int ua = add("IFCUNITASSIGNMENT(" + refs(units) + ")");
     project_ = add("IFCPROJECT('" + ifc_guid("project") +
                    "',$,'Cadastre3D batch',$,$,$,$,(" + ref(ctx) + ")," + ref(ua) + ")");
-    if (m_.epsg > 0) {
-      int crs = add("IFCPROJECTEDCRS('EPSG:" + std::to_string(m_.epsg) + "',$,$,$,$,$,$)");
-      const Vec3& o = m_.frame.origin;
+    if (epsg_ > 0) {
+      int crs = add("IFCPROJECTEDCRS('EPSG:" + std::to_string(epsg_) + "',$,$,$,$,$,$)");
+      const Vec3& o = frame_.origin;
       add("IFCMAPCONVERSION(" + ref(ctx) + "," + ref(crs) + "," + step_real(o.x(), 4) + "," +
           step_real(o.y(), 4) + "," + step_real(o.z(), 4) + ",1.,0.,1.)");
     }
@@ -251,7 +268,7 @@ class IfcWriter {
     auto ring = [&](const Ring2& r) {
       std::vector<int> pts;
       for (size_t i = 0; i <= r.size(); ++i) {
-        Vec2 l = m_.frame.to_local(r[i % r.size()]);
+        Vec2 l = frame_.to_local(r[i % r.size()]);
         pts.push_back(add("IFCCARTESIANPOINT((" + step_real(l.x()) + "," + step_real(l.y()) + "))"));
       }
       curves.push_back(add("IFCPOLYLINE(" + refs(pts) + ")"));
@@ -267,7 +284,7 @@ class IfcWriter {
   }
 
   int site(const ParcelResult& r) {
-    const Parcel* p = exp::parcel_of(m_, r);
+    const Parcel* p = exp::parcel_of(*page_, r);
     const std::string key = "site/" + r.parcel_id;
     int plc = placement(0);
     int shape = footprint(p);
@@ -295,7 +312,7 @@ class IfcWriter {
     int plc = placement(site_plc);
     // Local z 0 is the building's 0.00 level: its height in the CRS is the frame
     // origin's, so storey elevations are local z.
-    const double z0 = m_.frame.origin.z();
+    const double z0 = frame_.origin.z();
     int bldg = add("IFCBUILDING('" + ifc_guid(key) + "',$," + step_str(b.id) + ",$,$," + ref(plc) +
                    ",$,$,.ELEMENT.," + step_real(z0) + "," + step_real(z0 + b.terrain_z) + ",$)");
     building_sets(b, key, bldg);
@@ -488,12 +505,14 @@ class IfcWriter {
 
 }  // namespace
 
+std::unique_ptr<ExportWriter> ifc_writer(const BatchModel& header, const std::string& path) {
+  return std::make_unique<IfcWriter>(header, path);
+}
+
 void write_ifc(const BatchModel& model, const std::string& path) {
-  std::ofstream os(path, std::ios::binary);
-  if (!os) throw std::runtime_error(path + ": cannot open for writing");
-  std::string name = path.substr(path.find_last_of('/') + 1);
-  IfcWriter(os, model, name).run();
-  if (!os) throw std::runtime_error(path + ": write failed");
+  auto w = ifc_writer(model, path);
+  w->add(model);
+  w->finish();
 }
 
 }  // namespace c3d

@@ -11,6 +11,7 @@
 #include "core/io/crs.h"
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
+#include "ifc_citygml/spool.h"
 #include "cadastre/batch/out_dir.h"
 #include "cadastre/report/report.h"
 #include "core/error.h"
@@ -62,60 +63,91 @@ json building_json(const Building& b) {
           {"wall_deviation", to_json(b.wall_deviation)}};
 }
 
-}  // namespace
+// summary.json as the pages come: the parcels' entries go to a spool (the
+// counts and pooled deviations before them in the file need every parcel),
+// so only two deviations per building stay in memory.
+class SummaryWriter {
+ public:
+  SummaryWriter(const BatchReport& report, const BatchModel& header, const std::string& path)
+      : report_(report), epsg_(header.epsg), crs_wkt_(header.crs_wkt), path_(path),
+        parcels_(path, ".parcels.part") {}
 
-void write_summary(const BatchReport& report, const std::string& path) {
-  const BatchModel& model = report.model;
-  const BatchTimings& timings = report.timings;
-  json parcels = json::array();
-  std::vector<Deviation> roof_devs, wall_devs;
-  int ok = 0, empty = 0, failed = 0, suspect = 0;
-  for (size_t i = 0; i < model.parcels.size(); ++i) {
-    const ParcelResult& r = model.results[i];
+  void add(const BatchModel& page) {
+    for (size_t i = 0; i < page.parcels.size(); ++i) add(page.parcels[i], page.results[i]);
+  }
+
+  void finish() {
+    json stages = json::object();
+    for (const auto& [k, v] : report_.timings.stages) stages[k] = v;
+    json j = {{"tool", "cadastre3d " C3D_VERSION},
+              {"crs_epsg", epsg_},
+              {"areas_crs", areas_crs_text(crs_wkt_)},
+              {"parcels_total", count_},
+              {"parcels_ok", ok_},
+              {"parcels_empty", empty_},
+              {"parcels_failed", failed_},
+              {"parcels_suspect", suspect_},
+              {"pooled_roof_deviation", to_json(pool(roof_devs_))},
+              {"pooled_wall_deviation", to_json(pool(wall_devs_))},
+              {"any_model_roof_deviation", to_json(report_.any_model_roof)},
+              {"any_model_wall_deviation", to_json(report_.any_model_wall)},
+              {"roof_ruler", to_json(report_.roof_ruler)},
+              {"wall_ruler", to_json(report_.wall_ruler)},
+              {"wall_points_measured_share", report_.wall_points_measured},
+              {"timings_s",
+               {{"ingest_and_clip", report_.timings.ingest_s},
+                {"reconstruct_and_store", report_.timings.reconstruct_s},
+                {"stages_cpu", stages}}},
+              {"parcels", json::array()}};
+    // Keys print sorted, one a line: the empty array's line is where the parcels go.
+    const std::string text = j.dump(2), slot = "\n  \"parcels\": []";
+    const size_t at = text.find(slot);
+    if (at == std::string::npos) throw std::logic_error("summary.json: no parcels slot");
+    std::ofstream f(path_, std::ios::binary);
+    f << text.substr(0, at + slot.size() - 1);
+    if (count_ > 0) {
+      f << "\n";
+      parcels_.copy_to(f);
+      f << "\n  ";
+    }
+    f << text.substr(at + slot.size() - 1) << "\n";
+    if (!f.flush()) throw InputError(path_, "cannot write");
+  }
+
+ private:
+  void add(const Parcel& p, const ParcelResult& r) {
     json buildings = json::array();
     for (const auto& b : r.buildings) {
       buildings.push_back(building_json(b));
-      roof_devs.push_back(b.roof_deviation);
-      wall_devs.push_back(b.wall_deviation);
+      roof_devs_.push_back(b.roof_deviation);
+      wall_devs_.push_back(b.wall_deviation);
     }
-    ok += r.status == ParcelStatus::Ok;
-    empty += r.status == ParcelStatus::Empty;
-    failed += r.status == ParcelStatus::Failed;
-    suspect += r.status == ParcelStatus::Suspect;
-    parcels.push_back({{"parcel_index", i},
-                       {"parcel_id", model.parcels[i].id},
-                       {"status", to_string(r.status)},
-                       {"reason", r.reason},
-                       {"buildings", buildings}});
+    ok_ += r.status == ParcelStatus::Ok;
+    empty_ += r.status == ParcelStatus::Empty;
+    failed_ += r.status == ParcelStatus::Failed;
+    suspect_ += r.status == ParcelStatus::Suspect;
+    const json entry = {{"parcel_index", count_},
+                        {"parcel_id", p.id},
+                        {"status", to_string(r.status)},
+                        {"reason", r.reason},
+                        {"buildings", buildings}};
+    // As an element of the top-level array, each line sits 4 spaces in
+    // (a JSON string holds no raw line break).
+    std::string text = "    " + entry.dump(2);
+    for (size_t k = 0; (k = text.find('\n', k)) != std::string::npos; k += 5) text.insert(k + 1, "    ");
+    parcels_.out() << (count_ ? ",\n" : "") << text;
+    if (!parcels_.out()) throw InputError(path_, "cannot write");
+    ++count_;
   }
-  json stages = json::object();
-  for (const auto& [k, v] : timings.stages) stages[k] = v;
-  json j = {{"tool", "cadastre3d " C3D_VERSION},
-            {"crs_epsg", model.epsg},
-            {"areas_crs", areas_crs_text(model.crs_wkt)},
-            {"parcels_total", model.parcels.size()},
-            {"parcels_ok", ok},
-            {"parcels_empty", empty},
-            {"parcels_failed", failed},
-            {"parcels_suspect", suspect},
-            {"pooled_roof_deviation", to_json(pool(roof_devs))},
-            {"pooled_wall_deviation", to_json(pool(wall_devs))},
-            {"any_model_roof_deviation", to_json(report.any_model_roof)},
-            {"any_model_wall_deviation", to_json(report.any_model_wall)},
-            {"roof_ruler", to_json(report.roof_ruler)},
-            {"wall_ruler", to_json(report.wall_ruler)},
-            {"wall_points_measured_share", report.wall_points_measured},
-            {"timings_s",
-             {{"ingest_and_clip", timings.ingest_s},
-              {"reconstruct_and_store", timings.reconstruct_s},
-              {"stages_cpu", stages}}},
-            {"parcels", parcels}};
-  std::ofstream f(path);
-  f << j.dump(2) << "\n";
-  if (!f.flush()) throw InputError(path, "cannot write");
-}
 
-namespace {
+  const BatchReport& report_;
+  const int epsg_;
+  const std::string crs_wkt_, path_;
+  exp::Spool parcels_;
+  std::vector<Deviation> roof_devs_, wall_devs_;
+  size_t count_ = 0;
+  int ok_ = 0, empty_ = 0, failed_ = 0, suspect_ = 0;
+};
 
 // The same relative path under `to` as `path` has under `from`.
 std::string moved(const std::string& path, const std::string& from, const std::string& to) {
@@ -124,8 +156,7 @@ std::string moved(const std::string& path, const std::string& from, const std::s
 
 // One standalone picture per parcel with buildings, coloured by element type,
 // named by file_stem_for_id (an id can neither leave the folder nor share a file).
-void write_previews(const BatchModel& model, const std::string& dir, const std::function<void()>& step) {
-  fs::create_directories(dir);
+void write_previews(const BatchModel& model, const std::string& dir) {
   for (size_t i = 0; i < model.parcels.size(); ++i) {
     if (model.results[i].buildings.empty()) continue;
     const fs::path path = fs::path(dir) / (file_stem_for_id(model.parcels[i].id) + ".svg");
@@ -135,37 +166,64 @@ void write_previews(const BatchModel& model, const std::string& dir, const std::
     if (pic.rfind("<svg ", 0) == 0) pic.insert(5, "xmlns=\"http://www.w3.org/2000/svg\" ");
     svg << pic;
     if (!svg.flush()) throw InputError(path.string(), "cannot write the preview");
-    step();
   }
 }
 
 }  // namespace
 
-WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_path,
+WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_loc,
                              const std::string& out_dir, const Config& cfg,
                              const std::vector<std::string>& formats, const OutputProgress& progress) {
-  const BatchModel& model = report.model;
-  size_t done = 0, total = 2 + formats.size();
-  for (const auto& r : model.results) total += !r.buildings.empty();
-  auto step = [&] {
-    if (progress) progress(++done, total);
-  };
+  return write_outputs(report, StorePages(store_loc), out_dir, cfg, formats, progress);
+}
+
+namespace {
+
+// Every output under `stage` in one pass over the store: each output takes
+// each page in turn. Returns the export files; the writers (and their spools)
+// are gone before the caller publishes the folder.
+std::vector<std::string> write_staged(const BatchReport& report, const StorePages& pages,
+                                      const std::string& stage, const Config& cfg,
+                                      const std::vector<std::string>& formats, const OutputProgress& progress) {
+  const BatchModel& header = pages.header();
+  SummaryWriter summary(report, header, (fs::path(stage) / "summary.json").string());
+  ReportWriter report_pages(stage, pages.parcel_count(), header,
+                            store_report_info(pages.location(), cfg, false, true));
+  std::vector<std::unique_ptr<ExportWriter>> exports;
+  for (const auto& f : formats) exports.push_back(export_writer(f, header, stage));
+  const std::string previews = (fs::path(stage) / "preview").string();
+  fs::create_directories(previews);
+  for (size_t k = 0; k < pages.page_count(); ++k) {
+    BatchModel page = pages.page(k);
+    summary.add(page);
+    write_previews(page, previews);
+    for (auto& w : exports) w->add(page);
+    report_pages.add(std::move(page), pages.valuations(k));
+    if (progress) progress(k + 1, pages.page_count() + 1);
+  }
+  summary.finish();
+  report_pages.finish();
+  std::vector<std::string> files;
+  for (auto& w : exports)
+    for (auto& p : w->finish()) files.push_back(std::move(p));
+  return files;
+}
+
+}  // namespace
+
+WrittenOutputs write_outputs(const BatchReport& report, const StorePages& pages,
+                             const std::string& out_dir, const Config& cfg,
+                             const std::vector<std::string>& formats, const OutputProgress& progress) {
   // Everything is written under OUT/.staging, then each file is renamed into
   // place: a killed batch leaves no half-written file in OUT.
   const std::string stage = staging_dir(out_dir);
   fs::remove_all(stage);
   fs::create_directories(stage);
-  write_summary(report, (fs::path(stage) / "summary.json").string());
-  step();
-  write_report_from_store(model, store_path, stage, cfg, false, true);
-  step();
   WrittenOutputs out;
-  for (const auto& f : formats) {
-    for (const auto& p : export_formats(model, stage, {f})) out.exports.push_back(moved(p, stage, out_dir));
-    step();
-  }
-  write_previews(model, (fs::path(stage) / "preview").string(), step);
+  for (const auto& p : write_staged(report, pages, stage, cfg, formats, progress))
+    out.exports.push_back(moved(p, stage, out_dir));
   publish_staged(stage, out_dir);
+  if (progress) progress(pages.page_count() + 1, pages.page_count() + 1);
   out.summary = (fs::path(out_dir) / "summary.json").string();
   out.report = (fs::path(out_dir) / "report.html").string();
   out.preview_dir = (fs::path(out_dir) / "preview").string();

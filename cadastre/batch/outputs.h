@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cadastre/batch/batch.h"
+#include "cadastre/store_pages.h"
 
 namespace c3d {
 
@@ -18,15 +19,20 @@ struct WrittenOutputs {
 using OutputProgress = std::function<void(size_t done, size_t total)>;
 
 // OUT/summary.json, OUT/report.html + .csv, OUT/preview/<parcel>.svg and the
-// exports in `formats`, from the batch's report (its model as the store at
-// store_path holds it). Each file is written under OUT/.staging and renamed
-// into place once all are written (see out_dir.h).
-WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_path,
+// exports in `formats`, from the batch's report (its counts, deviations and
+// timings) and the store at store_loc, read a page of parcels at a time in
+// one pass that feeds every output (cadastre/store_pages.h): memory holds one
+// page of models, never the town's. Each file is written under OUT/.staging
+// and renamed into place once all are written (see out_dir.h). Progress:
+// one step per page, one for publishing.
+WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_loc,
                              const std::string& out_dir, const Config& cfg,
                              const std::vector<std::string>& formats,
                              const OutputProgress& progress = {});
-
-// summary.json alone.
-void write_summary(const BatchReport& report, const std::string& path);
+// The same from pages of the size a caller chooses (tests: 1, 3, all).
+WrittenOutputs write_outputs(const BatchReport& report, const StorePages& pages,
+                             const std::string& out_dir, const Config& cfg,
+                             const std::vector<std::string>& formats,
+                             const OutputProgress& progress = {});
 
 }  // namespace c3d

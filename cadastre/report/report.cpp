@@ -125,19 +125,10 @@ void write_report(const std::string& out_dir, const BatchModel& model,
   }
 }
 
-void write_report_from_store(const std::string& store_path, const std::string& out_dir,
-                             const Config& cfg, bool revalue) {
-  write_report_from_store(load_batch_model(store_path), store_path, out_dir, cfg, revalue);
-}
-
-void write_report_from_store(const BatchModel& model, const std::string& store_path,
-                             const std::string& out_dir, const Config& cfg, bool revalue,
-                             bool own_run) {
-  std::vector<ParcelValuation> vals =
-      revalue ? value_batch(model, cfg.valuation) : load_valuations(store_path);
+ReportInfo store_report_info(const std::string& store_loc, const Config& cfg, bool revalue, bool own_run) {
   ReportInfo info;
-  info.source = store_path;
-  auto runs = load_runs(store_path);
+  info.source = store_loc;
+  auto runs = load_runs(store_loc);
   if (!runs.empty()) {
     const RunRecord& r = runs.back();
     info.run_note = r.tool_version + ", run " + std::to_string(r.id) + " started " + r.started +
@@ -148,7 +139,24 @@ void write_report_from_store(const BatchModel& model, const std::string& store_p
   }
   if (revalue) info.run_note += (info.run_note.empty() ? "" : "; ") +
                                 std::string("re-valued with ") + cfg.source;
-  write_report(out_dir, model, vals, info);
+  return info;
+}
+
+void write_report_from_store(const std::string& store_loc, const std::string& out_dir,
+                             const Config& cfg, bool revalue) {
+  write_report_from_store(StorePages(store_loc), out_dir, cfg, revalue);
+}
+
+void write_report_from_store(const StorePages& pages, const std::string& out_dir, const Config& cfg,
+                             bool revalue, bool own_run) {
+  ReportWriter report(out_dir, pages.parcel_count(), pages.header(),
+                      store_report_info(pages.location(), cfg, revalue, own_run));
+  for (size_t k = 0; k < pages.page_count(); ++k) {
+    BatchModel page = pages.page(k);
+    auto vals = revalue ? value_batch(page, cfg.valuation) : pages.valuations(k);
+    report.add(std::move(page), std::move(vals));
+  }
+  report.finish();
 }
 
 }  // namespace c3d

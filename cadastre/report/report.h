@@ -5,9 +5,11 @@
 //   OUT/report/parcels-NNN.html  50 parcels each: table and per-parcel sections
 //   OUT/report/parcel/<id>.html  one printable A4 page per parcel
 //   OUT/report.csv               the per-parcel and per-element figures
+#include <fstream>
 #include <string>
 #include <vector>
 
+#include "cadastre/store_pages.h"
 #include "core/config/config.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
@@ -44,15 +46,43 @@ std::string parcel_svg(const Parcel& parcel, const ParcelResult& result, const L
 void write_report(const std::string& out_dir, const BatchModel& model,
                   const std::vector<ParcelValuation>& valuations, const ReportInfo& info = {});
 
-// The report from a store alone: model and valuations read back (so the report
-// always agrees with the store). revalue: price the stored model again with
+// The report written as a store's pages come (cadastre/store_pages.h): each
+// detail page as soon as its parcels (and the next one, for the links) are
+// in, the summary page and the CSV at the end from the parcels' figures
+// (ids, shapes, statuses, element areas, valuations) without their geometry,
+// so memory holds about a page of models and a small row per parcel.
+class ReportWriter {
+ public:
+  // parcel_count: the parcels the pages will bring (the pages' "of N").
+  ReportWriter(const std::string& out_dir, size_t parcel_count, const BatchModel& header, ReportInfo info);
+  // The next parcels in layer order, with their valuations (any order).
+  void add(BatchModel page, std::vector<ParcelValuation> valuations);
+  void finish();
+
+ private:
+  void write(const std::string& name, const std::string& text) const;
+  void write_ready(bool all);
+  std::string out_dir_;
+  size_t total_;
+  ReportInfo info_;
+  BatchModel rows_;  // every parcel so far; whole results only of those whose pages wait
+  std::vector<ParcelValuation> vals_;  // cost items only of parcels whose pages wait
+  size_t written_ = 0;  // parcels whose detail pages (and CSV rows) are written
+  std::string csv_path_;
+  std::ofstream csv_;
+};
+
+// What the report's pages say of a store's latest run. own_run: the batch
+// writing its own report, before it marks its run finished; revalue: priced
+// again with cfg.valuation.
+ReportInfo store_report_info(const std::string& store_loc, const Config& cfg, bool revalue, bool own_run);
+
+// The report from a store alone, read a page at a time (so the report always
+// agrees with the store). revalue: price the stored model again with
 // cfg.valuation instead of using the stored valuations (what-if, --config).
-void write_report_from_store(const std::string& store_path, const std::string& out_dir,
+void write_report_from_store(const std::string& store_loc, const std::string& out_dir,
                              const Config& cfg, bool revalue = false);
-// The same with the model already read from that store (the batch has it).
-// own_run: the batch writing its own report, before it marks its run finished.
-void write_report_from_store(const BatchModel& model, const std::string& store_path,
-                             const std::string& out_dir, const Config& cfg, bool revalue = false,
-                             bool own_run = false);
+void write_report_from_store(const StorePages& pages, const std::string& out_dir, const Config& cfg,
+                             bool revalue = false, bool own_run = false);
 
 }  // namespace c3d

@@ -158,20 +158,22 @@ std::string link(const std::string& href, const std::string& text) {
   return "<a href=\"" + href + "\">" + text + "</a>";
 }
 
-std::string group_nav(const BatchModel& m, size_t from) {
+std::string group_nav(size_t from, size_t total) {
   std::string s = "<nav>" + link("../report.html", "&uarr; Summary");
   if (from > 0) s += link(group_page(from - kParcelsPerPage), "&larr; Previous page");
-  if (from + kParcelsPerPage < m.parcels.size())
+  if (from + kParcelsPerPage < total)
     s += link(group_page(from + kParcelsPerPage), "Next page &rarr;");
   return s + "</nav>";
 }
 
-std::string group_html(const BatchModel& m, const std::vector<ParcelValuation>& vals,
-                       const ReportInfo& info, size_t from) {
-  const size_t to = std::min(m.parcels.size(), from + kParcelsPerPage);
+}  // namespace
+
+std::string report_detail::group_html(const BatchModel& m, const std::vector<ParcelValuation>& vals,
+                                      const ReportInfo& info, size_t from, size_t total) {
+  const size_t to = std::min(total, from + kParcelsPerPage);
   auto vmap = by_parcel(vals);
-  std::string s = page_head(info.title + fmt(": parcels %zu-%zu", from + 1, to)) + group_nav(m, from);
-  s += fmt("<h1>Parcels %zu&ndash;%zu of %zu</h1>", from + 1, to, m.parcels.size()) + page_meta(m, info);
+  std::string s = page_head(info.title + fmt(": parcels %zu-%zu", from + 1, to)) + group_nav(from, total);
+  s += fmt("<h1>Parcels %zu&ndash;%zu of %zu</h1>", from + 1, to, total) + page_meta(m, info);
   s += parcel_table_head() + parcel_rows(m, vals, from, to, "") + "</table>";
   s += "<p class=\"meta\">* computed area (no certified area in the parcel layer). &plusmn; values "
        "are 1&sigma; from the plane fits.</p><h2>Buildings and elements</h2>" + legend_svg();
@@ -181,21 +183,21 @@ std::string group_html(const BatchModel& m, const std::vector<ParcelValuation>& 
          "<div><h3>" + link(parcel_page(p), "Parcel " + status_heading(p, m.results[i])) + "</h3>" +
          parcel_detail(p, m.results[i], find_valuation(vmap, p.id)) + "</div></div>";
   }
-  return s + group_nav(m, from) + "</body></html>\n";
+  return s + group_nav(from, total) + "</body></html>\n";
 }
 
-std::string parcel_html(const BatchModel& m, const ParcelValuation* v, const ReportInfo& info,
-                        size_t i) {
+std::string report_detail::parcel_html(const BatchModel& m, const ParcelValuation* v,
+                                       const ReportInfo& info, size_t i, size_t total) {
   const Parcel& p = m.parcels[i];
   const ParcelResult& r = m.results[i];
   std::string s = page_head("Parcel " + p.id) + "<nav>" + link("../../report.html", "&uarr; Summary") +
                   link("../" + group_page(i) + fmt("#p%zu", i),
                        fmt("Parcels %zu&ndash;%zu", i / kParcelsPerPage * kParcelsPerPage + 1,
-                           std::min(m.parcels.size(), (i / kParcelsPerPage + 1) * kParcelsPerPage)));
+                           std::min(total, (i / kParcelsPerPage + 1) * kParcelsPerPage)));
   // Neighbours in layer order; a page's own folder holds them (parcel/<id>.html).
   const std::string prefix = "parcel/";
   if (i > 0) s += link(parcel_page(m.parcels[i - 1]).substr(prefix.size()), "&larr; Previous parcel");
-  if (i + 1 < m.parcels.size())
+  if (i + 1 < total)
     s += link(parcel_page(m.parcels[i + 1]).substr(prefix.size()), "Next parcel &rarr;");
   s += "</nav><h1>Parcel " + status_heading(p, r) + "</h1>" + page_meta(m, info) + location(p);
   if (!info.run_note.empty()) s += "<p class=\"meta\">" + html_escape(info.run_note) + ".</p>";
@@ -203,8 +205,6 @@ std::string parcel_html(const BatchModel& m, const ParcelValuation* v, const Rep
        "</div>" + legend_svg();
   return s + parcel_detail(p, r, v, true) + "</body></html>\n";
 }
-
-}  // namespace
 
 std::string report_detail::page_head(const std::string& title) {
   return "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
@@ -270,11 +270,11 @@ std::vector<ReportFile> report_files(const BatchModel& m, const std::vector<Parc
   std::vector<ReportFile> files;
   files.push_back({"report.html", report_html(m, vals, info)});
   for (size_t from = 0; from < m.parcels.size(); from += kParcelsPerPage)
-    files.push_back({"report/" + group_page(from), group_html(m, vals, info, from)});
+    files.push_back({"report/" + group_page(from), group_html(m, vals, info, from, m.parcels.size())});
   auto vmap = by_parcel(vals);
   for (size_t i = 0; i < m.parcels.size(); ++i)
     files.push_back({"report/" + parcel_page(m.parcels[i]),
-                     parcel_html(m, find_valuation(vmap, m.parcels[i].id), info, i)});
+                     parcel_html(m, find_valuation(vmap, m.parcels[i].id), info, i, m.parcels.size())});
   files.push_back({"report.csv", report_csv(m, vals)});
   return files;
 }

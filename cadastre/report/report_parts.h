@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cadastre/report/report.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
@@ -81,5 +82,16 @@ std::string parcel_detail(const Parcel& p, const ParcelResult& r, const ParcelVa
 std::string parcel_rows(const BatchModel& m, const std::vector<ParcelValuation>& vals, size_t from,
                         size_t to, const std::string& link_prefix);
 std::string parcel_table_head();
+// report.csv (report_csv.cpp): its header line, and the rows of one parcel
+// (the parcel's, then one per element).
+std::string csv_header();
+std::string csv_rows(const Parcel& p, const ParcelResult& r, const ParcelValuation* v);
+// Detail page OUT/report/parcels-NNN.html of the parcels from `from` (a
+// multiple of kParcelsPerPage) of `total`; m holds them, their results whole.
+std::string group_html(const BatchModel& m, const std::vector<ParcelValuation>& vals,
+                       const ReportInfo& info, size_t from, size_t total);
+// The printable page of parcel i of `total`; m holds it whole and the ids of its neighbours.
+std::string parcel_html(const BatchModel& m, const ParcelValuation* v, const ReportInfo& info,
+                        size_t i, size_t total);
 
 }  // namespace c3d::report_detail
