@@ -196,6 +196,11 @@ TEST(LazWrite, BadArgumentsGiveClearErrors) {
   write_laz(dir + "/ok.laz", cloud, 6, 4);
   EXPECT_THROW(laz::compress_las(file_bytes(dir + "/ok.laz")), laz::FormatError);  // compressed already
   EXPECT_THROW(laz::compress_las(std::vector<uint8_t>(100, 0)), laz::FormatError);
+  write_las(dir + "/v.las", cloud, 6, 4);
+  std::vector<uint8_t> las = file_bytes(dir + "/v.las");
+  const uint32_t one = 1;
+  std::memcpy(&las[100], &one, 4);  // a VLR count the header has no room for
+  EXPECT_THROW(laz::compress_las(las), laz::FormatError);
   EXPECT_EQ(read_point_cloud(dir + "/ok.laz").points, cloud.points);
 }
 

@@ -195,6 +195,7 @@ std::vector<uint8_t> compress_las(const std::vector<uint8_t>& las, uint32_t chun
     if (vlr_end + 54 > point_offset) throw FormatError("VLR " + std::to_string(i) + " runs into the points");
     vlr_end += 54 + load<uint16_t>(p + vlr_end + 20);
   }
+  if (vlr_end > point_offset) throw FormatError("the VLRs run into the points");
   const LaszipVlr vlr = laszip_vlr_for(format, record_length, chunk_size);
   const std::vector<uint8_t> payload = laszip_vlr_payload(vlr);
   std::vector<uint8_t> out(p, p + vlr_end);
