@@ -3,6 +3,7 @@
 // written again and decoded to the same records (the README's hashes).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -134,7 +135,7 @@ bool same_chunks(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
 // decoded, written by our encoder, decoded again to the same records, in a
 // size close to the original's. Where LASzip wrote chunks of 50,000 points
 // (all but the COPC file, whose chunks follow its octree) our chunks are
-// byte for byte LASzip's. tests/laz_perf_check.sh has laz-perf decode them.
+// byte for byte LASzip's.
 TEST(LazWrite, SharedFilesRoundTripBitExact) {
   if (test::laz_dir().empty()) GTEST_SKIP() << "../shared/data/laz not found beside the checkout";
   const std::string out = test::temp_dir("laz");
@@ -155,6 +156,21 @@ TEST(LazWrite, SharedFilesRoundTripBitExact) {
       if (chunk == laz::kDefaultChunkSize && name.find("copc") == std::string::npos)
         EXPECT_TRUE(same_chunks(file_bytes(entry.path().string()), laz)) << "LASzip wrote other chunk bytes";
     }
+  }
+}
+
+// For tests/laz_perf_check.sh: the shared LAZ files written again by our
+// encoder into $C3D_LAZ_OUT (chunks of 50,000 and 1,000 points), for
+// laz-perf to decode. Skipped unless the variable is set.
+TEST(LazWrite, RewriteSharedFilesForLazPerf) {
+  const char* out = std::getenv("C3D_LAZ_OUT");
+  if (!out || test::laz_dir().empty()) GTEST_SKIP() << "run by tests/laz_perf_check.sh";
+  std::filesystem::create_directories(out);
+  for (const auto& entry : std::filesystem::directory_iterator(test::laz_dir())) {
+    if (entry.path().extension() != ".laz") continue;
+    for (uint32_t chunk : {laz::kDefaultChunkSize, 1000u})
+      write_bytes(std::string(out) + "/" + std::to_string(chunk) + "_" + entry.path().filename().string(),
+                  laz::compress_las(decompressed(entry.path().string()), chunk));
   }
 }
 
