@@ -16,6 +16,7 @@ struct SampleArgs {
   std::string out;
   std::string format = "gpkg";
   SampleOptions opt;
+  CloudLayout cloud;
 };
 
 void run_sample(const SampleArgs& a) {
@@ -30,7 +31,7 @@ void run_sample(const SampleArgs& a) {
   SampleTown town = make_sample_town(opt);
   auto t1 = clock::now();
   auto files = write_sample_town(town, a.out,
-                                 a.format == "geojson" ? ParcelFormat::GeoJson : ParcelFormat::GeoPackage);
+                                 a.format == "geojson" ? ParcelFormat::GeoJson : ParcelFormat::GeoPackage, a.cloud);
   // The exact buildings as the batch writes its models (truth_obj/<parcel>.obj), for `evaluate`.
   const auto truth_obj = (std::filesystem::path(a.out) / "truth_obj").string();
   write_obj_per_parcel(truth_model(town), truth_obj);
@@ -82,6 +83,9 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--format", a->format, "Parcel file format")
       ->capture_default_str()
       ->check(CLI::IsMember({"gpkg", "geojson"}));
+  cmd->add_flag("--laz", a->cloud.laz, "Write the cloud LASzip-compressed (.laz)");
+  cmd->add_option("--tiles", a->cloud.tile_size, "Cut the cloud into square tiles of this size, m (folder cloud/)")
+      ->check(CLI::Range(1.0, 1e6));
   cmd->add_option("--epsg", a->opt.epsg, "UTM EPSG code of the output")->capture_default_str();
   cmd->add_option("--easting", a->opt.origin_easting, "Easting of the town's south-west corner")
       ->capture_default_str();

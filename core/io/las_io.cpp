@@ -1,6 +1,7 @@
 // The LAS 1.0-1.4 reader (formats 0-10, CRS from WKT or GeoKeys VLRs; LAZ
 // point data decoded by core/io/laz into the same records) and the LAS writer.
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include "core/io/crs.h"
 #include "core/io/laz/item_reader.h"
 #include "core/io/laz/laz_reader.h"
+#include "core/io/laz/laz_writer.h"
 #include "core/io/point_io.h"
 #include "core/io/point_io_detail.h"
 
@@ -266,8 +268,10 @@ std::vector<uint8_t> read_las_records(const std::string& path) {
   return std::vector<uint8_t>(begin, begin + h.point_count * h.record_length);
 }
 
-void write_las(const std::string& path, const PointCloud& cloud, int point_format,
-               int minor_version) {
+namespace {
+
+// The bytes of an uncompressed LAS file holding the cloud.
+std::string las_file_bytes(const std::string& path, const PointCloud& cloud, int point_format, int minor_version) {
   if (point_format < 0 || point_format > 10)
     throw InputError(path, "unknown LAS point format " + std::to_string(point_format));
   if (minor_version < min_minor_for(point_format) || minor_version > 4)
@@ -337,9 +341,31 @@ void write_las(const std::string& path, const PointCloud& cloud, int point_forma
       out[r + 15] = char(cls & 0x1F);
     }
   }
+  return out;
+}
+
+void write_file(const std::string& path, const char* data, size_t size) {
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-  if (!f || std::fwrite(out.data(), 1, out.size(), f.get()) != out.size())
-    throw InputError(path, "cannot write LAS file");
+  if (!f || std::fwrite(data, 1, size, f.get()) != size || std::fflush(f.get()) != 0)
+    throw InputError(path, "cannot write the file (" + std::string(std::strerror(errno)) + ")");
+}
+
+}  // namespace
+
+void write_las(const std::string& path, const PointCloud& cloud, int point_format, int minor_version) {
+  const std::string out = las_file_bytes(path, cloud, point_format, minor_version);
+  write_file(path, out.data(), out.size());
+}
+
+void write_laz(const std::string& path, const PointCloud& cloud, int point_format, int minor_version) {
+  const std::string las = las_file_bytes(path, cloud, point_format, minor_version);
+  std::vector<uint8_t> laz;
+  try {
+    laz = laz::compress_las(std::vector<uint8_t>(las.begin(), las.end()));
+  } catch (const laz::FormatError& e) {
+    throw InputError(path, std::string("LAZ: ") + e.what());
+  }
+  write_file(path, reinterpret_cast<const char*>(laz.data()), laz.size());
 }
 
 }  // namespace c3d

@@ -21,5 +21,9 @@ std::vector<uint8_t> read_las_records(const std::string& path);
 // written when present; crs_wkt as an OGC WKT VLR (formats 6-10) or GeoKeys.
 void write_las(const std::string& path, const PointCloud& cloud, int point_format = 6,
                int minor_version = 4);
+// The same file LASzip-compressed (core/io/laz/laz_writer.h): point formats
+// 0-3 and 6-8.
+void write_laz(const std::string& path, const PointCloud& cloud, int point_format = 6,
+               int minor_version = 4);
 
 }  // namespace c3d

@@ -148,7 +148,8 @@ std::string truth_json(const SampleTown& town) {
   return j.dump(1);
 }
 
-SampleFiles write_sample_town(const SampleTown& town, const std::string& dir, ParcelFormat format) {
+SampleFiles write_sample_town(const SampleTown& town, const std::string& dir, ParcelFormat format,
+                              const CloudLayout& cloud) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   SampleFiles f;
@@ -157,9 +158,12 @@ SampleFiles write_sample_town(const SampleTown& town, const std::string& dir, Pa
   f.truth = (fs::path(dir) / "truth.json").string();
   write_parcels(town, f.parcels, format);
   write_dtm(town, f.dtm);
-  if (!town.cloud.points.empty()) {
-    f.cloud = (fs::path(dir) / "cloud.las").string();
-    write_las(f.cloud, town.cloud, 6, 4);
+  if (!town.cloud.points.empty() && cloud.tile_size > 0) {
+    f.cloud = (fs::path(dir) / "cloud").string();
+    f.cloud_tiles = write_cloud_tiles(town.cloud, f.cloud, cloud);
+  } else if (!town.cloud.points.empty()) {
+    f.cloud = (fs::path(dir) / (cloud.laz ? "cloud.laz" : "cloud.las")).string();
+    (cloud.laz ? write_laz : write_las)(f.cloud, town.cloud, 6, 4);
   }
   std::ofstream(f.truth) << truth_json(town) << "\n";
   return f;

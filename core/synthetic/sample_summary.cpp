@@ -41,7 +41,8 @@ std::string sample_town_text(const SampleTown& town, const SampleFiles& files, c
       << int(town.dtm.nodata_share * 1000) / 10.0 << " % NoData)\n";
   if (!files.cloud.empty())
     out << "  cloud     " << files.cloud << "  (" << town.cloud.points.size() << " points: " << n.roof_points
-        << " roof, " << n.wall_points << " wall, " << n.other_points << " ground)\n";
+        << " roof, " << n.wall_points << " wall, " << n.other_points << " ground"
+        << (files.cloud_tiles.empty() ? "" : "; " + std::to_string(files.cloud_tiles.size()) + " tiles") << ")\n";
   out << "  truth     " << files.truth << ", " << truth_obj_dir << "/<parcel>.obj\n  layouts  ";
   for (const auto& [layout, count] : n.layouts) out << " " << layout << " " << count;
   out << "\n";

@@ -118,13 +118,25 @@ struct SampleTown {
 SampleTown make_sample_town(const SampleOptions& opt);
 
 enum class ParcelFormat { GeoPackage, GeoJson };
-struct SampleFiles {
-  std::string parcels, dtm, cloud, truth;
+// How the cloud is written: one file or square tiles on a grid (as agencies
+// deliver LiDAR), LAS or LAZ. Same points either way.
+struct CloudLayout {
+  bool laz = false;        // LASzip-compressed (.laz)
+  double tile_size = 0;    // metres; 0: one file
 };
-// Writes parcels.gpkg|parcels.geojson, dtm.tif, cloud.las (unless the town has no
-// points) and truth.json into dir (created when missing).
+struct SampleFiles {
+  std::string parcels, dtm, cloud, truth;  // cloud: the file, or the folder of tiles
+  std::vector<std::string> cloud_tiles;    // tiled: every tile written (none empty)
+};
+// Writes parcels.gpkg|parcels.geojson, dtm.tif, the cloud (unless the town has
+// no points: cloud.las|cloud.laz, or tiles cloud/E<x>_N<y>.las|laz named by
+// their south-west corner in metres) and truth.json into dir (created when missing).
 SampleFiles write_sample_town(const SampleTown& town, const std::string& dir,
-                              ParcelFormat format = ParcelFormat::GeoPackage);
+                              ParcelFormat format = ParcelFormat::GeoPackage, const CloudLayout& cloud = {});
+// The cloud cut into square tiles of `layout.tile_size` m on a grid of
+// multiples of that size, one file per tile that holds points; returns them.
+std::vector<std::string> write_cloud_tiles(const PointCloud& cloud, const std::string& dir,
+                                           const CloudLayout& layout);
 // The truth.json text: deterministic for a given town.
 std::string truth_json(const SampleTown& town);
 

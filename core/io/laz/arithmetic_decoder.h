@@ -30,6 +30,7 @@ class SymbolModel {
 
  private:
   friend class Decoder;
+  friend class Encoder;
   void update();
   uint32_t symbols_, last_symbol_;
   uint32_t table_size_ = 0, table_shift_ = 0;
@@ -44,6 +45,7 @@ class BitModel {
 
  private:
   friend class Decoder;
+  friend class Encoder;
   void update();
   uint32_t bit_0_count_, bit_count_, bit_0_prob_, update_cycle_, until_update_;
 };

@@ -7,12 +7,8 @@ namespace c3d::laz {
 
 namespace {
 
-// Codes of the multiplier model (version 2 numbering; the layered variant
-// has no kUnchanged and so numbers the last codes one lower).
-constexpr int32_t kMulti = 500, kMultiMinus = -10;
-constexpr int32_t kUnchanged = kMulti - kMultiMinus + 1;  // 511
-constexpr int32_t kCodeFull = kMulti - kMultiMinus + 2;   // 512
-constexpr int32_t kMultiTotal = kMulti - kMultiMinus + 6; // 516 symbols
+constexpr int32_t kMulti = kGpsMulti, kMultiMinus = kGpsMultiMinus;
+constexpr int32_t kUnchanged = kGpsUnchanged, kCodeFull = kGpsCodeFull, kMultiTotal = kGpsMultiTotal;
 // A valid stream switches sequence once before a time; more is damage.
 constexpr int kMaxSwitches = 4;
 

@@ -18,37 +18,6 @@ const uint8_t kReturnMap6[16][16] = {
 
 namespace {
 
-// The 30-byte POINT14 record, unpacked.
-struct Point14 {
-  int32_t x = 0, y = 0, z = 0;
-  uint16_t intensity = 0;
-  uint8_t ret = 0, nret = 0, class_flags = 0, channel = 0, scan_dir = 0, edge = 0;
-  uint8_t classification = 0, user_data = 0;
-  int16_t scan_angle = 0;
-  uint16_t point_source = 0;
-  uint64_t gps = 0;
-  bool gps_changed = false;  // not in the record: a context of the next point
-
-  void from_raw(const uint8_t* p) {
-    std::memcpy(&x, p, 4), std::memcpy(&y, p + 4, 4), std::memcpy(&z, p + 8, 4);
-    std::memcpy(&intensity, p + 12, 2);
-    ret = p[14] & 15, nret = p[14] >> 4;
-    class_flags = p[15] & 15, channel = (p[15] >> 4) & 3, scan_dir = (p[15] >> 6) & 1, edge = p[15] >> 7;
-    classification = p[16], user_data = p[17];
-    std::memcpy(&scan_angle, p + 18, 2), std::memcpy(&point_source, p + 20, 2);
-    std::memcpy(&gps, p + 22, 8);
-  }
-  void to_raw(uint8_t* p) const {
-    std::memcpy(p, &x, 4), std::memcpy(p + 4, &y, 4), std::memcpy(p + 8, &z, 4);
-    std::memcpy(p + 12, &intensity, 2);
-    p[14] = uint8_t(ret | (nret << 4));
-    p[15] = uint8_t(class_flags | (channel << 4) | (scan_dir << 6) | (edge << 7));
-    p[16] = classification, p[17] = user_data;
-    std::memcpy(p + 18, &scan_angle, 2), std::memcpy(p + 20, &point_source, 2);
-    std::memcpy(p + 22, &gps, 8);
-  }
-};
-
 // The models and predictors of one scanner channel.
 struct Context {
   bool unused = true;
@@ -81,8 +50,6 @@ void Context::init(const Point14& from) {
   last.gps_changed = false;
   unused = false;
 }
-
-enum LayerId { kXY, kZ, kClass, kFlags, kIntensity, kScanAngle, kUserData, kPointSource, kGps, kLayers };
 
 class Point14Reader : public ItemReader {
  public:
