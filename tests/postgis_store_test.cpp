@@ -11,8 +11,12 @@
 #include <thread>
 
 #include "cadastre/store.h"
+#include "core/config/config.h"
+#include "core/error.h"
 #include "core/geometry/geometry.h"
 #include "tests/batch_e2e_support.h"
+#include "tests/store_fixtures.h"
+#include "valuation/valuation.h"
 
 namespace {
 
@@ -238,6 +242,58 @@ TEST(PostgisStore, KilledThenResumed) {
   ASSERT_TRUE(rc == 0 || rc == 3) << out;
   expect_same_store(town().gpkg, db.url());
   expect_same_counts(db, town().gpkg);
+}
+
+// The library's Store on PostGIS with a CRS that has no EPSG code: its own
+// spatial_ref_sys row; every vertex and number comes back bit for bit as from
+// the GeoPackage; another CRS into the same database is refused.
+TEST(PostgisStore, CustomCrsAndExactRoundTrip) {
+  REQUIRE_POSTGRES();
+  PgDatabase db("c3d_test_crs");
+  const std::string wkt =
+      "PROJCS[\"Cimahi local TM\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
+      "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]],PROJECTION[\"Transverse_Mercator\"],"
+      "PARAMETER[\"latitude_of_origin\",0],PARAMETER[\"central_meridian\",107.5],PARAMETER[\"scale_factor\",1],"
+      "PARAMETER[\"false_easting\",500000],PARAMETER[\"false_northing\",10000000],UNIT[\"metre\",1]]";
+  BatchModel m = test::sample_batch(2);
+  m.epsg = 0;
+  const std::string gpkg = test::temp_dir("postgis_crs") + "/ref.gpkg";
+  for (const std::string& loc : {gpkg, db.url()}) {
+    Store s;
+    s.open(loc, wkt, 0);
+    s.begin_run("{}", {}, m.frame);
+    for (size_t i = 0; i < m.parcels.size(); ++i)
+      s.write_parcel(m.parcels[i], m.results[i], value_parcel(m.parcels[i], m.results[i], default_config().valuation),
+                     m.frame);
+    s.end_run();
+  }
+  EXPECT_EQ(db.number("SELECT count(*) FROM geometry_columns WHERE srid = 100000"), 7);
+  EXPECT_EQ(db.number("SELECT count(*) FROM spatial_ref_sys WHERE srid = 100000 AND auth_name = 'cadastre3d'"), 1);
+  const BatchModel a = load_batch_model(gpkg), b = load_batch_model(db.url());
+  EXPECT_EQ(b.epsg, 0);
+  EXPECT_EQ(b.crs_wkt, wkt);
+  ASSERT_EQ(a.parcels.size(), b.parcels.size());
+  for (size_t i = 0; i < a.parcels.size(); ++i) {
+    EXPECT_EQ(a.parcels[i].shape[0].outer, b.parcels[i].shape[0].outer);
+    EXPECT_EQ(a.results[i].reason, b.results[i].reason);
+    ASSERT_EQ(a.results[i].buildings.size(), b.results[i].buildings.size());
+    for (size_t k = 0; k < a.results[i].buildings.size(); ++k) {
+      const Building &x = a.results[i].buildings[k], &y = b.results[i].buildings[k];
+      EXPECT_EQ(x.solid.size(), y.solid.size());
+      for (size_t f = 0; f < x.solid.size(); ++f) EXPECT_EQ(x.solid[f].ring, y.solid[f].ring);
+      EXPECT_EQ(x.roof_deviation.rmse, y.roof_deviation.rmse);
+      EXPECT_EQ(x.volume, y.volume);
+      EXPECT_EQ(x.terrain_z, y.terrain_z);
+      for (size_t e = 0; e < x.elements.size(); ++e) EXPECT_EQ(x.elements[e].area, y.elements[e].area);
+    }
+  }
+  Store other;
+  try {
+    other.open(db.url(), "", 32748);
+    ADD_FAILURE() << "a store of another CRS was opened";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("SRID 100000"), std::string::npos) << e.what();
+  }
 }
 
 // One line naming the store, exit 1, for each way the location can be wrong.
