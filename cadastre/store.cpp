@@ -20,7 +20,6 @@ namespace c3d {
 
 namespace {
 
-
 std::string timings_json(const std::vector<Timing>& t) {
   nlohmann::json j = nlohmann::json::array();
   for (const auto& s : t) j.push_back({{"stage", s.stage}, {"seconds", s.seconds}});
