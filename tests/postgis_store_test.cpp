@@ -318,4 +318,27 @@ TEST(PostgisStore, BadLocationIsOneLine) {
   }
 }
 
+// A server that asks for a password (a small cluster of the test's own, the
+// shared one trusts localhost): a wrong one is one line naming the store.
+TEST(PostgisStore, WrongPasswordIsOneLine) {
+  REQUIRE_POSTGRES();
+  const std::string bin = "/usr/lib/postgresql/15/bin", dir = test::temp_dir("pw_cluster");
+  const std::string as = getuid() == 0 ? "runuser -u postgres -- " : "";
+  const std::string port = std::to_string(55400 + getpid() % 90);
+  int rc = 1;
+  shell("echo right > " + dir + "/pw && chmod 755 " + dir + " && chmod 644 " + dir + "/pw" +
+            (getuid() == 0 ? " && chown -R postgres: " + dir : "") + " && " + as + bin + "/initdb -D " + dir +
+            "/data -U postgres --auth=scram-sha-256 --pwfile=" + dir + "/pw && " + as + bin + "/pg_ctl -D " + dir +
+            "/data -l " + dir + "/log -w -o '-p " + port + " -k " + dir + " -c listen_addresses=127.0.0.1' start",
+        &rc);
+  if (rc != 0) GTEST_SKIP() << "could not start a password-checking PostgreSQL cluster in " << dir;
+  std::string out;
+  const std::string url = "postgresql://postgres:secret@127.0.0.1:" + port + "/postgres";
+  EXPECT_EQ(test::run_cli(pg_batch(url, town().dir + "/pw"), &out), 1) << out;
+  EXPECT_NE(out.find(masked(url) + ": cannot connect to the PostgreSQL store"), std::string::npos) << out;
+  EXPECT_NE(out.find("password authentication failed"), std::string::npos) << out;
+  EXPECT_EQ(out.find("secret"), std::string::npos) << "the password is shown: " << out;
+  shell(as + bin + "/pg_ctl -D " + dir + "/data -m fast stop");
+}
+
 }  // namespace
