@@ -120,13 +120,25 @@ std::string numbered_placeholders(const std::string& sql) {
   return out;
 }
 
+// An INSERT into one of the store's tables (all keyed by `fid`) returns its
+// key at once: last_id() then needs no round trip of its own.
+bool returns_fid(const std::string& sql) {
+  if (sql.rfind("INSERT INTO ", 0) != 0 || sql.find("RETURNING") != std::string::npos) return false;
+  for (const char* other : {"INSERT INTO layer_styles", "INSERT INTO spatial_ref_sys"})
+    if (sql.rfind(other, 0) == 0) return false;
+  return true;
+}
+
 void quiet_notices(void*, const char* message) { log::debug(std::string("postgresql: ") + first_line(message)); }
 
 class PgCursor : public Cursor {
  public:
-  PgCursor(PGconn* conn, const std::string& where, const std::string& sql, int id)
-      : conn_(conn), where_(where), name_("c3d_" + std::to_string(id)), sql_(sql.substr(0, 120)) {
-    PGresult* r = PQprepare(conn_, name_.c_str(), numbered_placeholders(sql).c_str(), 0, nullptr);
+  // last_insert: where an INSERT's returned key goes (0: none came back).
+  PgCursor(PGconn* conn, const std::string& where, const std::string& sql, int id, std::int64_t* last_insert)
+      : conn_(conn), where_(where), name_("c3d_" + std::to_string(id)), sql_(sql.substr(0, 120)),
+        last_insert_(returns_fid(sql) ? last_insert : nullptr) {
+    const std::string text = numbered_placeholders(sql) + (last_insert_ ? " RETURNING fid" : "");
+    PGresult* r = PQprepare(conn_, name_.c_str(), text.c_str(), 0, nullptr);
     const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK;
     const std::string msg = ok ? "" : first_line(PQresultErrorMessage(r));
     PQclear(r);
@@ -196,10 +208,12 @@ class PgCursor : public Cursor {
       reset();
       throw InputError(where_, "SQL failed [" + sql_ + "]: " + msg);
     }
+    if (last_insert_) *last_insert_ = PQntuples(res_) == 1 ? std::strtoll(PQgetvalue(res_, 0, 0), nullptr, 10) : 0;
   }
 
   PGconn* conn_;
   std::string where_, name_, sql_;
+  std::int64_t* last_insert_;
   PGresult* res_ = nullptr;
   int row_ = -1;
   std::vector<std::string> values_;
@@ -223,6 +237,7 @@ class PgBackend : public Backend {
   ~PgBackend() override { PQfinish(conn_); }
 
   void exec(const std::string& sql) override {
+    last_insert_ = 0;  // an INSERT in here returns no key: last_id() asks the server
     PGresult* r = PQexec(conn_, sql.c_str());
     const auto st = PQresultStatus(r);
     const bool ok = st == PGRES_COMMAND_OK || st == PGRES_TUPLES_OK;
@@ -231,9 +246,10 @@ class PgBackend : public Backend {
     if (!ok) throw InputError(where_, "SQL failed: " + msg + " [" + sql.substr(0, 120) + "]");
   }
   std::unique_ptr<Cursor> prepare(const std::string& sql) override {
-    return std::make_unique<PgCursor>(conn_, where_, sql, ++statements_);
+    return std::make_unique<PgCursor>(conn_, where_, sql, ++statements_, &last_insert_);
   }
   std::int64_t last_id() override {
+    if (last_insert_ > 0) return last_insert_;  // RETURNING fid of the last INSERT
     PGresult* r = PQexec(conn_, "SELECT lastval()");
     const bool ok = PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1;
     const std::int64_t id = ok ? std::strtoll(PQgetvalue(r, 0, 0), nullptr, 10) : 0;
@@ -246,8 +262,7 @@ class PgBackend : public Backend {
   void begin() override { exec("BEGIN"); }
   void rollback() noexcept override { PQclear(PQexec(conn_, "ROLLBACK")); }
   bool has_table(const std::string& table) override {
-    PgCursor q(conn_, where_, "SELECT 1 FROM information_schema.tables WHERE table_schema = current_schema() "
-                              "AND table_name = ?", ++statements_);
+    PgCursor q(conn_, where_, "SELECT 1 WHERE to_regclass(?) IS NOT NULL", ++statements_, nullptr);
     q.bind_text(0, table);
     return q.step();
   }
@@ -256,6 +271,7 @@ class PgBackend : public Backend {
   std::string where_;
   PGconn* conn_ = nullptr;
   int statements_ = 0;
+  std::int64_t last_insert_ = 0;
 };
 
 }  // namespace

@@ -478,8 +478,9 @@ bool has_column(const sql::Db& db, const std::string& table, const std::string& 
 }
 
 std::vector<std::string> columns_of(const sql::Db& db, const std::string& table) {
-  sql::Stmt q(db, db.postgres() ? "SELECT column_name FROM information_schema.columns WHERE "
-                                  "table_schema = current_schema() AND table_name = ?"
+  // pg_catalog, not information_schema: the readers ask for every parcel.
+  sql::Stmt q(db, db.postgres() ? "SELECT attname FROM pg_attribute WHERE attrelid = to_regclass(?) "
+                                  "AND attnum > 0 AND NOT attisdropped"
                                 : "SELECT name FROM pragma_table_info(?)");
   q.bind(table);
   std::vector<std::string> out;
