@@ -379,6 +379,13 @@ int create_postgres(sql::Db& db, const std::string& crs_wkt, int epsg) {
       throw InputError(sql::display_name(db.path()), "store uses SRID " + std::to_string(q.get_int(0)) +
                                                          " but the inputs have " + std::to_string(srid));
   }
+  // The first writer creates everything in this one transaction, layer_styles
+  // last; a later writer does no DDL at all: CREATE INDEX / ALTER ... IF NOT
+  // EXISTS still lock their tables and would deadlock with writers at work.
+  if (db.has_table("layer_styles")) {
+    tx.commit();
+    return epsg > 0 ? epsg : crs_wkt.empty() ? -1 : kCustomSrsId;
+  }
   db.exec(pg_ddl(kLadmSchema, srid));
   db.exec(pg_ddl(std::string("CREATE TABLE IF NOT EXISTS la_rrr") + kRrrColumns +
                      "; CREATE INDEX IF NOT EXISTS ix_rrr_baunit ON la_rrr(baunit_id);"

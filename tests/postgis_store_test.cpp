@@ -208,6 +208,7 @@ TEST(PostgisStore, TwoWritersAtOnce) {
   // half models its edge buildings without the other half's parcels, so the
   // whole layer's run is no reference here; sharding handles that edge).
   std::string out;
+  fs::remove_all(d + "/two_gpkg");  // from an earlier repeat
   const std::string args = e2e::batch_args(d + "/town", d + "/two_gpkg") + " --formats cityjson --quiet ";
   auto quoted = [](const std::string& w) { return "--where \"" + w.substr(8) + "\""; };  // through the shell
   int rc = test::run_cli(args + quoted(half_a), &out);
