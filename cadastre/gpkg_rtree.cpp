@@ -1,5 +1,7 @@
 #include "cadastre/gpkg_rtree.h"
 
+#include <sqlite3.h>
+
 #include <cmath>
 
 #include "cadastre/gpkg_geometry.h"

@@ -6,7 +6,7 @@
 // registers its own on every connection that writes geometry.
 #include <string>
 
-#include "cadastre/sqlite_util.h"
+#include "cadastre/sql_db.h"
 
 namespace c3d::gpkg_rtree {
 

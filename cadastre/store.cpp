@@ -1,11 +1,13 @@
 #include "cadastre/store.h"
 
+#include <sqlite3.h>
+
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "cadastre/gpkg_geometry.h"
 #include "cadastre/gpkg_rtree.h"
-#include "cadastre/sqlite_util.h"
+#include "cadastre/sql_db.h"
 #include "cadastre/store_gis.h"
 #include "cadastre/store_lods.h"
 #include "cadastre/store_schema.h"
@@ -17,8 +19,6 @@
 namespace c3d {
 
 namespace {
-
-using store_schema::kNow;
 
 std::string timings_json(const std::vector<Timing>& t) {
   nlohmann::json j = nlohmann::json::array();
@@ -49,7 +49,7 @@ struct Store::Impl {
   std::int64_t run_id = 0;
   // Prepared once: writing a parcel is a handful of bound inserts.
   sql::Stmt del_baunit, ins_baunit, ins_rrr, ins_su, ins_building,
-      ins_element, ins_vu, ins_val, ins_item, upsert_job, pending_job, done_job;
+      ins_element, ins_vu, ins_val, ins_item, upsert_job, pending_job, done_job, parcel_lock;
   store_gis::Writer gis;  // the 2D layers, written beside the 3D rows
   store_lods::Writer lods;  // attributes and lower LoDs
 
@@ -71,11 +71,13 @@ void Store::open(const std::string& path, const std::string& crs_wkt, int epsg) 
   close();
   auto impl = std::make_unique<Impl>();
   impl->db = sql::Db(path, false);
-  gpkg_rtree::register_functions(impl->db);  // before any statement compiles the index triggers
-  // Header fields first, while still in rollback-journal mode: they land in the
-  // main file at once, where validate_gpkg.py reads them.
-  impl->db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10300;");
-  impl->db.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON;");
+  if (!impl->db.postgres()) {
+    gpkg_rtree::register_functions(impl->db);  // before any statement compiles the index triggers
+    // Header fields first, while still in rollback-journal mode: they land in the
+    // main file at once, where validate_gpkg.py reads them.
+    impl->db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10300;");
+    impl->db.exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON;");
+  }
   impl->srs = store_schema::create(impl->db, crs_wkt, epsg);
   impl->prepare();
   impl->gis = store_gis::Writer(impl->db, impl->srs);
@@ -84,7 +86,7 @@ void Store::open(const std::string& path, const std::string& crs_wkt, int epsg) 
 }
 
 void Store::Impl::prepare() {
-  const std::string now = kNow;
+  const std::string now = store_schema::now(db);
   del_baunit = sql::Stmt(db, "DELETE FROM la_baunit WHERE parcel_id=?");
   ins_baunit = sql::Stmt(db, "INSERT INTO la_baunit (parcel_id, name, baunit_type) VALUES (?,?,?)");
   ins_rrr = sql::Stmt(db,
@@ -135,11 +137,12 @@ void Store::Impl::prepare() {
       "VALUES (?,?,'pending',?,?," + now + ") ON CONFLICT(parcel_id) DO UPDATE SET "
       "status='pending', reason=NULL, layer_index=excluded.layer_index, "
       "inputs_key=excluded.inputs_key, run_id=excluded.run_id, updated=excluded.updated "
-      "WHERE parcel_job.status NOT IN ('ok','empty') OR parcel_job.inputs_key IS NOT excluded.inputs_key");
+      "WHERE parcel_job.status NOT IN ('ok','empty') OR parcel_job.inputs_key IS DISTINCT FROM excluded.inputs_key");
   done_job = sql::Stmt(db,
                        "SELECT 1 FROM parcel_job WHERE parcel_id=? AND inputs_key=? AND "
                        "status IN ('ok','empty')");
   lods = store_lods::Writer(db);
+  if (db.postgres()) parcel_lock = sql::Stmt(db, "SELECT pg_advisory_xact_lock(3, hashtext(?))");
 }
 
 std::int64_t Store::begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
@@ -148,7 +151,7 @@ std::int64_t Store::begin_run(const std::string& params_json, const std::vector<
   auto& db = impl_->db;
   sql::Transaction tx(db);
   sql::Stmt run(db, std::string("INSERT INTO run (tool_version, parameters, crs_epsg, origin_x, "
-                                "origin_y, origin_z, shard, started) VALUES (?,?,?,?,?,?,?,") + kNow + ")");
+                                "origin_y, origin_z, shard, started) VALUES (?,?,?,?,?,?,?,") + store_schema::now(db) + ")");
   run.bind(std::string("cadastre3d ") + C3D_VERSION).bind(params_json).bind(impl_->srs)
       .bind(frame.origin.x()).bind(frame.origin.y()).bind(frame.origin.z());
   if (shard.empty()) run.bind_null();
@@ -163,6 +166,13 @@ std::int64_t Store::begin_run(const std::string& params_json, const std::vector<
 
 void Store::mark_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& keys) {
   if (!impl_) throw InputError("store", "mark_pending before open");
+  {
+    // The parcel layer's own fields become columns first, in a transaction
+    // of their own: an ALTER inside a parcel's would wait on other writers.
+    sql::Transaction tx(impl_->db);
+    impl_->gis.add_input_columns(parcels);
+    tx.commit();
+  }
   sql::Transaction tx(impl_->db);
   for (size_t i = 0; i < parcels.size(); ++i) {
     auto& s = impl_->pending_job;
@@ -244,6 +254,8 @@ void Store::write_parcel(const Parcel& parcel, const ParcelResult& result,
   if (!impl_) throw InputError("store", "write_parcel before open");
   Impl& m = *impl_;
   sql::Transaction tx(m.db);
+  // Two writers of one parcel in a shared database take turns; the second then sees the first's rows.
+  if (m.db.postgres()) m.parcel_lock.bind(parcel.id).run();
   m.del_baunit.bind(parcel.id).run();  // cascades to every row of this parcel
   m.ins_baunit.bind(parcel.id).bind("parcel " + parcel.id).bind("basicPropertyUnit").run();
   std::int64_t baunit = m.db.last_id();
@@ -275,7 +287,7 @@ void Store::end_run(bool finished) {
   auto& db = impl_->db;
   sql::Transaction tx(db);
   if (impl_->run_id) {
-    sql::Stmt upd(db, std::string("UPDATE run SET finished=") + (finished ? kNow : "NULL") +
+    sql::Stmt upd(db, std::string("UPDATE run SET finished=") + (finished ? store_schema::now(db) : "NULL") +
                           ", parcels_ok=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='ok'),"
                           " parcels_empty=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='empty'),"
                           " parcels_failed=(SELECT count(*) FROM parcel_job WHERE run_id=?1 AND status='failed'),"
@@ -289,15 +301,16 @@ void Store::end_run(bool finished) {
   impl_->run_id = 0;
 }
 
-void mark_run_finished(const std::string& path) {
+void mark_run_finished(const std::string& path, std::int64_t run_id) {
   sql::Db db(path, false);
-  db.exec(std::string("UPDATE run SET finished=") + kNow + " WHERE fid=(SELECT max(fid) FROM run)");
+  db.exec("UPDATE run SET finished=" + store_schema::now(db) + " WHERE fid=" +
+          (run_id > 0 ? std::to_string(run_id) : "(SELECT max(fid) FROM run)"));
 }
 
 void Store::close() {
   if (!impl_) return;
   // Fold the WAL back so the .gpkg alone is complete for copying / QGIS.
-  sqlite3_wal_checkpoint_v2(impl_->db.get(), nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
+  if (sqlite3* h = impl_->db.get()) sqlite3_wal_checkpoint_v2(h, nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
   impl_.reset();
 }
 

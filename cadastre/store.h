@@ -75,9 +75,18 @@ class Store {
   std::unique_ptr<Impl> impl_;
 };
 
-// Sets the end time of the store's latest run: a batch calls it last, once
-// every output is in place, so a set `finished` means a complete output folder.
-void mark_run_finished(const std::string& path);
+// A store location is a GeoPackage path or a PostgreSQL URL
+// (postgresql://user@host:port/db, libpq's URI form): the same tables in
+// PostGIS, shared by many writers (docs/postgis.md). Every function below
+// that takes `path` takes either.
+bool is_database_url(const std::string& loc);
+// Whether a store is there: the file, or the database's tables.
+bool store_exists(const std::string& loc);
+
+// Sets the end time of run `run_id` (0: the store's latest run): a batch
+// calls it last, once every output is in place, so a set `finished` means a
+// complete output folder. Writers sharing a database each name their own run.
+void mark_run_finished(const std::string& path, std::int64_t run_id = 0);
 
 // Everything the report and the exports need, read back from a store alone.
 // Parcels in layer order; building geometry in local coordinates of the frame

@@ -133,8 +133,12 @@ Writer::Writer(sql::Db& db, int srs) : db_(&db), srs_(srs) {
                         "INSERT INTO roof_part (geom, element_fid, building_id, parcel_id, element_index, "
                         "area, plan_area, sigma_area, slope_deg, azimuth_deg, support_points, rmse, "
                         "plan_note) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  sql::Stmt q(db, "SELECT name FROM pragma_table_info('parcel')");
-  while (q.step()) parcel_columns_.insert(lower(q.get_text(0)));
+  for (const std::string& c : store_schema::columns_of(db, "parcel")) parcel_columns_.insert(lower(c));
+}
+
+void Writer::add_input_columns(const std::vector<Parcel>& parcels) {
+  for (const Parcel& p : parcels)
+    for (const ParcelAttribute& a : p.attributes) input_column(a);
 }
 
 std::string Writer::input_column(const ParcelAttribute& a) {
@@ -148,7 +152,9 @@ std::string Writer::input_column(const ParcelAttribute& a) {
     const char* type = a.kind == ParcelAttribute::Kind::Integer ? "INTEGER"
                        : a.kind == ParcelAttribute::Kind::Real  ? "DOUBLE"
                                                                 : "TEXT";
-    db_->exec("ALTER TABLE parcel ADD COLUMN " + quoted(name) + " " + type);
+    // Another writer of a shared database may have added it since we looked.
+    db_->exec(std::string("ALTER TABLE parcel ADD COLUMN ") + (db_->postgres() ? "IF NOT EXISTS " : "") +
+              quoted(name) + " " + store_schema::column_type(*db_, type));
   }
   return name;
 }

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "cadastre/sqlite_util.h"
+#include "cadastre/sql_db.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
@@ -34,6 +34,8 @@ class Writer {
   Writer() = default;
   Writer(sql::Db& db, int srs);
 
+  // Adds the columns of the parcels' own fields that the layer lacks.
+  void add_input_columns(const std::vector<Parcel>& parcels);
   void parcel(const Parcel& p, std::int64_t spatialunit, const ParcelResult& r, const ParcelValuation& v);
   void building(const Building& b, std::int64_t building_fid, const std::string& parcel_id, const Vec3& offset,
                 const ParcelValuation& v);

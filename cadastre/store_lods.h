@@ -3,7 +3,7 @@
 // lower LoDs (table `building_lod`), internal to cadastre/store*.cpp.
 #include <cstdint>
 
-#include "cadastre/sqlite_util.h"
+#include "cadastre/sql_db.h"
 #include "core/types.h"
 
 namespace c3d::store_lods {

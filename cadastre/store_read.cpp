@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cadastre/gpkg_geometry.h"
-#include "cadastre/sqlite_util.h"
+#include "cadastre/sql_db.h"
 #include "cadastre/store_lods.h"
 #include "cadastre/store_schema.h"
 #include "core/error.h"
@@ -45,6 +45,12 @@ ParcelStatus status_from(const std::string& s) {
 }
 
 sql::Db open_store(const std::string& path) {
+  if (sql::is_postgres_url(path)) {
+    sql::Db db(path, true);
+    if (!db.has_table("la_spatialunit") || !db.has_table("parcel_job"))
+      throw InputError(sql::display_name(path), "not a Cadastre3D store (no la_spatialunit / parcel_job table)");
+    return db;
+  }
   if (!std::filesystem::exists(path)) throw InputError(path, "store not found");
   // Read-write but query-only where possible: the last connection to close
   // then folds the WAL away instead of leaving -wal / -shm files behind.
@@ -55,8 +61,7 @@ sql::Db open_store(const std::string& path) {
   } catch (const InputError&) {
     db = sql::Db(path, true);
   }
-  sql::Stmt q(db, "SELECT count(*) FROM sqlite_master WHERE name IN ('la_spatialunit','parcel_job')");
-  if (!q.step() || q.get_int(0) != 2) throw InputError(path, "not a Cadastre3D store");
+  if (!db.has_table("la_spatialunit") || !db.has_table("parcel_job")) throw InputError(path, "not a Cadastre3D store");
   return db;
 }
 
@@ -68,9 +73,12 @@ LocalFrame latest_frame(const sql::Db& db) {
 }
 
 void read_crs(const sql::Db& db, BatchModel& m) {
-  sql::Stmt q(db,
-              "SELECT s.srs_id, s.organization, s.definition FROM gpkg_geometry_columns g "
-              "JOIN gpkg_spatial_ref_sys s ON s.srs_id=g.srs_id WHERE g.table_name='la_spatialunit'");
+  sql::Stmt q(db, db.postgres()
+                      ? "SELECT g.srid, upper(s.auth_name), coalesce(s.srtext, 'undefined') FROM geometry_columns g "
+                        "LEFT JOIN spatial_ref_sys s ON s.srid=g.srid WHERE g.f_table_schema = current_schema() "
+                        "AND g.f_table_name='la_spatialunit'"
+                      : "SELECT s.srs_id, s.organization, s.definition FROM gpkg_geometry_columns g "
+                        "JOIN gpkg_spatial_ref_sys s ON s.srs_id=g.srs_id WHERE g.table_name='la_spatialunit'");
   if (!q.step()) return;
   if (q.get_text(1) == "EPSG") m.epsg = int(q.get_int(0));
   std::string def = q.get_text(2);
@@ -248,6 +256,13 @@ std::vector<ParcelValuation> read_valuations(const std::string& path, const std:
 }
 
 }  // namespace
+
+bool is_database_url(const std::string& loc) { return sql::is_postgres_url(loc); }
+
+bool store_exists(const std::string& loc) {
+  if (!is_database_url(loc)) return std::filesystem::exists(loc);
+  return sql::Db(loc, true).has_table("parcel_job");
+}
 
 BatchModel load_batch_model(const std::string& path) { return read_batch_model(path, nullptr); }
 

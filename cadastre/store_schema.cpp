@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <regex>
 
 #include "cadastre/gpkg_geometry.h"
 #include "cadastre/gpkg_rtree.h"
@@ -285,9 +286,143 @@ int register_srs(sql::Db& db, const std::string& crs_wkt, int epsg) {
   return srs;
 }
 
+
+// --- PostgreSQL + PostGIS: the same tables, their types in PostgreSQL's words.
+
+// Serialises schema creation between the processes writing one database
+// (pg_advisory_xact_lock(1, 0); styles take (2, 0), parcels (3, hash of the id)).
+constexpr const char* kSchemaLock = "SELECT pg_advisory_xact_lock(1, 0)";
+
+// The PostGIS type of a layer's geometry column.
+std::string pg_geometry(const std::string& table, int srid) {
+  for (const Layer& l : kLayers)
+    if (l.features && table == l.table)
+      return std::string("geometry(MultiPolygon") + (l.z ? "Z" : "") + "," + std::to_string(srid) + ")";
+  return "geometry";
+}
+
+// GeoPackage DDL -> PostgreSQL DDL: bigserial keys, bigint, double precision,
+// text times, typed PostGIS geometry columns. One statement at a time, so
+// each `geom MULTIPOLYGON` gets its own table's type.
+std::string pg_ddl(const std::string& ddl, int srid) {
+  static const std::regex key(R"(INTEGER PRIMARY KEY( AUTOINCREMENT)?( NOT NULL)?)"), integer(R"(\bINTEGER\b)"),
+      dbl(R"(\bDOUBLE\b)"), datetime(R"(\bDATETIME\b)"), text_n(R"(TEXT\(\d+\))"),
+      table(R"(CREATE TABLE IF NOT EXISTS (\w+))");
+  std::string out;
+  size_t start = 0;
+  while (start < ddl.size()) {
+    size_t end = ddl.find(';', start);
+    if (end == std::string::npos) end = ddl.size();
+    std::string s = ddl.substr(start, end - start);
+    start = end + 1;
+    std::smatch m;
+    if (std::regex_search(s, m, table)) {
+      const size_t g = s.find("geom MULTIPOLYGON");
+      if (g != std::string::npos) s.replace(g, 17, "geom " + pg_geometry(m[1], srid));
+    }
+    s = std::regex_replace(s, key, "bigserial PRIMARY KEY");
+    s = std::regex_replace(s, integer, "bigint");
+    s = std::regex_replace(s, dbl, "double precision");
+    s = std::regex_replace(s, datetime, "text");
+    s = std::regex_replace(s, text_n, "text");
+    if (s.find_first_not_of(" \n\t") != std::string::npos) out += s + ";\n";
+  }
+  return out;
+}
+
+// PostGIS in this database (created when missing and allowed).
+void require_postgis(sql::Db& db) {
+  if (db.has_table("spatial_ref_sys")) return;
+  try {
+    db.exec("CREATE EXTENSION IF NOT EXISTS postgis");
+  } catch (const InputError& e) {
+    throw InputError(sql::display_name(db.path()),
+                     "PostGIS is not installed in this database and cannot be created (" + std::string(e.what()) +
+                         "); run CREATE EXTENSION postgis as its owner");
+  }
+}
+
+// The SRID of the layers: the EPSG code, a spatial_ref_sys row of our own for
+// a CRS without one (srid kCustomSrsId), 0 for undefined Cartesian.
+int pg_srid(sql::Db& db, const std::string& crs_wkt, int epsg) {
+  const std::string where = sql::display_name(db.path());
+  if (epsg > 0) {
+    sql::Stmt q(db, "SELECT 1 FROM spatial_ref_sys WHERE srid=?");
+    if (!q.bind(epsg).step()) throw InputError(where, "EPSG:" + std::to_string(epsg) + " is not in spatial_ref_sys");
+    return epsg;
+  }
+  if (crs_wkt.empty()) return 0;
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(crs_wkt.c_str());
+  char* proj4 = nullptr;
+  std::string p4;
+  if (srs && OSRExportToProj4(srs, &proj4) == OGRERR_NONE && proj4) p4 = proj4;
+  CPLFree(proj4);
+  OSRDestroySpatialReference(srs);
+  sql::Stmt(db, "INSERT INTO spatial_ref_sys (srid, auth_name, auth_srid, srtext, proj4text) "
+                "VALUES (?,'cadastre3d',?,?,?) ON CONFLICT (srid) DO NOTHING")
+      .bind(kCustomSrsId).bind(kCustomSrsId).bind(crs_wkt).bind(p4).run();
+  sql::Stmt q(db, "SELECT srtext FROM spatial_ref_sys WHERE srid=?");
+  if (!q.bind(kCustomSrsId).step() || q.get_text(0) != crs_wkt)
+    throw InputError(where, "spatial_ref_sys row " + std::to_string(kCustomSrsId) +
+                                " holds another custom CRS than the inputs'");
+  return kCustomSrsId;
+}
+
+int create_postgres(sql::Db& db, const std::string& crs_wkt, int epsg) {
+  sql::Transaction tx(db);
+  db.exec(kSchemaLock);
+  require_postgis(db);
+  const int srid = pg_srid(db, crs_wkt, epsg);
+  {
+    sql::Stmt q(db, "SELECT srid FROM geometry_columns WHERE f_table_schema = current_schema() "
+                    "AND f_table_name = 'la_spatialunit'");
+    if (q.step() && int(q.get_int(0)) != srid)
+      throw InputError(sql::display_name(db.path()), "store uses SRID " + std::to_string(q.get_int(0)) +
+                                                         " but the inputs have " + std::to_string(srid));
+  }
+  // The first writer creates everything in this one transaction, layer_styles
+  // last; a later writer does no DDL at all: CREATE INDEX / ALTER ... IF NOT
+  // EXISTS still lock their tables and would deadlock with writers at work.
+  if (db.has_table("layer_styles")) {
+    tx.commit();
+    return epsg > 0 ? epsg : crs_wkt.empty() ? -1 : kCustomSrsId;
+  }
+  db.exec(pg_ddl(kLadmSchema, srid));
+  db.exec(pg_ddl(std::string("CREATE TABLE IF NOT EXISTS la_rrr") + kRrrColumns +
+                     "; CREATE INDEX IF NOT EXISTS ix_rrr_baunit ON la_rrr(baunit_id);"
+                     "CREATE INDEX IF NOT EXISTS ix_rrr_party ON la_rrr(party_id);",
+                 srid));
+  db.exec(pg_ddl(std::string("CREATE TABLE IF NOT EXISTS parcel_job") + kParcelJobColumns +
+                     "; CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);",
+                 srid));
+  db.exec(pg_ddl(store_gis::kSchema, srid));
+  for (const AddedColumn& c : kAddedColumns)
+    db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN IF NOT EXISTS " + c.column + " " +
+            column_type(db, c.type));
+  for (const Layer& l : kLayers)
+    if (l.features)
+      db.exec(std::string("CREATE INDEX IF NOT EXISTS ix_") + l.table + "_geom ON " + l.table + " USING gist (geom)");
+  store_styles::create(db);
+  tx.commit();
+  return epsg > 0 ? epsg : crs_wkt.empty() ? -1 : kCustomSrsId;  // the GeoPackage's srs_id numbers
+}
+
 }  // namespace
 
+std::string now(const sql::Db& db) {
+  return db.postgres() ? "to_char(clock_timestamp() AT TIME ZONE 'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS.MS\"Z\"')"
+                       : kNow;
+}
+
+std::string column_type(const sql::Db& db, const std::string& gpkg_type) {
+  if (!db.postgres()) return gpkg_type;
+  if (gpkg_type == "DOUBLE") return "double precision";
+  if (gpkg_type == "INTEGER") return "bigint";
+  return gpkg_type;
+}
+
 int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
+  if (db.postgres()) return create_postgres(db, crs_wkt, epsg);
   sql::Transaction tx(db);
   db.exec(kGpkgSchema);
   // An existing store keeps its CRS; mixing CRSs in one file would be silent garbage.
@@ -345,12 +480,24 @@ const char* ladm_right_type(const std::string& local) {
 }
 
 bool has_column(const sql::Db& db, const std::string& table, const std::string& column) {
-  sql::Stmt q(db, "SELECT count(*) FROM pragma_table_info(?) WHERE name=?");
-  q.bind(table).bind(column);
-  return q.step() && q.get_int(0) > 0;
+  for (const std::string& c : columns_of(db, table))
+    if (c == column) return true;
+  return false;
+}
+
+std::vector<std::string> columns_of(const sql::Db& db, const std::string& table) {
+  // pg_catalog, not information_schema: the readers ask for every parcel.
+  sql::Stmt q(db, db.postgres() ? "SELECT attname FROM pg_attribute WHERE attrelid = to_regclass(?) "
+                                  "AND attnum > 0 AND NOT attisdropped"
+                                : "SELECT name FROM pragma_table_info(?)");
+  q.bind(table);
+  std::vector<std::string> out;
+  while (q.step()) out.push_back(q.get_text(0));
+  return out;
 }
 
 void update_extents(sql::Db& db) {
+  if (db.postgres()) return;  // no gpkg_contents: QGIS asks PostGIS for the extent
   sql::Stmt upd(db, std::string("UPDATE gpkg_contents SET min_x=?, min_y=?, max_x=?, max_y=?, "
                                 "last_change=") + kNow + " WHERE table_name=?");
   for (const Layer& l : kLayers) {

@@ -84,6 +84,15 @@ std::vector<double> breaks_of(sql::Db& db, const Style& s) {
 }  // namespace
 
 void create(sql::Db& db) {
+  if (db.postgres()) {
+    // As QGIS creates it in PostgreSQL (QgsPostgresProviderMetadata::saveStyle).
+    db.exec("CREATE TABLE IF NOT EXISTS layer_styles (id serial PRIMARY KEY, f_table_catalog varchar, "
+            "f_table_schema varchar, f_table_name varchar, f_geometry_column varchar, styleName text, "
+            "styleQML xml, styleSLD xml, useAsDefault boolean, description text, "
+            "owner varchar(63) DEFAULT CURRENT_USER, ui xml, update_time timestamp DEFAULT CURRENT_TIMESTAMP, "
+            "type varchar)");
+    return;
+  }
   db.exec("CREATE TABLE IF NOT EXISTS layer_styles (id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
           "f_table_catalog TEXT(256), f_table_schema TEXT(256), f_table_name TEXT(256), "
           "f_geometry_column TEXT(256), styleName TEXT(30), styleQML TEXT, styleSLD TEXT, "
@@ -94,11 +103,14 @@ void create(sql::Db& db) {
 }
 
 void update(sql::Db& db) {
+  // QGIS finds a PostgreSQL layer's style by its database and schema; a GeoPackage's by name alone.
+  const std::string where = db.postgres() ? "current_database(), current_schema()" : "'', ''";
+  if (db.postgres()) db.exec("SELECT pg_advisory_xact_lock(2, 0)");  // one writer of the styles at a time
   sql::Stmt del(db, "DELETE FROM layer_styles WHERE f_table_name=? AND styleName=?");
   sql::Stmt ins(db,
                 "INSERT INTO layer_styles (f_table_catalog, f_table_schema, f_table_name, f_geometry_column, "
                 "styleName, styleQML, styleSLD, useAsDefault, description, owner) "
-                "VALUES ('', '', ?, 'geom', ?, ?, '', 1, ?, 'cadastre3d')");
+                "VALUES (" + where + ", ?, 'geom', ?, ?, '', TRUE, ?, 'cadastre3d')");
   for (const Style& s : kStyles) {
     del.bind(s.table).bind(s.name).run();
     const std::vector<double> breaks = breaks_of(db, s);

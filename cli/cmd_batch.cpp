@@ -25,6 +25,7 @@ namespace {
 struct BatchOptions {
   BatchInputs inputs;
   std::string out;
+  std::string store;   // --store: a GeoPackage path or postgresql://... (default OUT/cadastre.gpkg)
   std::string config;  // empty: built-in defaults
   std::vector<std::string> formats{"gml", "cityjson", "ifc", "obj"};
   BatchSettings settings;
@@ -118,7 +119,7 @@ int run(BatchOptions opt) {
   fs::create_directories(opt.out);
   const OutDirLock lock(opt.out);  // one batch per OUT at a time
   if (opt.overwrite) remove_batch_outputs(opt.out);
-  const std::string store_path = (fs::path(opt.out) / "cadastre.gpkg").string();
+  const std::string store_path = opt.store.empty() ? (fs::path(opt.out) / "cadastre.gpkg").string() : opt.store;
   StoreSink sink(store_path, opt.settings.resume);
   Progress progress(opt.quiet);
   const size_t pause = pause_after(opt.settings.shard);
@@ -131,7 +132,7 @@ int run(BatchOptions opt) {
   const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats,
                                                [&](size_t done, size_t total) { progress.show("outputs", done, total); });
   progress.done();
-  mark_run_finished(store_path);  // last: a finished run has every output in place
+  mark_run_finished(store_path, sink.run_id());  // last: a finished run has every output in place
   if (!opt.quiet) {
     print_outputs(written, store_path);
     print_timings(report, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), opt.out);
@@ -167,6 +168,9 @@ void register_batch(CLI::App& app, bool parse_only) {
   cmd->add_option("--dtm", opt->inputs.dtm, "Terrain model (any GDAL raster); default: from ground points")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Output directory")->required();
+  cmd->add_option("--store", opt->store,
+                  "Store: a GeoPackage path or a PostGIS database, postgresql://user@host:port/db "
+                  "(default OUT/cadastre.gpkg; docs/postgis.md)");
   cmd->add_option("--config", opt->config, "TOML config (default: built-in, see config/)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--jobs", opt->settings.jobs, "Parallel parcels (default: all cores; at most 4 per core)")

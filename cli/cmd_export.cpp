@@ -37,9 +37,9 @@ void register_export(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "export", "Write CityGML 2.0 (or 3.0), CityJSON 2.0, IFC4, OBJ and STEP from a store");
-  cmd->add_option("--store", args->store, "Cadastre3D store (.gpkg) or a CityJSON file")
+  cmd->add_option("--store", args->store, "Cadastre3D store (.gpkg or postgresql://...) or a CityJSON file")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existing_store);
   cmd->add_option("--out", args->out, "Output directory")->required();
   cmd->add_option("--formats", args->formats, "Comma-separated: gml,gml3,cityjson,cityjsonseq,ifc,obj,step")
       ->check([](const std::string& s) {

@@ -18,9 +18,9 @@ void register_report(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("report", "Write the report (report.html, report/, report.csv) from a store");
-  cmd->add_option("--store", args->store, "Cadastre3D store (cadastre.gpkg)")
+  cmd->add_option("--store", args->store, "Cadastre3D store (cadastre.gpkg or postgresql://...)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existing_store);
   cmd->add_option("--out", args->out, "Output directory")->required();
   cmd->add_option("--config", args->config, "Re-value with this config (TOML)")
       ->check(CLI::ExistingFile);

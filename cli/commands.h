@@ -25,6 +25,14 @@ void register_classify(CLI::App& app);
 void register_merge(CLI::App& app);
 void register_slurm(CLI::App& app);
 
+// --store's check: an existing file, or a postgresql:// URL (checked on connecting).
+inline const CLI::Validator existing_store(
+    [](std::string& s) {
+      if (s.rfind("postgresql://", 0) == 0 || s.rfind("postgres://", 0) == 0) return std::string();
+      return CLI::ExistingFile(s);
+    },
+    "FILE or postgresql://URL");
+
 // Set by a command's callback; returned by main.
 int& exit_code();
 

@@ -11,11 +11,18 @@ namespace {
 
 // Refuses a store holding a parcel this run would not write with the same key:
 // another data set, other settings or other inputs. A rerun of the same run
-// (or a killed one's leftovers) passes.
-void refuse_other_run(const std::string& path, const std::vector<std::string>& keys) {
+// (or a killed one's leftovers) passes. A shared database holds the parcels
+// of other writers (shards) by design: there only this run's parcels count.
+void refuse_other_run(const std::string& path, const std::vector<std::string>& keys,
+                      const std::vector<Parcel>& parcels) {
   const std::set<std::string> ours(keys.begin(), keys.end());
+  std::set<std::string> ids;
+  const bool shared = is_database_url(path);
+  if (shared)
+    for (const Parcel& p : parcels) ids.insert(p.id);
   size_t other = 0;
-  for (const JobRecord& j : load_jobs(path)) other += ours.count(j.inputs_key) == 0;
+  for (const JobRecord& j : load_jobs(path))
+    if (!shared || ids.count(j.parcel_id)) other += ours.count(j.inputs_key) == 0;
   if (other > 0)
     throw InputError(path, "holds " + std::to_string(other) +
                                " parcel(s) of another run (other inputs, settings or parcels); "
@@ -30,10 +37,10 @@ void StoreSink::begin(const BatchRun& run) {
   keys_ = run.parcel_keys;
   frame_ = run.frame;
   const auto dir = std::filesystem::path(path_).parent_path();
-  if (!dir.empty()) std::filesystem::create_directories(dir);
-  if (!keep_other_runs_ && std::filesystem::exists(path_)) refuse_other_run(path_, keys_);
+  if (!is_database_url(path_) && !dir.empty()) std::filesystem::create_directories(dir);
+  if (!keep_other_runs_ && store_exists(path_)) refuse_other_run(path_, keys_, *parcels_);
   store_.open(path_, run.crs_wkt, epsg_of(run.crs_wkt));
-  store_.begin_run(run.parameters, run.inputs, run.frame, run.shard);
+  run_id_ = store_.begin_run(run.parameters, run.inputs, run.frame, run.shard);
   // Only the run's own parcels are pending: a shard's store says nothing of the others.
   std::vector<Parcel> own;
   std::vector<std::string> own_keys;

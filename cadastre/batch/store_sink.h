@@ -17,6 +17,7 @@ class StoreSink : public BatchSink {
   explicit StoreSink(std::string path, bool keep_other_runs = false)
       : path_(std::move(path)), keep_other_runs_(keep_other_runs) {}
   const std::string& path() const { return path_; }
+  std::int64_t run_id() const { return run_id_; }  // this batch's run row (after begin)
 
   void begin(const BatchRun& run) override;
   bool has_parcel(size_t i, const std::string& key) override;
@@ -30,6 +31,7 @@ class StoreSink : public BatchSink {
   const std::vector<Parcel>* parcels_ = nullptr;
   std::vector<std::string> keys_;
   LocalFrame frame_;
+  std::int64_t run_id_ = 0;
 };
 
 }  // namespace c3d
