@@ -61,7 +61,7 @@ void print_outputs(const WrittenOutputs& w, const std::string& store_path) {
 void print_timings(const BatchReport& r, double total_s, const std::string& out) {
   const BatchTimings& t = r.timings;
   std::cout << "batch: " << r.parcels << " parcels";
-  if (r.model.parcels.size() != r.parcels) std::cout << "; the store holds " << r.model.parcels.size();  // --resume
+  if (r.held != r.parcels) std::cout << "; the store holds " << r.held;  // --resume
   std::cout << " in " << total_s << " s; outputs in " << out << "\n";
   std::printf("timing: ingest+clip %.3f s, reconstruction %.3f s, store writes %.3f s, "
               "summary+report+exports %.3f s, total %.3f s\n",
@@ -71,9 +71,8 @@ void print_timings(const BatchReport& r, double total_s, const std::string& out)
 
 // The last line: every parcel's status as the store holds it. Failed or
 // suspect parcels exit kExitPartial (docs/plausibility.md).
-int print_counts(const BatchModel& model, bool quiet) {
-  size_t n[4] = {0, 0, 0, 0};
-  for (const auto& r : model.results) ++n[size_t(r.status)];
+int print_counts(const BatchReport& report, bool quiet) {
+  const auto& n = report.held_by_status;
   const size_t ok = n[size_t(ParcelStatus::Ok)], empty = n[size_t(ParcelStatus::Empty)];
   const size_t failed = n[size_t(ParcelStatus::Failed)], suspect = n[size_t(ParcelStatus::Suspect)];
   const std::string line = "parcels: " + std::to_string(ok) + " ok, " + std::to_string(empty) + " empty, " +
@@ -104,7 +103,7 @@ int run(BatchOptions opt) {
     print_outputs(written, store_path);
     print_timings(report, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), opt.out);
   }
-  return print_counts(report.model, opt.quiet);
+  return print_counts(report, opt.quiet);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "core/geometry/geometry.h"
 #include "ifc_citygml/export.h"
 #include "cadastre/batch/out_dir.h"
+#include "cadastre/store.h"
 #include "cadastre/report/report.h"
 #include "core/error.h"
 #include "core/io/file_names.h"
@@ -64,8 +65,7 @@ json building_json(const Building& b) {
 
 }  // namespace
 
-void write_summary(const BatchReport& report, const std::string& path) {
-  const BatchModel& model = report.model;
+void write_summary(const BatchReport& report, const BatchModel& model, const std::string& path) {
   const BatchTimings& timings = report.timings;
   json parcels = json::array();
   std::vector<Deviation> roof_devs, wall_devs;
@@ -144,7 +144,7 @@ void write_previews(const BatchModel& model, const std::string& dir, const std::
 WrittenOutputs write_outputs(const BatchReport& report, const std::string& store_path,
                              const std::string& out_dir, const Config& cfg,
                              const std::vector<std::string>& formats, const OutputProgress& progress) {
-  const BatchModel& model = report.model;
+  const BatchModel model = load_batch_model(store_path);
   size_t done = 0, total = 2 + formats.size();
   for (const auto& r : model.results) total += !r.buildings.empty();
   auto step = [&] {
@@ -155,7 +155,7 @@ WrittenOutputs write_outputs(const BatchReport& report, const std::string& store
   const std::string stage = staging_dir(out_dir);
   fs::remove_all(stage);
   fs::create_directories(stage);
-  write_summary(report, (fs::path(stage) / "summary.json").string());
+  write_summary(report, model, (fs::path(stage) / "summary.json").string());
   step();
   write_report_from_store(model, store_path, stage, cfg, false, true);
   step();

@@ -27,6 +27,6 @@ WrittenOutputs write_outputs(const BatchReport& report, const std::string& store
                              const OutputProgress& progress = {});
 
 // summary.json alone.
-void write_summary(const BatchReport& report, const std::string& path);
+void write_summary(const BatchReport& report, const BatchModel& model, const std::string& path);
 
 }  // namespace c3d

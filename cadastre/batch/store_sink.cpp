@@ -45,10 +45,14 @@ void StoreSink::write_parcel(size_t i, const ParcelResult& result, const ParcelV
   store_.write_parcel((*parcels_)[i], result, valuation, frame_, keys_[i]);
 }
 
-BatchModel StoreSink::end() {
+void StoreSink::end() {
   store_.end_run(false);  // finished: mark_run_finished, once the outputs are in place
   store_.close();
-  return load_batch_model(path_);
+}
+
+BatchModel StoreSink::models(const std::vector<int>& layer_indices) {
+  if (layer_indices.empty()) return {};
+  return load_batch_model(path_, layer_indices);
 }
 
 }  // namespace c3d
