@@ -114,11 +114,12 @@ void register_batch(CLI::App& app) {
       "batch",
       "Parcel batch: point clouds + parcels + DTM -> LoD2 element models, cadastre.gpkg, "
       "summary.json, report.html/.csv, CityGML/CityJSON/IFC/OBJ");
-  cmd->add_option("--cloud", opt->inputs.clouds, "Classified point cloud(s): LAS, PLY, PCD, XYZ/CSV")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--walls", opt->inputs.walls, "Wall-only point cloud(s) from a terrestrial scanner")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--cloud", opt->inputs.clouds,
+                  "Classified point cloud(s): LAS, LAZ, PLY, PCD, XYZ/CSV files, folders of them or globs "
+                  "('tiles/*.laz'): the tiles of one cloud")
+      ->required();
+  cmd->add_option("--walls", opt->inputs.walls,
+                  "Wall-only point cloud(s) from a terrestrial scanner: files, folders or globs");
   cmd->add_option("--parcels", opt->inputs.parcels,
                   "Parcel layer: any OGR vector source, a file, folder or connection string (PG:..., /vsizip/...)")
       ->required();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <unordered_map>
@@ -21,8 +22,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // The density is counted a block at a time; a block holds about this many
-// roof points (25 bytes each), so larger clouds take more blocks, not more memory.
-constexpr double kDensityBlockPoints = 4e6;
+// roof points (25 bytes each, and as much again to fold copies), so larger
+// clouds take more blocks, not more memory.
+constexpr double kDensityBlockPoints = 1.5e6;
 
 bool is_point_file(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -57,6 +59,8 @@ using BlockFn = std::function<void(const std::vector<Vec3>& points, const std::v
 struct ReadCount {
   size_t read = 0;       // points in the file
   bool classes = false;  // the file holds classes
+  double first_bad = 0;  // the first height left out, for the message
+  bool bad = false;
 };
 
 void for_each_block(const Tile& t, const BlockFn& fn, ReadCount* counted = nullptr) {
@@ -75,13 +79,22 @@ void for_each_block(const Tile& t, const BlockFn& fn, ReadCount* counted = nullp
     cls.clear();
     size_t kept = 0;
     for (size_t i = 0; i < pts.size(); ++i) {
-      if (!plausible_elevation(pts[i].z())) continue;
+      if (!plausible_elevation(pts[i].z())) {
+        if (counted && !counted->bad) counted->first_bad = pts[i].z(), counted->bad = true;
+        continue;
+      }
       pts[kept++] = pts[i];
       if (classes) cls.push_back(c.classes[i]);
     }
     pts.resize(kept);
     fn(pts, cls);
   });
+}
+
+std::string six_digits(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -162,8 +175,8 @@ TileSurvey survey_tiles(const std::vector<Tile>& tiles, const ClassMapping& m) {
     const size_t read = n.read;
     const bool classes = n.classes;
     if (read > 0 && kept == 0)
-      throw InputError(t.path, "no point's height lies within " + elevation_bounds() +
-                                   ": check the Z scale, offset and unit");
+      throw InputError(t.path, "no point's height lies within " + elevation_bounds() + " (e.g. z = " +
+                                   six_digits(n.first_bad) + "): check the Z scale, offset and unit");
     if (kept < read)
       s.warnings.push_back(t.path + ": " + std::to_string(read - kept) + " points with a height outside " +
                            elevation_bounds() + " left out");
