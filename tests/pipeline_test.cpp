@@ -53,7 +53,11 @@ class MemorySink : public BatchSink {
     model_.results[i] = r;
     written.push_back(i);
   }
-  void end() override {}
+  SinkCounts end() override {
+    SinkCounts held;
+    for (size_t i : written) ++held.parcels, ++held.by_status[size_t(model_.results[i].status)];
+    return held;
+  }
   BatchModel models(const std::vector<int>& layer_indices) override {
     BatchModel m;
     m.frame = model_.frame;

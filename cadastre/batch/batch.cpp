@@ -149,21 +149,24 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
   auto progress = [&](const char* stage, size_t done, size_t total) {
     if (settings.progress) settings.progress(stage, done, total);
   };
-  progress("ingest", 0, 2);
+  progress("ingest", 0, 3);
   const LoadedInputs in = load_inputs(inputs, cfg);
-  progress("ingest", 1, 2);
+  progress("ingest", 1, 3);
   report.warnings = in.warnings;
   for (const auto& w : in.warnings) log::warn(w);
   report.parcels = in.layer.parcels.size();
   const LocalFrame frame = frame_of(in.layer);
+  progress("ingest", 2, 3);
   const BatchRun run = describe_run(in, inputs, cfg, frame);
   report.timings.ingest_s = seconds_since(t_start);
-  progress("ingest", 2, 2);
+  progress("ingest", 3, 3);
   sink.begin(run);
   const std::vector<size_t> todo = parcels_to_model(sink, run, settings.resume);
   model_chunks(in, todo, frame, cfg, sink, settings, report);
   progress("store", 0, 1);
-  sink.end();
+  const SinkCounts held = sink.end();
+  report.held = held.parcels;
+  report.held_by_status = held.by_status;
   progress("store", 1, 1);
   report.timings.reconstruct_s = seconds_since(t_start) - report.timings.ingest_s;
   progress("deviation", 0, 1);

@@ -44,7 +44,7 @@ struct BatchInputs {
 struct BatchSettings {
   int jobs = 0;         // parallel parcels; 0: all cores; more than kMaxJobsPerCore per core: clamped
   bool resume = false;  // skip parcels the sink already holds from the same key
-  // Stage "ingest" (steps: inputs read and surveyed, scenes' geometry, inputs hashed), "reconstruct" (after
+  // Stage "ingest" (steps: inputs read and the tiles surveyed, frame, inputs hashed), "reconstruct" (after
   // each parcel modelled and stored), "store" (every parcel read back, one
   // step), "deviation" (one step).
   std::function<void(const char* stage, size_t done, size_t total)> progress;
@@ -63,6 +63,13 @@ struct BatchRun {
   std::vector<std::string> parcel_keys;   // per parcel: what its result depends on (resume key)
 };
 
+// What a sink holds after a run, resumed parcels (and another run's kept
+// with --resume) included: how many, by status (index: ParcelStatus).
+struct SinkCounts {
+  size_t parcels = 0;
+  std::array<size_t, 4> by_status{};
+};
+
 // Where results go. Calls come from one thread at a time.
 class BatchSink {
  public:
@@ -71,8 +78,8 @@ class BatchSink {
   // True when the sink holds parcel i's result from the same key (--resume).
   virtual bool has_parcel(size_t i, const std::string& key) = 0;
   virtual void write_parcel(size_t i, const ParcelResult& result, const ParcelValuation& valuation) = 0;
-  // Every parcel is written (a store closes).
-  virtual void end() = 0;
+  // Every parcel is written (a store closes); what the sink now holds.
+  virtual SinkCounts end() = 0;
   // After end(): the models of the parcels of these layer indices as the sink
   // holds them, resumed ones included, in layer order (none for a parcel it
   // lacks). The batch reads them a chunk at a time, never all at once.
@@ -98,8 +105,7 @@ struct BatchReport {
   // (within kFootprintReachM of a footprint edge), with their share.
   RulerFigures roof_ruler, wall_ruler;
   double wall_points_measured = 0;  // share of the wall points near the parcels the wall ruler measures
-  // The layer's parcels as the sink holds them after the run (resumed ones
-  // included), by status (index: ParcelStatus).
+  // The parcels the sink holds after the run (SinkCounts), by status (index: ParcelStatus).
   size_t held = 0;
   std::array<size_t, 4> held_by_status{};
 };

@@ -105,8 +105,7 @@ bool settle(const FaceIndex& index, const std::vector<Vec3>& pts, std::vector<do
   return done;
 }
 
-Nearest nearest_faces(ChunkSearch& s, const std::vector<Vec3>& roof, const std::vector<Vec3>& wall,
-                      const std::vector<char>& in_chunk, BatchReport& report) {
+Nearest nearest_faces(ChunkSearch& s, const std::vector<Vec3>& roof, const std::vector<Vec3>& wall) {
   Nearest n;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   n.roof.assign(roof.size(), nan);
@@ -119,11 +118,8 @@ Nearest nearest_faces(ChunkSearch& s, const std::vector<Vec3>& roof, const std::
     searched += ring.size();
     const bool last = searched == s.in.layer.parcels.size();
     const BatchModel model = s.sink.models(ring);
-    if (r == kFirstSearchM) {  // the chunk's own parcels and all footprints within reach are in the first ring
-      for (const ParcelResult& p : model.results)
-        if (in_chunk[size_t(p.parcel_index)]) ++report.held, ++report.held_by_status[size_t(p.status)];
+    if (r == kFirstSearchM)  // every footprint within reach is in the first ring
       n.of_building = near_rings(wall, footprint_rings(model), kFootprintReachM);
-    }
     const FaceIndex roofs(world_faces(model, {ElementType::Roof}));
     const FaceIndex walls(world_faces(model, {ElementType::Wall, ElementType::PartyWall}));
     n.roof_faces = n.roof_faces || !roofs.empty();
@@ -157,7 +153,7 @@ void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& s
     const std::vector<Vec3> roof = counted_points(pts.roof, inside, true, in_chunk);
     const std::vector<Vec3> wall = counted_points(pts.wall, reach, false, in_chunk);
     ChunkSearch search{in, sink, chunk_box(in.layer, chunk, kWallPointReachM), model_reach, {}};
-    const Nearest n = nearest_faces(search, roof, wall, in_chunk, report);
+    const Nearest n = nearest_faces(search, roof, wall);
     roof_faces = roof_faces || n.roof_faces;
     wall_faces = wall_faces || n.wall_faces;
     roof_parts.push_back(deviation(n.roof));

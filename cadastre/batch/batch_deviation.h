@@ -10,7 +10,6 @@
 
 namespace c3d {
 
-// Also counts the parcels the sink holds (report.held, held_by_status).
 void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& sink, BatchReport& report);
 
 }  // namespace c3d
