@@ -65,7 +65,7 @@ void print_outputs(const WrittenOutputs& w, const std::string& store_path) {
 void print_timings(const BatchReport& r, double total_s, const std::string& out) {
   const BatchTimings& t = r.timings;
   std::cout << "batch: " << r.parcels << " parcels";
-  if (r.model.parcels.size() != r.parcels) std::cout << "; the store holds " << r.model.parcels.size();  // --resume
+  if (r.held != r.parcels) std::cout << "; the store holds " << r.held;  // --resume
   std::cout << " in " << total_s << " s; outputs in " << out << "\n";
   std::printf("timing: ingest+clip %.3f s, reconstruction %.3f s, store writes %.3f s, "
               "summary+report+exports %.3f s, total %.3f s\n",
@@ -75,9 +75,8 @@ void print_timings(const BatchReport& r, double total_s, const std::string& out)
 
 // The last line: every parcel's status as the store holds it. Failed or
 // suspect parcels exit kExitPartial (docs/plausibility.md).
-int print_counts(const BatchModel& model, bool quiet) {
-  size_t n[4] = {0, 0, 0, 0};
-  for (const auto& r : model.results) ++n[size_t(r.status)];
+int print_counts(const BatchReport& report, bool quiet) {
+  const auto& n = report.held_by_status;
   const size_t ok = n[size_t(ParcelStatus::Ok)], empty = n[size_t(ParcelStatus::Empty)];
   const size_t failed = n[size_t(ParcelStatus::Failed)], suspect = n[size_t(ParcelStatus::Suspect)];
   const std::string line = "parcels: " + std::to_string(ok) + " ok, " + std::to_string(empty) + " empty, " +
@@ -100,14 +99,13 @@ size_t pause_after(const Shard& shard) {
 
 // A shard writes its store only: a report of part of the layer would mislead;
 // `cadastre3d merge` writes the outputs of all shards (docs/scale.md).
-int finish_shard(const BatchReport& report, const std::string& store_path, const BatchOptions& opt,
-                 Progress& progress) {
+int finish_shard(const BatchReport& report, const StoreSink& sink, const BatchOptions& opt, Progress& progress) {
   progress.done();
-  mark_run_finished(store_path);
+  mark_run_finished(sink.path(), sink.run_id());
   if (!opt.quiet)
-    std::cout << "shard " << to_string(opt.settings.shard) << ": " << report.model.parcels.size() << " of "
-              << report.parcels << " parcels in " << store_path << "; `cadastre3d merge` writes the report\n";
-  return print_counts(report.model, opt.quiet);
+    std::cout << "shard " << to_string(opt.settings.shard) << ": " << report.held << " of " << report.parcels
+              << " parcels in " << sink.path() << "; `cadastre3d merge` writes the report\n";
+  return print_counts(report, opt.quiet);
 }
 
 int run(BatchOptions opt) {
@@ -128,7 +126,7 @@ int run(BatchOptions opt) {
     if (pause && done == pause && std::string(stage) == "reconstruct") std::this_thread::sleep_for(std::chrono::minutes(1));
   };
   const BatchReport report = run_batch(opt.inputs, cfg, sink, opt.settings);
-  if (opt.settings.shard.active()) return finish_shard(report, store_path, opt, progress);
+  if (opt.settings.shard.active()) return finish_shard(report, sink, opt, progress);
   const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats,
                                                [&](size_t done, size_t total) { progress.show("outputs", done, total); });
   progress.done();
@@ -137,7 +135,7 @@ int run(BatchOptions opt) {
     print_outputs(written, store_path);
     print_timings(report, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), opt.out);
   }
-  return print_counts(report.model, opt.quiet);
+  return print_counts(report, opt.quiet);
 }
 
 }  // namespace
@@ -148,11 +146,12 @@ void register_batch(CLI::App& app, bool parse_only) {
       "batch",
       "Parcel batch: point clouds + parcels + DTM -> LoD2 element models, cadastre.gpkg, "
       "summary.json, report.html/.csv, CityGML/CityJSON/IFC/OBJ");
-  cmd->add_option("--cloud", opt->inputs.clouds, "Classified point cloud(s): LAS, PLY, PCD, XYZ/CSV")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--walls", opt->inputs.walls, "Wall-only point cloud(s) from a terrestrial scanner")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--cloud", opt->inputs.clouds,
+                  "Classified point cloud(s): LAS, LAZ, PLY, PCD, XYZ/CSV files, folders of them or globs "
+                  "('tiles/*.laz'): the tiles of one cloud")
+      ->required();
+  cmd->add_option("--walls", opt->inputs.walls,
+                  "Wall-only point cloud(s) from a terrestrial scanner: files, folders or globs");
   cmd->add_option("--parcels", opt->inputs.parcels,
                   "Parcel layer: any OGR vector source, a file, folder or connection string (PG:..., /vsizip/...)")
       ->required();

@@ -4,7 +4,9 @@
 # --submit`; shard 2's task is killed (SIGKILL) with parcels stored and
 # others pending, rerun with OUT/slurm/rerun.sh 2, and the finish job merges.
 # scripts/compare_stores.py: same parcels, statuses, element areas, NJOP and
-# tax, no row twice. Exit 77 (skipped) without root, Slurm or GDAL's Python.
+# tax, no row twice. Then the same through one PostGIS store that every
+# task writes at once (--store postgresql://): no merge, the finish job
+# writes the report and exports from the database. Exit 77 (skipped) without root, Slurm or GDAL's Python.
 #   tests/slurm_shards_check.sh path/to/cadastre3d
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -55,3 +57,28 @@ wait_jobs 90
 [ -n "$(sqlite3 out/cadastre.gpkg "SELECT finished FROM run")" ] || fail "the merged run is not finished"
 /usr/bin/python3 "$here/scripts/compare_stores.py" whole/cadastre.gpkg out/cadastre.gpkg || fail "the stores differ"
 echo "3 shards on Slurm, one killed and rerun, equal the unsharded run"
+
+# The same on one shared PostGIS store: the shards write it at once; shard 2
+# is killed midway and rerun; no merge, and no parcel twice.
+db=c3d_shards_$$
+createdb -h 127.0.0.1 -p "$C3D_PG_PORT" -U postgres "$db"
+url="${C3D_PG_URL%/*}/$db"
+pg_count() { psql -h 127.0.0.1 -p "$C3D_PG_PORT" -U postgres -d "$db" -Atc "$1" 2>/dev/null || echo 0; }
+C3D_TEST_PAUSE_SHARD=2/3:3 "$c3d" slurm --shards 3 --out pg --store "$url" --submit "${inputs[@]}" | tee submit_pg.txt
+array=$(awk '/^shards: job/ {print $3}' submit_pg.txt)
+# Shard 2 pauses after its 3rd parcel; the others finish: 8 + 8 + 3 parcels stored.
+for _ in $(seq 1 120); do [ "$(pg_count "SELECT count(*) FROM parcel_job WHERE status <> 'pending'")" -ge 19 ] && break; sleep 0.5; done
+scancel --signal=KILL --full "${array}_2"
+wait_jobs 60
+pending=$(pg_count "SELECT count(*) FROM parcel_job WHERE status = 'pending'")
+[ "$pending" -gt 0 ] || fail "shard 2 was not killed midway on PostGIS"
+[ ! -f pg/summary.json ] || fail "the finish step ran after a killed task (PostGIS)"
+echo "PostGIS: shard 2 killed with $pending parcels pending"
+pg/slurm/rerun.sh 2
+wait_jobs 90
+[ -f pg/report.html ] || fail "the finish step wrote no report from PostGIS"
+[ "$(pg_count "SELECT count(*) FROM parcel_job WHERE status = 'pending'")" -eq 0 ] || fail "PostGIS store not complete"
+[ "$(pg_count "SELECT count(*) - count(DISTINCT parcel_id) FROM la_spatialunit")" -eq 0 ] || fail "a parcel stored twice"
+/usr/bin/python3 "$here/scripts/compare_stores.py" whole/cadastre.gpkg "$url" || fail "the PostGIS store differs"
+dropdb -h 127.0.0.1 -p "$C3D_PG_PORT" -U postgres "$db"
+echo "3 shards on Slurm into one PostGIS store, one killed and rerun, equal the unsharded run"

@@ -8,11 +8,12 @@
 #include <mutex>
 #include <thread>
 
+#include "cadastre/batch/batch_deviation.h"
 #include "cadastre/batch/batch_inputs.h"
+#include "cadastre/batch/chunks.h"
 #include "cadastre/batch/plausibility.h"
 #include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/scenes.h"
-#include "core/evaluate/evaluate.h"
 #include "core/log.h"
 
 namespace c3d {
@@ -44,7 +45,10 @@ BatchRun describe_run(const LoadedInputs& in, const BatchInputs& inputs, const C
   run.crs_wkt = in.crs_wkt;
   run.frame = frame;
   run.parameters = run_parameters(cfg);
-  for (const auto& f : inputs.files())
+  BatchInputs files = inputs;  // every file the folders and globs name, each hashed
+  files.clouds = in.cloud_files;
+  files.walls = in.wall_files;
+  for (const auto& f : files.files())
     run.inputs.push_back(f == inputs.parcels ? describe_parcel_source(f, in.layer) : describe_input_file(f));
   run.parcels = &in.layer.parcels;
   const std::string key = run_key(cfg, run.inputs);
@@ -77,8 +81,8 @@ int job_count(int jobs, size_t parcels) {
 // Models the parcels on threads; the sink is written under one lock. The
 // first exception (a store write failing, the disk full) stops every worker
 // and is rethrown here; the failed parcel's transaction has rolled back.
-void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, const Config& cfg,
-                   BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
+void model_parcels(const std::vector<size_t>& todo, size_t total, int jobs, const SceneSource& scenes,
+                   const Config& cfg, BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
   const auto& parcels = scenes.inputs->layer.parcels;
   std::atomic<size_t> next{0};
   std::mutex sink_mutex;
@@ -106,7 +110,7 @@ void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, c
         ++report.suspect;
         log::warn("parcel " + r.parcel_id + " suspect: " + r.reason);
       }
-      if (settings.progress) settings.progress("reconstruct", report.reconstructed, todo.size());
+      if (settings.progress) settings.progress("reconstruct", report.reconstructed, total);
     } catch (...) {
       std::lock_guard<std::mutex> lock(sink_mutex);
       if (!error) error = std::current_exception();
@@ -115,82 +119,25 @@ void model_parcels(const std::vector<size_t>& todo, const SceneSource& scenes, c
     }
   };
   std::vector<std::thread> pool;
-  const int jobs = job_count(settings.jobs, todo.size());
-  for (int k = 0; k < jobs; ++k) pool.emplace_back(worker);
+  for (size_t k = 0; k < std::min(size_t(jobs), todo.size()); ++k) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
 }
 
-std::vector<Face> world_faces(const BatchModel& model, const std::vector<ElementType>& types) {
-  std::vector<Face> out;
-  for (const auto& r : model.results)
-    for (const auto& b : r.buildings)
-      for (Face f : faces_of(b, types)) {
-        for (auto& v : f.ring) v = model.frame.to_world(v);
-        for (auto& h : f.holes)
-          for (auto& v : h) v = model.frame.to_world(v);
-        out.push_back(std::move(f));
-      }
-  return out;
-}
-
-std::vector<double> distances_to(const std::vector<Vec3>& points, const std::vector<Face>& faces) {
-  const FaceIndex index(faces);
-  std::vector<double> d;
-  if (index.empty()) return d;
-  for (const auto& hit : index.nearest(points)) d.push_back(hit.distance);
-  return d;
-}
-
-std::vector<Ring3> footprint_rings(const BatchModel& model) {
-  std::vector<Ring3> rings;
-  for (const Face& f : world_faces(model, {ElementType::Ground})) rings.push_back(f.ring);
-  return rings;
-}
-
-// Every roof point inside a parcel against the nearest roof of any model, and
-// every wall point within kWallPointReachM of a parcel against the nearest
-// wall; then the same by the judge's rulers.
-void any_model_deviation(const LoadedInputs& in, const ClipParams& clip,
-                         const SceneSource& scenes, BatchReport& report) {
-  const std::vector<Face> roofs = world_faces(report.model, {ElementType::Roof});
-  const std::vector<Face> walls = world_faces(report.model, {ElementType::Wall, ElementType::PartyWall});
-  // inside() reads the parcels as they are: no buffer to build.
-  ClipParams exact = clip;
-  exact.overhang_buffer_m = 0;
-  const ParcelClipper clipper(in.layer, exact);
-  const ParcelClipper::IndexLists& roof_lists = scenes.roof_lists;
-  std::vector<Vec3> roof_in;
-  std::vector<char> taken(in.roof.size(), 0);
-  for (size_t k = 0; k < roof_lists.size(); ++k)
-    for (size_t i : roof_lists[k])
-      if (!taken[i] && clipper.inside(k, in.roof[i].x(), in.roof[i].y())) {
-        taken[i] = 1;
-        roof_in.push_back(in.roof[i]);
-      }
-  // The scenes' wall lists reach kWallPointReachM unless the overhang buffer reaches further.
-  ClipParams near = clip;
-  near.overhang_buffer_m = kWallPointReachM;
-  const bool scenes_reach = clip.overhang_buffer_m <= kWallPointReachM;
-  const ParcelClipper::IndexLists wall_lists =
-      scenes_reach ? ParcelClipper::IndexLists{} : ParcelClipper(in.layer, near).clip(in.wall);
-  std::vector<Vec3> wall_near;
-  std::vector<char> seen(in.wall.size(), 0);
-  for (const auto& list : scenes_reach ? scenes.wall_lists : wall_lists)
-    for (size_t k : list)
-      if (!seen[k]) seen[k] = 1, wall_near.push_back(in.wall[k]);
-  const std::vector<double> roof_d = distances_to(roof_in, roofs);
-  if (!roofs.empty()) report.any_model_roof = deviation(roof_d), report.roof_ruler = ruler_figures(roof_d);
-  if (walls.empty()) return;
-  const std::vector<double> wall_d = distances_to(wall_near, walls);
-  report.any_model_wall = deviation(wall_d);
-  if (wall_d.empty()) return;  // no wall face with an area
-  const std::vector<char> of_building = near_rings(wall_near, footprint_rings(report.model), kFootprintReachM);
-  std::vector<double> measured;  // the wall points of modelled buildings
-  for (size_t k = 0; k < wall_near.size(); ++k)
-    if (of_building[k]) measured.push_back(wall_d[k]);
-  report.wall_ruler = ruler_figures(measured);
-  if (!wall_near.empty()) report.wall_points_measured = double(measured.size()) / double(wall_near.size());
+// Models the to-do parcels a chunk at a time: the chunk's region read from
+// the tiles, its scenes, its models to the sink; then it is freed.
+void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const LocalFrame& frame,
+                  const Config& cfg, BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
+  const SceneGeometry geometry = scene_geometry(in.layer, cfg.clip);
+  const int jobs = job_count(settings.jobs, todo.size());
+  for (const auto& chunk : spatial_chunks(in.layer, todo, size_t(cfg.batch.chunk_parcels))) {
+    const auto t_read = Clock::now();
+    const RegionPoints points =
+        read_region(in.tiles, chunk_box(in.layer, chunk, geometry.reach_m + kRegionMarginM), cfg.classes);
+    const SceneSource scenes = prepare_scenes(in, points, geometry, frame);
+    report.timings.stages["read points"] += seconds_since(t_read);
+    model_parcels(chunk, todo.size(), jobs, scenes, cfg, sink, settings, report);
+  }
 }
 
 }  // namespace
@@ -209,24 +156,24 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
   for (const auto& w : in.warnings) log::warn(w);
   report.parcels = in.layer.parcels.size();
   const LocalFrame frame = frame_of(in.layer);
-  const SceneSource scenes = prepare_scenes(in, cfg.clip, frame);
-  report.timings.ingest_s = seconds_since(t_start);
   progress("ingest", 2, 3);
-
   BatchRun run = describe_run(in, inputs, cfg, frame);
   run.in_shard = shard_parcels(in.layer.parcels, settings.shard);
   run.shard = to_string(settings.shard);
+  report.timings.ingest_s = seconds_since(t_start);
   progress("ingest", 3, 3);
   sink.begin(run);
   const std::vector<size_t> todo = parcels_to_model(sink, run, settings.resume);
-  model_parcels(todo, scenes, cfg, sink, settings, report);
+  model_chunks(in, todo, frame, cfg, sink, settings, report);
   progress("store", 0, 1);
-  report.model = sink.end();
+  const SinkCounts held = sink.end();
+  report.held = held.parcels;
+  report.held_by_status = held.by_status;
   progress("store", 1, 1);
   report.timings.reconstruct_s = seconds_since(t_start) - report.timings.ingest_s;
   progress("deviation", 0, 1);
   // A shard holds part of the models: the whole fit is for a whole run's outputs.
-  if (!settings.shard.active()) any_model_deviation(in, cfg.clip, scenes, report);
+  if (!settings.shard.active()) any_model_deviation(in, cfg, sink, report);
   progress("deviation", 1, 1);
   return report;
 }

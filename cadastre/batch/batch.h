@@ -5,9 +5,10 @@
 //
 //   BatchInputs in{{"cloud.las"}, {}, "parcels.gpkg", "dtm.tif"};
 //   StoreSink sink("out/cadastre.gpkg");
-//   BatchReport r = run_batch(in, default_config(), sink);
+//   BatchReport r = run_batch(in, default_config(), sink);  // the models are in the store
 //   write_outputs(r, sink.path(), "out", cfg, {"cityjson"});
 //   mark_run_finished(sink.path());
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -45,7 +46,7 @@ struct BatchSettings {
   int jobs = 0;         // parallel parcels; 0: all cores; more than kMaxJobsPerCore per core: clamped
   bool resume = false;  // skip parcels the sink already holds from the same key
   Shard shard;          // --shard K/N: model and store only shard K's parcels (cadastre/batch/shard.h)
-  // Stage "ingest" (steps: inputs read, points clipped, inputs hashed), "reconstruct" (after
+  // Stage "ingest" (steps: inputs read and the tiles surveyed, frame, inputs hashed), "reconstruct" (after
   // each parcel modelled and stored), "store" (every parcel read back, one
   // step), "deviation" (one step).
   std::function<void(const char* stage, size_t done, size_t total)> progress;
@@ -66,6 +67,13 @@ struct BatchRun {
   std::string shard;                      // "K/N", or "" when not sharded
 };
 
+// What a sink holds after a run, resumed parcels (and another run's kept
+// with --resume) included: how many, by status (index: ParcelStatus).
+struct SinkCounts {
+  size_t parcels = 0;
+  std::array<size_t, 4> by_status{};
+};
+
 // Where results go. Calls come from one thread at a time.
 class BatchSink {
  public:
@@ -74,8 +82,12 @@ class BatchSink {
   // True when the sink holds parcel i's result from the same key (--resume).
   virtual bool has_parcel(size_t i, const std::string& key) = 0;
   virtual void write_parcel(size_t i, const ParcelResult& result, const ParcelValuation& valuation) = 0;
-  // Every parcel's model as the sink now holds it, resumed ones included.
-  virtual BatchModel end() = 0;
+  // Every parcel is written (a store closes); what the sink now holds.
+  virtual SinkCounts end() = 0;
+  // After end(): the models of the parcels of these layer indices as the sink
+  // holds them, resumed ones included, in layer order (none for a parcel it
+  // lacks). The batch reads them a chunk at a time, never all at once.
+  virtual BatchModel models(const std::vector<int>& layer_indices) = 0;
 };
 
 struct BatchTimings {
@@ -84,7 +96,6 @@ struct BatchTimings {
 };
 
 struct BatchReport {
-  BatchModel model;  // as the sink holds it
   BatchTimings timings;
   std::vector<std::string> warnings;  // about the inputs (also logged)
   size_t parcels = 0, reconstructed = 0, failed = 0;  // failed among the reconstructed
@@ -98,6 +109,9 @@ struct BatchReport {
   // (within kFootprintReachM of a footprint edge), with their share.
   RulerFigures roof_ruler, wall_ruler;
   double wall_points_measured = 0;  // share of the wall points near the parcels the wall ruler measures
+  // The parcels the sink holds after the run (SinkCounts), by status (index: ParcelStatus).
+  size_t held = 0;
+  std::array<size_t, 4> held_by_status{};
 };
 
 // Runs the batch. Bad inputs throw InputError naming the file; a parcel that

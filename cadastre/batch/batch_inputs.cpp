@@ -7,28 +7,12 @@
 #include "cadastre/parcel_checks.h"
 #include "core/error.h"
 #include "core/gdal_messages.h"
-#include "core/geometry/unique_points.h"
 #include "core/io/crs.h"
 #include "core/io/point_io.h"
 #include "core/log.h"
 
 namespace c3d {
 namespace {
-
-void split_classes(const PointCloud& cloud, const ClassMapping& m, LoadedInputs& in,
-                   std::vector<Vec3>& ground) {
-  if (cloud.classes.empty()) {  // an unclassified cloud is taken as roof points
-    in.roof.insert(in.roof.end(), cloud.points.begin(), cloud.points.end());
-    in.warnings.push_back(cloud.source + ": no classification, all points taken as roof");
-    return;
-  }
-  for (size_t i = 0; i < cloud.points.size(); ++i) {
-    int c = cloud.classes[i];
-    if (m.is_roof(c)) in.roof.push_back(cloud.points[i]);
-    else if (m.is_wall(c)) in.wall.push_back(cloud.points[i]);
-    else if (m.is_ground(c)) ground.push_back(cloud.points[i]);
-  }
-}
 
 // Replaces the classes of every classified cloud by the forest's (batch --classify).
 void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, size_t n, const Dtm* dtm,
@@ -60,17 +44,6 @@ void check_reach(const BatchInputs& inputs, const LoadedInputs& in) {
     check_dtm_covers(in.dtm, in.layer);
 }
 
-// One point per place: copies of a point (a writer repeating records, strips
-// merged twice) carry nothing more, and every neighbourhood, count and
-// spacing downstream would read them as density.
-void fold_copies(std::vector<Vec3>& pts, const char* what) {
-  std::vector<Vec3> kept = one_per_place(pts);
-  if (kept.size() == pts.size()) return;
-  log::info(std::string(what) + " points: " + std::to_string(pts.size() - kept.size()) +
-            " copies of another point's place folded into it, " + std::to_string(kept.size()) + " kept");
-  pts = std::move(kept);
-}
-
 }  // namespace
 
 std::string unreachable(const LoadedInputs& in, size_t i) {
@@ -92,6 +65,76 @@ std::vector<std::string> BatchInputs::files() const {
 
 namespace {
 
+// The CRS a file's points are in: its own, or the one reconcile_crs assumes
+// for a file without (the layer's when metric, else the working CRS).
+std::string points_crs(const std::string& own, const std::string& layer_crs, const std::vector<CloudExtent>& all,
+                       const std::string& working) {
+  if (!own.empty()) return own;
+  std::string reference = layer_crs;
+  for (size_t i = 0; reference.empty() && i < all.size(); ++i) reference = all[i].crs_wkt;
+  return is_metric(reference) ? reference : working;
+}
+
+// The extent in the working CRS: corners and edge midpoints reprojected, a metre to spare.
+Box working_extent(const CloudExtent& e, const std::string& from, const std::string& to, const std::string& path) {
+  std::vector<Vec3> edge;
+  for (double fx : {0.0, 0.5, 1.0})
+    for (double fy : {0.0, 0.5, 1.0})
+      edge.emplace_back(e.min_x + fx * (e.max_x - e.min_x), e.min_y + fy * (e.max_y - e.min_y), 0.0);
+  if (!same_crs(from, to)) reproject_points(edge, from, to, path);
+  Box b;
+  for (const Vec3& p : edge) b.add(p.x(), p.y());
+  return b.grown(same_crs(from, to) ? 0.0 : 1.0);
+}
+
+// The tiles and the working CRS: each file's extent and CRS read (a header,
+// or one pass), the layer brought into the working CRS (reconcile_crs).
+void index_tiles(const BatchInputs& inputs, const std::string& wanted, bool have_dtm, LoadedInputs& in) {
+  in.cloud_files = expand_point_files(inputs.clouds);
+  in.wall_files = expand_point_files(inputs.walls);
+  std::vector<std::string> files = in.cloud_files;
+  files.insert(files.end(), in.wall_files.begin(), in.wall_files.end());
+  std::vector<CloudExtent> extents;
+  std::vector<PointCloud> named;  // what reconcile_crs reads of a cloud: its name and CRS
+  for (const auto& f : files) {
+    extents.push_back(read_cloud_extent(f));
+    named.push_back(PointCloud{f, {}, {}, extents.back().crs_wkt});
+  }
+  const std::string layer_crs = in.layer.crs_wkt;
+  auto rec = reconcile_crs(in.layer, named, have_dtm ? &in.dtm : nullptr, wanted);
+  in.crs_wkt = rec.crs_wkt;
+  in.warnings.insert(in.warnings.end(), rec.warnings.begin(), rec.warnings.end());
+  for (size_t i = 0; i < files.size(); ++i) {
+    Tile t;
+    t.path = files[i];
+    t.walls = i >= in.cloud_files.size();
+    t.crs_wkt = points_crs(extents[i].crs_wkt, layer_crs, extents, in.crs_wkt);
+    t.working = in.crs_wkt;
+    t.extent = working_extent(extents[i], t.crs_wkt, t.working, t.path);
+    if (extents[i].points > 0) in.tiles.push_back(std::move(t));
+  }
+}
+
+// --classify: each cloud read whole, classified and kept in memory (classes
+// depend on the whole cloud's neighbourhoods, as without tiles).
+void classify_tiles(const BatchInputs& inputs, const Config& cfg, LoadedInputs& in) {
+  std::vector<PointCloud> clouds;
+  std::vector<Tile*> held;
+  for (Tile& t : in.tiles) {
+    if (t.walls) continue;
+    clouds.push_back(read_point_cloud(t.path));
+    clouds.back().crs_wkt = t.crs_wkt;
+    if (!same_crs(t.crs_wkt, t.working)) reproject(clouds.back(), t.working);
+    held.push_back(&t);
+  }
+  classify_clouds(inputs.classifier_model, clouds, clouds.size(), inputs.dtm.empty() ? nullptr : &in.dtm,
+                  cfg.classes, in.warnings);
+  for (size_t i = 0; i < clouds.size(); ++i) {
+    keep_plausible_elevations(clouds[i], in.warnings);
+    held[i]->held = std::make_shared<const PointCloud>(std::move(clouds[i]));
+  }
+}
+
 // load_inputs without the GDAL message capture.
 LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
   LoadedInputs in;
@@ -99,41 +142,22 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
   const ParcelSelection& sel = inputs.parcel_selection;
   check_override_ids(cfg.valuation.parcels, in.layer, cfg.source, !sel.where.empty() || !sel.bbox.empty(),
                      in.warnings);
-  std::vector<PointCloud> clouds;
-  for (const auto& f : inputs.clouds) clouds.push_back(read_point_cloud(f));
-  const size_t n_class_clouds = clouds.size();
-  for (const auto& f : inputs.walls) clouds.push_back(read_point_cloud(f));
   const bool have_dtm = !inputs.dtm.empty();
   if (have_dtm) in.dtm = read_dtm(inputs.dtm);
-  const std::string wanted = inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs");
-  auto rec = reconcile_crs(in.layer, clouds, have_dtm ? &in.dtm : nullptr, wanted);
-  in.crs_wkt = rec.crs_wkt;
-  in.warnings.insert(in.warnings.end(), rec.warnings.begin(), rec.warnings.end());
+  index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), have_dtm, in);
   for (std::string& w : overlap_warnings(in.layer)) in.warnings.push_back(std::move(w));
   log::info("areas in " + areas_crs_text(in.crs_wkt));
-  if (!inputs.classifier_model.empty())
-    classify_clouds(inputs.classifier_model, clouds, n_class_clouds, have_dtm ? &in.dtm : nullptr, cfg.classes,
-                    in.warnings);
-  for (auto& c : clouds) keep_plausible_elevations(c, in.warnings);
-  std::vector<Vec3> ground;
-  for (size_t i = 0; i < clouds.size(); ++i) {
-    in.coverage.add(clouds[i].points);
-    if (i < n_class_clouds) split_classes(clouds[i], cfg.classes, in, ground);
-    else in.wall.insert(in.wall.end(), clouds[i].points.begin(), clouds[i].points.end());
-    clouds[i].points.clear();
-    clouds[i].points.shrink_to_fit();
-  }
-  if (!have_dtm) {
-    if (ground.empty())
-      throw InputError("--dtm", "no DTM given and no ground-class points to build one from");
-    in.dtm = dtm_from_points(ground, in.crs_wkt, 1.0, DtmCell::Min, "ground-class points");
-  }
+  log::info(std::to_string(in.tiles.size()) + " point file(s) with points");
+  if (!inputs.classifier_model.empty()) classify_tiles(inputs, cfg, in);
+  TileSurvey survey = survey_tiles(in.tiles, cfg.classes);
+  in.warnings.insert(in.warnings.end(), survey.warnings.begin(), survey.warnings.end());
+  in.coverage = std::move(survey.coverage);
+  if (!have_dtm) in.dtm = ground_dtm(in.tiles, survey, cfg.classes, in.crs_wkt);
   check_dtm_elevations(in.dtm, in.warnings);
-  fold_copies(in.roof, "roof");
-  fold_copies(in.wall, "wall");
-  if (in.roof.empty() && in.wall.empty())
+  if (survey.roof == 0 && survey.wall == 0)
     throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
                      "no roof or wall points (check the class mapping)");
+  in.roof_points_per_cell = typical_roof_density(in.tiles, cfg.classes, survey.roof);
   check_reach(inputs, in);
   return in;
 }

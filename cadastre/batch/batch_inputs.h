@@ -1,11 +1,14 @@
 #pragma once
-// The batch's first step: every input read, reprojected into one CRS and
-// split by class, and the batch's local frame.
+// The batch's first step: the parcel layer and the DTM read, the clouds'
+// files indexed as tiles (cadastre/batch/tiles.h) and surveyed once, all in
+// one CRS, and the batch's local frame. The points themselves are read a
+// region at a time (read_region), never all at once.
 #include <string>
 #include <vector>
 
 #include "cadastre/batch/batch.h"
 #include "cadastre/batch/plausibility.h"
+#include "cadastre/batch/tiles.h"
 #include "cadastre/parcels.h"
 #include "core/io/dtm_io.h"
 
@@ -14,8 +17,10 @@ namespace c3d {
 struct LoadedInputs {
   ParcelLayer layer;
   Dtm dtm;
-  std::vector<Vec3> roof, wall;  // world coordinates
+  std::vector<Tile> tiles;       // the --cloud files, then the --walls files
+  std::vector<std::string> cloud_files, wall_files;  // the files --cloud and --walls name
   PointCoverage coverage;        // where the clouds have points of any class
+  int roof_points_per_cell = 0;  // typical_roof_points_per_cell of every roof point
   std::string crs_wkt;
   std::vector<std::string> warnings;
 };

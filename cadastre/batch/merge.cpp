@@ -232,10 +232,12 @@ MergedRun merge_run(const std::vector<std::string>& shards, const std::string& o
   m.store = (std::filesystem::path(out_dir) / "cadastre.gpkg").string();
   if (std::filesystem::exists(m.store)) throw InputError(m.store, "exists already; --overwrite replaces it");
   m.merge = merge_stores(shards, m.store);
-  BatchReport report;  // the model and counts as the merged store holds them
-  report.model = load_batch_model(m.store);
-  report.parcels = report.reconstructed = report.model.parcels.size();
-  for (const auto& r : report.model.results) ++m.status_counts[size_t(r.status)];
+  BatchReport report;  // the counts as the merged store holds them
+  for (const JobRecord& j : load_jobs(m.store))
+    for (size_t k = 0; k < 4; ++k)
+      if (j.status == to_string(ParcelStatus(k))) ++m.status_counts[k];
+  for (size_t k = 0; k < 4; ++k) report.held_by_status[k] = m.status_counts[k], report.parcels += m.status_counts[k];
+  report.reconstructed = report.held = report.parcels;
   report.failed = m.status_counts[size_t(ParcelStatus::Failed)];
   report.suspect = m.status_counts[size_t(ParcelStatus::Suspect)];
   m.written = write_outputs(report, m.store, out_dir, default_config(), formats, progress);

@@ -19,9 +19,7 @@ std::string num(double v) {
   return buf;
 }
 
-std::string elevation_bounds() { return num(kMinElevationM) + ".." + num(kMaxElevationM) + " m"; }
 
-bool plausible_elevation(double z) { return std::isfinite(z) && z >= kMinElevationM && z <= kMaxElevationM; }
 
 long cell_of(double v) { return long(std::floor(v / kCoverageCellM)); }
 
@@ -96,6 +94,10 @@ std::string PointCoverage::extent() const {
   std::snprintf(buf, sizeof buf, "x %.1f..%.1f, y %.1f..%.1f", lo_x_, hi_x_, lo_y_, hi_y_);
   return buf;
 }
+
+std::string elevation_bounds() { return num(kMinElevationM) + ".." + num(kMaxElevationM) + " m"; }
+
+bool plausible_elevation(double z) { return std::isfinite(z) && z >= kMinElevationM && z <= kMaxElevationM; }
 
 void keep_plausible_elevations(PointCloud& cloud, std::vector<std::string>& warnings) {
   size_t kept = 0;

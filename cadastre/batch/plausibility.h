@@ -54,6 +54,11 @@ class PointCoverage {
   double lo_x_ = 1e300, lo_y_ = 1e300, hi_x_ = -1e300, hi_y_ = -1e300;
 };
 
+// A z within the elevation bounds.
+bool plausible_elevation(double z);
+// The text of the bounds, for messages.
+std::string elevation_bounds();
+
 // Drops the points whose z is not finite or outside the elevation bounds (with
 // a warning); throws InputError naming the file when none is left.
 void keep_plausible_elevations(PointCloud& cloud, std::vector<std::string>& warnings);

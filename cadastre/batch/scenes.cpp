@@ -70,38 +70,45 @@ std::vector<size_t> in_one_order(std::vector<size_t> idx, const std::vector<Vec3
 
 }  // namespace
 
-SceneSource prepare_scenes(const LoadedInputs& in, const ClipParams& clip, const LocalFrame& frame) {
-  SceneSource s;
-  s.inputs = &in;
-  s.frame = frame;
-  s.overhang_buffer_m = clip.overhang_buffer_m;
+SceneGeometry scene_geometry(const ParcelLayer& layer, const ClipParams& clip) {
   // Wall points reach as far as the deviation counts them, at least.
   ClipParams wall_reach = clip;
   wall_reach.overhang_buffer_m = std::max(wall_reach.overhang_buffer_m, kWallPointReachM);
-  s.wall_lists = ParcelClipper(in.layer, wall_reach).clip(in.wall);
   ClipParams context = clip;
   context.overhang_buffer_m += kOwnershipContextM;
-  s.roof_lists = ParcelClipper(in.layer, context).clip(in.roof);
-  // One density for every scene, so two parcels judge the roof at their boundary alike.
-  s.roof_points_per_cell = typical_roof_points_per_cell(in.roof);
-  s.neighbours = neighbour_lists(in.layer, 2.0 * (clip.overhang_buffer_m + kOwnershipContextM) + 0.5);
+  return {ParcelClipper(layer, context), ParcelClipper(layer, wall_reach),
+          neighbour_lists(layer, 2.0 * (clip.overhang_buffer_m + kOwnershipContextM) + 0.5), clip.overhang_buffer_m,
+          std::max(context.overhang_buffer_m, wall_reach.overhang_buffer_m)};
+}
+
+SceneSource prepare_scenes(const LoadedInputs& in, const RegionPoints& points, const SceneGeometry& geometry,
+                           const LocalFrame& frame) {
+  SceneSource s;
+  s.inputs = &in;
+  s.points = &points;
+  s.geometry = &geometry;
+  s.frame = frame;
+  s.wall_lists = geometry.wall_clipper.clip(points.wall);
+  s.roof_lists = geometry.roof_clipper.clip(points.roof);
   return s;
 }
 
 ParcelScene make_scene(const SceneSource& src, size_t i) {
   const LoadedInputs& in = *src.inputs;
+  const RegionPoints& pts = *src.points;
+  const SceneGeometry& g = *src.geometry;
   const LocalFrame& frame = src.frame;
   const Parcel& p = in.layer.parcels[i];
   ParcelScene s;
   s.parcel_index = int(i);
   s.parcel_id = p.id;
   s.parcel = to_local(p.shape, frame);
-  for (int n : src.neighbours[i]) s.neighbours.push_back(to_local(in.layer.parcels[n].shape, frame));
-  for (size_t k : in_one_order(src.roof_lists[i], in.roof)) s.roof_points.push_back(frame.to_local(in.roof[k]));
-  for (size_t k : in_one_order(src.wall_lists[i], in.wall)) s.wall_points.push_back(frame.to_local(in.wall[k]));
-  s.overhang_buffer_m = src.overhang_buffer_m;
-  s.context_m = src.overhang_buffer_m + kOwnershipContextM;
-  s.roof_points_per_cell = src.roof_points_per_cell;
+  for (int n : g.neighbours[i]) s.neighbours.push_back(to_local(in.layer.parcels[n].shape, frame));
+  for (size_t k : in_one_order(src.roof_lists[i], pts.roof)) s.roof_points.push_back(frame.to_local(pts.roof[k]));
+  for (size_t k : in_one_order(src.wall_lists[i], pts.wall)) s.wall_points.push_back(frame.to_local(pts.wall[k]));
+  s.overhang_buffer_m = g.overhang_buffer_m;
+  s.context_m = g.overhang_buffer_m + kOwnershipContextM;
+  s.roof_points_per_cell = in.roof_points_per_cell;
   const Dtm* dtm = &in.dtm;
   Vec3 o = frame.origin;
   s.terrain = [dtm, o](double x, double y) { return dtm->height_at(x + o.x(), y + o.y()) - o.z(); };

@@ -15,16 +15,26 @@ namespace c3d {
 // the rest of a roof that crosses the boundary.
 constexpr double kOwnershipContextM = 1.5;
 
+// What the scenes of every chunk share, built once for the layer.
+struct SceneGeometry {
+  ParcelClipper roof_clipper, wall_clipper;  // buffered by the roof context and the wall reach
+  std::vector<std::vector<int>> neighbours;  // per parcel: parcels that may share a roof
+  double overhang_buffer_m = 0;
+  double reach_m = 0;  // how far outside a parcel its scene's points lie, at most
+};
+SceneGeometry scene_geometry(const ParcelLayer& layer, const ClipParams& clip);
+
+// The scenes of the parcels whose points `points` holds (a chunk's region).
 struct SceneSource {
   const LoadedInputs* inputs = nullptr;
+  const RegionPoints* points = nullptr;
+  const SceneGeometry* geometry = nullptr;
   LocalFrame frame;
-  double overhang_buffer_m = 0;
-  ParcelClipper::IndexLists roof_lists, wall_lists;  // per parcel: point indices
-  std::vector<std::vector<int>> neighbours;          // per parcel: parcels that may share a roof
-  int roof_points_per_cell = 0;                      // one density for every scene
+  ParcelClipper::IndexLists roof_lists, wall_lists;  // per parcel: indices into points
 };
 
-SceneSource prepare_scenes(const LoadedInputs& inputs, const ClipParams& clip, const LocalFrame& frame);
+SceneSource prepare_scenes(const LoadedInputs& inputs, const RegionPoints& points, const SceneGeometry& geometry,
+                           const LocalFrame& frame);
 
 ParcelScene make_scene(const SceneSource& source, size_t parcel);
 

@@ -56,10 +56,23 @@ void StoreSink::write_parcel(size_t i, const ParcelResult& result, const ParcelV
   store_.write_parcel((*parcels_)[i], result, valuation, frame_, keys_[i]);
 }
 
-BatchModel StoreSink::end() {
+SinkCounts StoreSink::end() {
   store_.end_run(false);  // finished: mark_run_finished, once the outputs are in place
   store_.close();
-  return load_batch_model(path_);
+  SinkCounts held;
+  for (const JobRecord& j : load_jobs(path_)) {
+    const ParcelStatus s = j.status == "ok"        ? ParcelStatus::Ok
+                           : j.status == "failed"  ? ParcelStatus::Failed
+                           : j.status == "suspect" ? ParcelStatus::Suspect
+                                                   : ParcelStatus::Empty;
+    ++held.parcels, ++held.by_status[size_t(s)];
+  }
+  return held;
+}
+
+BatchModel StoreSink::models(const std::vector<int>& layer_indices) {
+  if (layer_indices.empty()) return {};
+  return load_batch_model(path_, layer_indices);
 }
 
 }  // namespace c3d

@@ -22,7 +22,8 @@ class StoreSink : public BatchSink {
   void begin(const BatchRun& run) override;
   bool has_parcel(size_t i, const std::string& key) override;
   void write_parcel(size_t i, const ParcelResult& result, const ParcelValuation& valuation) override;
-  BatchModel end() override;  // closes the store and reads every parcel back
+  SinkCounts end() override;  // closes the store; counts its parcel jobs
+  BatchModel models(const std::vector<int>& layer_indices) override;  // read back from the store
 
  private:
   std::string path_;

@@ -28,6 +28,11 @@ struct ClipParams {
   double overhang_buffer_m = 1.6;
 };
 
+// How the batch goes through the data; changes no result (left out of the resume key).
+struct BatchParams {
+  int chunk_parcels = 250;
+};
+
 struct ReconstructionParams {
   int outlier_neighbours = 12;
   double outlier_std = 2.5;
@@ -86,6 +91,7 @@ struct Config {
   ClipParams clip;
   ReconstructionParams reconstruction;
   ValuationParams valuation;
+  BatchParams batch;
 };
 
 // Reads and checks a config file; throws InputError naming the file and the

@@ -76,6 +76,10 @@ std::vector<Parameter> input_parameters() {
        "boundary and about 10 % of the roof points lie outside",
        at_least(0), "clip", Need::Optional,
        field([](auto& c) -> auto& { return c.clip.overhang_buffer_m; })},
+      {"batch.chunk_parcels", Kind::Integer, "parcels",
+       "Parcels modelled per chunk: only a chunk's points are in memory at a time (more: fewer "
+       "reads of each tile, more memory); changes no result",
+       between(1, 1e6), "clip", Need::Optional, field([](auto& c) -> auto& { return c.batch.chunk_parcels; })},
   };
 }
 
@@ -239,6 +243,7 @@ const std::vector<SectionDoc>& section_docs() {
       {"classes", {"Point classes: which raw LAS classification codes mean what."}},
       {"parcel_fields", {"Attribute names in the parcel layer (Cimahi BPN schema)."}},
       {"clip", {"Clipping the point clouds to each parcel."}},
+      {"batch", {"How the batch runs through the clouds; no setting here changes a result or the resume key."}},
       {"reconstruction", {"Roof and wall reconstruction, stage by stage."}},
       {"valuation",
        {"Valuation: cost approach (SPOP / PBB-P2 practice).",

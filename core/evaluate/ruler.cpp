@@ -49,6 +49,71 @@ RulerFigures ruler_figures(std::vector<double> d) {
   return r;
 }
 
+namespace {
+
+constexpr size_t kRulerBins = size_t(kMissM / kRulerBinM + 0.5) + 1;  // the last: the misses (and beyond)
+
+double bin_value(size_t b) { return b + 1 == kRulerBins ? kMissM : (double(b) + 0.5) * kRulerBinM; }
+
+// The value at `at` (a fractional rank) of counted values, as quantile_of_sorted reads it.
+template <class ValueAtRank>
+double interpolated(double at, long n, ValueAtRank value_at) {
+  const long lo = long(std::floor(at)), hi = std::min(lo + 1, n - 1);
+  const double a = value_at(lo);
+  return a + (at - double(lo)) * (value_at(hi) - a);
+}
+
+}  // namespace
+
+void RulerAccumulator::add(const std::vector<double>& distances) {
+  if (bins_.empty()) bins_.assign(kRulerBins, 0);
+  for (double v : distances) {
+    v = std::isfinite(v) ? std::abs(v) : kMissM;
+    ++n_;
+    sum2_ += v * v;
+    if (v <= 1.0) within2_ += v * v, ++within_;
+    over03_ += v > 0.3;
+    over1_ += v > 1.0;
+    max_ = std::max(max_, v);
+    ++bins_[std::min(kRulerBins - 1, size_t(v / kRulerBinM))];
+  }
+}
+
+double RulerAccumulator::value_at_rank(long rank) const {
+  long seen = 0;
+  for (size_t b = 0; b < bins_.size(); ++b)
+    if ((seen += long(bins_[b])) > rank) return std::min(max_, bin_value(b));
+  return max_;
+}
+
+RulerFigures RulerAccumulator::figures() const {
+  RulerFigures r;
+  if (n_ == 0) return r;
+  r.n = n_;
+  r.rmse = std::sqrt(sum2_ / double(n_));
+  r.rmse_within_1m = within_ > 0 ? std::sqrt(within2_ / double(within_)) : 0;
+  r.max = max_;
+  const double last = double(n_ - 1);
+  auto at = [&](long k) { return value_at_rank(k); };
+  r.median = interpolated(0.5 * last, n_, at);
+  r.p95 = interpolated(0.95 * last, n_, at);
+  // |value - median| per bin, in increasing order, for the median deviation.
+  std::vector<std::pair<double, unsigned>> dev;
+  for (size_t b = 0; b < bins_.size(); ++b)
+    if (bins_[b]) dev.emplace_back(std::abs(std::min(max_, bin_value(b)) - r.median), bins_[b]);
+  std::sort(dev.begin(), dev.end());
+  auto dev_at = [&](long k) {
+    long seen = 0;
+    for (const auto& [d, c] : dev)
+      if ((seen += long(c)) > k) return d;
+    return dev.back().first;
+  };
+  r.nmad = 1.4826 * interpolated(0.5 * last, n_, dev_at);
+  r.share_over_0_3m = double(over03_) / double(n_);
+  r.share_over_1m = double(over1_) / double(n_);
+  return r;
+}
+
 std::vector<char> near_rings(const std::vector<Vec3>& points, const std::vector<Ring3>& rings, double reach) {
   // Edges by grid cell of size `reach`: a point looks only at its own cell and the eight around it.
   std::map<std::pair<long, long>, std::vector<std::pair<Vec2, Vec2>>> cells;

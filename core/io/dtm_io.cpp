@@ -295,46 +295,64 @@ Dtm read_dtm(const std::string& path, size_t max_cells) {
   return dtm;
 }
 
+GroundDtmBuilder::GroundDtmBuilder(double min_x, double min_y, double max_x, double max_y,
+                                   const std::string& crs_wkt, double cell_m, const std::string& source)
+    : min_x_(min_x), max_y_(max_y), cell_(cell_m) {
+  register_gdal_drivers();
+  if (!(cell_m > 0)) throw InputError(source, "DTM cell size must be positive");
+  dtm_.source = source;
+  dtm_.crs_wkt = crs_wkt;
+  dtm_.dx = cell_m;
+  dtm_.dy = -cell_m;  // north-up like a GeoTIFF
+  const double nx = std::floor((max_x - min_x) / cell_m) + 1, ny = std::floor((max_y - min_y) / cell_m) + 1;
+  check_grid_size(source, nx, ny, dtm_cell_budget(), "the ground points span");
+  dtm_.nx = int(nx);
+  dtm_.ny = int(ny);
+  dtm_.x0 = min_x + 0.5 * cell_m;
+  dtm_.y0 = max_y - 0.5 * cell_m;
+  dtm_.z.assign(size_t(dtm_.nx) * dtm_.ny, std::nanf(""));
+}
+
+size_t GroundDtmBuilder::cell_of(const Vec3& p) const {
+  const int i = std::min(dtm_.nx - 1, int((p.x() - min_x_) / cell_));
+  const int j = std::min(dtm_.ny - 1, int((max_y_ - p.y()) / cell_));
+  return size_t(j) * dtm_.nx + i;
+}
+
+void GroundDtmBuilder::add(const std::vector<Vec3>& ground) {
+  for (const Vec3& p : ground) {
+    float& z = dtm_.z[cell_of(p)];
+    if (std::isnan(z) || p.z() < z) z = float(p.z());
+  }
+}
+
+Dtm GroundDtmBuilder::finish() {
+  fill_holes(dtm_);
+  return std::move(dtm_);
+}
+
 Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt, double cell_m,
                     DtmCell stat, const std::string& source) {
-  register_gdal_drivers();
   if (ground.empty()) throw InputError(source, "no ground points to build a DTM from");
-  if (!(cell_m > 0)) throw InputError(source, "DTM cell size must be positive");
   double minx = ground[0].x(), maxx = minx, miny = ground[0].y(), maxy = miny;
   for (const Vec3& p : ground) {
     minx = std::min(minx, p.x()), maxx = std::max(maxx, p.x());
     miny = std::min(miny, p.y()), maxy = std::max(maxy, p.y());
   }
-  Dtm dtm;
-  dtm.source = source;
-  dtm.crs_wkt = crs_wkt;
-  dtm.dx = cell_m;
-  dtm.dy = -cell_m;  // north-up like a GeoTIFF
-  const double nx = std::floor((maxx - minx) / cell_m) + 1, ny = std::floor((maxy - miny) / cell_m) + 1;
-  check_grid_size(source, nx, ny, dtm_cell_budget(), "the ground points span");
-  dtm.nx = int(nx);
-  dtm.ny = int(ny);
-  dtm.x0 = minx + 0.5 * cell_m;
-  dtm.y0 = maxy - 0.5 * cell_m;
-  const size_t cells = size_t(dtm.nx) * dtm.ny;
-  dtm.z.assign(cells, std::nanf(""));
-  std::vector<double> sum(stat == DtmCell::Mean ? cells : 0);
-  std::vector<int> count(stat == DtmCell::Mean ? cells : 0);
-  for (const Vec3& p : ground) {
-    int i = std::min(dtm.nx - 1, int((p.x() - minx) / cell_m));
-    int j = std::min(dtm.ny - 1, int((maxy - p.y()) / cell_m));
-    size_t k = size_t(j) * dtm.nx + i;
-    if (stat == DtmCell::Mean) {
-      sum[k] += p.z(), ++count[k];
-    } else if (std::isnan(dtm.z[k]) || p.z() < dtm.z[k]) {
-      dtm.z[k] = float(p.z());
-    }
+  GroundDtmBuilder grid(minx, miny, maxx, maxy, crs_wkt, cell_m, source);
+  if (stat == DtmCell::Min) {
+    grid.add(ground);
+    return grid.finish();
   }
-  if (stat == DtmCell::Mean)
-    for (size_t k = 0; k < cells; ++k)
-      if (count[k]) dtm.z[k] = float(sum[k] / count[k]);
-  fill_holes(dtm);
-  return dtm;
+  std::vector<double> sum(grid.cells());
+  std::vector<int> count(grid.cells());
+  for (const Vec3& p : ground) {
+    const size_t k = grid.cell_of(p);
+    sum[k] += p.z(), ++count[k];
+  }
+  for (size_t k = 0; k < sum.size(); ++k)
+    if (count[k]) grid.set(k, float(sum[k] / count[k]));
+  return grid.finish();
 }
 
 std::string dtm_gap(const Dtm& dtm, const Parcel& parcel, const std::string& layer_source) {

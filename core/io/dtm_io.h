@@ -28,6 +28,25 @@ Dtm dtm_from_points(const std::vector<Vec3>& ground, const std::string& crs_wkt,
                     double cell_m = 1.0, DtmCell stat = DtmCell::Min,
                     const std::string& source = "ground points");
 
+// dtm_from_points (DtmCell::Min) for ground points streamed in parts: the grid
+// from their extent (known first: a pass of its own), each part added, then the
+// holes filled. The same points give the same grid, whatever the parts.
+class GroundDtmBuilder {
+ public:
+  GroundDtmBuilder(double min_x, double min_y, double max_x, double max_y, const std::string& crs_wkt,
+                   double cell_m, const std::string& source);
+  void add(const std::vector<Vec3>& ground);  // each cell keeps its lowest point
+  Dtm finish();                                // holes filled; the builder is spent
+
+  size_t cells() const { return dtm_.z.size(); }
+  size_t cell_of(const Vec3& p) const;
+  void set(size_t cell, float z) { dtm_.z[cell] = z; }
+
+ private:
+  Dtm dtm_;
+  double min_x_, max_y_, cell_;
+};
+
 // Why the DTM cannot give the parcel its terrain: the first vertex outside
 // the grid, or "" when it covers the parcel.
 std::string dtm_gap(const Dtm& dtm, const Parcel& parcel, const std::string& layer_source);

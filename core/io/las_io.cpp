@@ -6,6 +6,12 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/error.h"
 #include "core/io/crs.h"
@@ -14,6 +20,7 @@
 #include "core/io/laz/laz_writer.h"
 #include "core/io/point_io.h"
 #include "core/io/point_io_detail.h"
+#include "core/io/read_limits.h"
 
 namespace c3d {
 
@@ -48,7 +55,8 @@ struct LasHeader {
   double scale[3], offset[3];
 };
 
-LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf) {
+// buf: the file, or its first bytes up to the point data (file_size: the whole file's).
+LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf, size_t file_size) {
   if (buf.size() < 4 || std::memcmp(buf.data(), "LASF", 4) != 0)
     throw InputError(path, "not a LAS file (no LASF signature)");
   if (buf.size() < 227)
@@ -103,11 +111,11 @@ LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf
       throw InputError(path, "implausible " + axis + " offset " + number_text(h.offset[i]) +
                                  " in the LAS header (beyond +-" + number_text(kMaxLasOffset) + ")");
   }
-  if (h.point_offset < h.header_size || h.point_offset > buf.size())
+  if (h.point_offset < h.header_size || h.point_offset > file_size)
     throw InputError(path, "truncated LAS file: point data offset " +
                                std::to_string(h.point_offset) + " lies beyond the end of the file (" +
-                               std::to_string(buf.size()) + " bytes)");
-  uint64_t available = (buf.size() - h.point_offset) / h.record_length;
+                               std::to_string(file_size) + " bytes)");
+  uint64_t available = (file_size - h.point_offset) / h.record_length;
   if (!h.compressed && h.point_count > available)
     throw InputError(path, "truncated LAS file: header point count " +
                                std::to_string(h.point_count) + " is larger than the file holds (" +
@@ -231,38 +239,177 @@ std::vector<uint8_t> laz_records(const std::string& path, const std::vector<char
   }
 }
 
-}  // namespace
-
-PointCloud point_io_detail::read_las(const std::string& path) {
-  std::vector<char> buf = slurp(path);
-  LasHeader h = parse_las_header(path, buf);
-  PointCloud cloud;
-  cloud.source = path;
-  cloud.crs_wkt = las_crs(path, buf, h);
-  std::vector<uint8_t> decoded;
-  if (h.compressed) decoded = laz_records(path, buf, h);
-  size_t n = h.point_count;
-  cloud.points.resize(n);
-  cloud.classes.resize(n);
+// Appends n records (the first is point first_index of the file) to cloud.
+void append_records(const std::string& path, const LasHeader& h, const char* rec, size_t n, size_t first_index,
+                    PointCloud& cloud) {
+  const size_t at = cloud.points.size();
+  cloud.points.resize(at + n);
+  cloud.classes.resize(at + n);
   // Formats 6-10 carry a full classification byte (classes >= 32 such as 64
   // survive); 0-5 keep the class in the low 5 bits beside three flags.
   const bool extended = h.format >= 6;
   const int class_at = extended ? 16 : 15;
   const uint8_t class_mask = extended ? 0xFF : 0x1F;
-  const char* rec = h.compressed ? reinterpret_cast<const char*>(decoded.data()) : buf.data() + h.point_offset;
   for (size_t i = 0; i < n; ++i, rec += h.record_length) {
-    cloud.points[i] = Vec3(get<int32_t>(rec) * h.scale[0] + h.offset[0],
-                           get<int32_t>(rec + 4) * h.scale[1] + h.offset[1],
-                           get<int32_t>(rec + 8) * h.scale[2] + h.offset[2]);
-    check_coordinates(path, cloud.points[i].x(), cloud.points[i].y(), cloud.points[i].z(), i);
-    cloud.classes[i] = uint8_t(rec[class_at]) & class_mask;
+    Vec3& p = cloud.points[at + i];
+    p = Vec3(get<int32_t>(rec) * h.scale[0] + h.offset[0], get<int32_t>(rec + 4) * h.scale[1] + h.offset[1],
+             get<int32_t>(rec + 8) * h.scale[2] + h.offset[2]);
+    check_coordinates(path, p.x(), p.y(), p.z(), first_index + i);
+    cloud.classes[at + i] = uint8_t(rec[class_at]) & class_mask;
   }
+}
+
+// A file mapped read-only. A streamed file hands back the pages it has read
+// (release_before), so it is never resident whole.
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& path) {
+    check_regular_file(path);
+    fd_ = ::open(path.c_str(), O_RDONLY);
+    if (fd_ < 0) throw InputError(path, "cannot open file (" + std::string(std::strerror(errno)) + ")");
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0 || st.st_size <= 0) {
+      ::close(fd_);
+      throw InputError(path, "empty file");
+    }
+    size_ = size_t(st.st_size);
+    void* at = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
+    if (at == MAP_FAILED) {
+      ::close(fd_);
+      throw InputError(path, "cannot map file (" + std::string(std::strerror(errno)) + ")");
+    }
+    data_ = static_cast<const char*>(at);
+    ::madvise(at, size_, MADV_SEQUENTIAL);
+  }
+  ~MappedFile() {
+    ::munmap(const_cast<char*>(data_), size_);
+    ::close(fd_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  const char* data() const { return data_; }
+  size_t size() const { return size_; }
+  void release_before(size_t offset) {
+    const size_t page = size_t(::sysconf(_SC_PAGESIZE)), end = std::min(offset, size_) / page * page;
+    if (end <= released_) return;
+    ::madvise(const_cast<char*>(data_) + released_, end - released_, MADV_DONTNEED);
+    released_ = end;
+  }
+
+ private:
+  int fd_ = -1;
+  const char* data_ = nullptr;
+  size_t size_ = 0, released_ = 0;
+};
+
+// The header and the VLRs (the bytes before the point data), parsed.
+struct LasPrefix {
+  std::vector<char> bytes;
+  LasHeader header;
+};
+
+LasPrefix las_prefix(const std::string& path, const MappedFile& file) {
+  const size_t offset = file.size() >= 100 ? get<uint32_t>(file.data() + 96) : 0;
+  LasPrefix p;
+  p.bytes.assign(file.data(), file.data() + std::min(file.size(), std::max<size_t>(375, offset)));
+  p.header = parse_las_header(path, p.bytes, file.size());
+  return p;
+}
+
+// The CRS from the VLRs, else from the EVLRs after the points (copied on their own).
+std::string prefix_crs(const std::string& path, const LasPrefix& p, const MappedFile& file) {
+  std::string wkt = las_crs(path, p.bytes, p.header);
+  if (!wkt.empty() || p.header.evlr_count == 0 || p.header.evlr_offset >= file.size()) return wkt;
+  const std::vector<char> tail(file.data() + p.header.evlr_offset, file.data() + file.size());
+  LasHeader evlrs = p.header;
+  evlrs.vlr_count = 0;
+  evlrs.evlr_offset = 0;
+  return las_crs(path, tail, evlrs);
+}
+
+void stream_laz(const std::string& path, const LasPrefix& p, MappedFile& file,
+                const std::function<void(const char*, size_t)>& emit) {
+  try {
+    const char* vlr = nullptr;
+    uint64_t vlr_length = 0;
+    visit_vlrs(path, p.bytes, p.header, [&](const char* rec, uint64_t length, const char* where) {
+      if (vlr_user(rec) == laz::kLaszipUserId && get<uint16_t>(rec + 18) == laz::kLaszipRecordId)
+        vlr = where, vlr_length = length;
+    });
+    if (!vlr) throw laz::FormatError("compressed points but no LASzip VLR");
+    laz::PointData in;
+    in.file = reinterpret_cast<const uint8_t*>(file.data());
+    in.file_size = file.size();
+    in.point_offset = p.header.point_offset;
+    in.count = p.header.point_count;
+    in.record_length = uint32_t(p.header.record_length);
+    laz::decode_points_by_chunk(in, laz::parse_laszip_vlr(reinterpret_cast<const uint8_t*>(vlr), vlr_length),
+                                [&](const uint8_t* records, uint64_t n, uint64_t bytes_end) {
+                                  emit(reinterpret_cast<const char*>(records), size_t(n));
+                                  file.release_before(bytes_end);
+                                });
+  } catch (const laz::FormatError& e) {
+    throw InputError(path, std::string("LAZ: ") + e.what());
+  }
+}
+
+}  // namespace
+
+void point_io_detail::stream_las(const std::string& path, size_t block_points,
+                                 const std::function<void(const PointCloud&)>& block) {
+  MappedFile file(path);
+  const LasPrefix p = las_prefix(path, file);
+  const LasHeader& h = p.header;
+  PointCloud out;
+  out.source = path;
+  out.crs_wkt = prefix_crs(path, p, file);
+  size_t index = 0;
+  auto emit = [&](const char* rec, size_t n) {
+    out.points.clear();
+    out.classes.clear();
+    append_records(path, h, rec, n, index, out);
+    index += n;
+    block(out);
+  };
+  if (h.compressed) return stream_laz(path, p, file, emit);
+  for (uint64_t done = 0; done < h.point_count; done += block_points) {
+    const size_t n = size_t(std::min<uint64_t>(block_points, h.point_count - done));
+    emit(file.data() + h.point_offset + done * h.record_length, n);
+    file.release_before(h.point_offset + (done + n) * h.record_length);
+  }
+}
+
+std::optional<CloudExtent> point_io_detail::las_header_extent(const std::string& path) {
+  MappedFile file(path);
+  const LasPrefix p = las_prefix(path, file);
+  const char* b = p.bytes.data();
+  CloudExtent e;
+  e.crs_wkt = prefix_crs(path, p, file);
+  e.points = p.header.point_count;
+  e.max_x = get<double>(b + 179), e.min_x = get<double>(b + 187);
+  e.max_y = get<double>(b + 195), e.min_y = get<double>(b + 203);
+  const bool usable = std::isfinite(e.min_x) && std::isfinite(e.max_x) && std::isfinite(e.min_y) &&
+                      std::isfinite(e.max_y) && e.min_x <= e.max_x && e.min_y <= e.max_y;
+  if (!usable && e.points > 0) return std::nullopt;
+  return e;
+}
+
+PointCloud point_io_detail::read_las(const std::string& path) {
+  std::vector<char> buf = slurp(path);
+  LasHeader h = parse_las_header(path, buf, buf.size());
+  PointCloud cloud;
+  cloud.source = path;
+  cloud.crs_wkt = las_crs(path, buf, h);
+  std::vector<uint8_t> decoded;
+  if (h.compressed) decoded = laz_records(path, buf, h);
+  const char* rec = h.compressed ? reinterpret_cast<const char*>(decoded.data()) : buf.data() + h.point_offset;
+  append_records(path, h, rec, h.point_count, 0, cloud);
   return cloud;
 }
 
 std::vector<uint8_t> read_las_records(const std::string& path) {
   std::vector<char> buf = slurp(path);
-  LasHeader h = parse_las_header(path, buf);
+  LasHeader h = parse_las_header(path, buf, buf.size());
   if (h.compressed) return laz_records(path, buf, h);
   const uint8_t* begin = reinterpret_cast<const uint8_t*>(buf.data()) + h.point_offset;
   return std::vector<uint8_t>(begin, begin + h.point_count * h.record_length);

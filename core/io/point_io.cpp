@@ -160,4 +160,50 @@ PointCloud read_point_cloud(const std::string& path) {
                              "' (read: .las .laz .ply .pcd .xyz .txt .csv)");
 }
 
+namespace {
+
+constexpr size_t kPointBlock = size_t(1) << 20;  // points per block: 25 MB, long enough to stream fast
+
+bool is_las(const std::string& path) {
+  const std::string ext = extension(path);
+  return ext == ".las" || ext == ".laz";
+}
+
+}  // namespace
+
+void for_each_point_block(const std::string& path, const std::function<void(const PointCloud&)>& block) {
+  if (is_las(path)) return stream_las(path, kPointBlock, block);
+  PointCloud whole = read_point_cloud(path);
+  PointCloud part;
+  part.source = whole.source;
+  part.crs_wkt = whole.crs_wkt;
+  for (size_t at = 0; at < whole.points.size(); at += kPointBlock) {
+    const size_t end = std::min(whole.points.size(), at + kPointBlock);
+    part.points.assign(whole.points.begin() + long(at), whole.points.begin() + long(end));
+    if (!whole.classes.empty()) part.classes.assign(whole.classes.begin() + long(at), whole.classes.begin() + long(end));
+    block(part);
+  }
+}
+
+CloudExtent read_cloud_extent(const std::string& path) {
+  check_regular_file(path);
+  if (is_las(path))
+    if (auto e = las_header_extent(path)) {
+      e->from_header = true;
+      return *e;
+    }
+  CloudExtent e;
+  e.min_x = e.min_y = 1e300, e.max_x = e.max_y = -1e300;
+  for_each_point_block(path, [&](const PointCloud& c) {
+    e.crs_wkt = c.crs_wkt;
+    e.points += c.points.size();
+    for (const Vec3& p : c.points) {
+      e.min_x = std::min(e.min_x, p.x()), e.max_x = std::max(e.max_x, p.x());
+      e.min_y = std::min(e.min_y, p.y()), e.max_y = std::max(e.max_y, p.y());
+    }
+  });
+  if (e.points == 0) e.min_x = e.min_y = e.max_x = e.max_y = 0;
+  return e;
+}
+
 }  // namespace c3d

@@ -2,6 +2,7 @@
 // Point-cloud readers and the LAS writer. Every reader returns world
 // coordinates in double and throws InputError("<file>", "<problem>") on bad input.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,25 @@ namespace c3d {
 // Dispatches on the extension: .las, .laz (LASzip-compressed, decoded by
 // core/io/laz), .ply, .pcd, .xyz/.txt/.csv.
 PointCloud read_point_cloud(const std::string& path);
+
+// Reads a cloud a block of points at a time, in file order. LAS and LAZ are
+// mapped and decoded a block (a LASzip chunk) at a time and the pages read are
+// handed back, so a file is never held whole; PLY, PCD and XYZ are read whole,
+// then handed on in blocks. `block` gets the next points (source and crs_wkt
+// set; classes empty when the file has none). Throws as read_point_cloud.
+void for_each_point_block(const std::string& path, const std::function<void(const PointCloud&)>& block);
+
+// A cloud's extent in plan, in its own CRS.
+struct CloudExtent {
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  std::string crs_wkt;
+  uint64_t points = 0;
+  bool from_header = false;  // read from a LAS/LAZ header alone, not from the points
+};
+// LAS and LAZ: from the header (the bytes before the points), trusting its
+// bounds as the format requires writers to set them; other formats, and a
+// header whose bounds are unusable, from one pass over the points.
+CloudExtent read_cloud_extent(const std::string& path);
 
 // The raw point records of a LAS or LAZ file (LAZ decoded), in file order:
 // header point count times record length bytes.

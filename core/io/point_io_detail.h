@@ -2,9 +2,12 @@
 // Pieces shared by the point-cloud readers and the LAS writer (internal to
 // core/io/point_io.cpp, las_io.cpp, ply_reader.cpp and pcd_reader.cpp).
 #include <cstring>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/io/point_io.h"
 #include "core/types.h"
 
 namespace c3d::point_io_detail {
@@ -34,6 +37,10 @@ uint8_t class_code(const std::string& path, double c, size_t index);
 bool is_class_name(const std::string& name);
 
 PointCloud read_las(const std::string& path);
+// LAS and LAZ a block (a LASzip chunk) at a time: for_each_point_block.
+void stream_las(const std::string& path, size_t block_points, const std::function<void(const PointCloud&)>& block);
+// The header's bounds; nullopt when they are not usable (NaN, min over max).
+std::optional<CloudExtent> las_header_extent(const std::string& path);
 PointCloud read_ply(const std::string& path);
 PointCloud read_pcd(const std::string& path);
 

@@ -1,6 +1,7 @@
 // LAZ point data: LASzip VLR, chunk table, chunks (see the header).
 #include "core/io/laz/laz_reader.h"
 
+#include <algorithm>
 #include <memory>
 
 #include "core/io/laz/integer_decompressor.h"
@@ -176,16 +177,41 @@ LaszipVlr parse_laszip_vlr(const uint8_t* data, size_t size) {
   return vlr;
 }
 
-std::vector<uint8_t> decode_points(const PointData& in, const LaszipVlr& vlr) {
-  auto items = make_items(vlr, in.record_length);
+namespace {
+
+std::vector<Chunk> chunks_of(const PointData& in, const LaszipVlr& vlr) {
   const uint64_t compressed = in.file_size - in.point_offset;
   if (in.count > compressed * kMaxLazExpansion / in.record_length)
     throw FormatError("header claims " + std::to_string(in.count) + " points, more than " +
                       std::to_string(kMaxLazExpansion) + " times the " + std::to_string(compressed) +
                       " compressed bytes can hold");
-  std::vector<Chunk> chunks = vlr.compressor == 1
-                                  ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
-                                  : read_chunk_table(in, vlr.chunk_size);
+  return vlr.compressor == 1 ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
+                             : read_chunk_table(in, vlr.chunk_size);
+}
+
+}  // namespace
+
+void decode_points_by_chunk(const PointData& in, const LaszipVlr& vlr,
+                            const std::function<void(const uint8_t*, uint64_t, uint64_t)>& chunk_out) {
+  auto items = make_items(vlr, in.record_length);
+  std::vector<uint8_t> records;
+  uint64_t done = 0;
+  for (const Chunk& chunk : chunks_of(in, vlr)) {
+    const uint64_t points = std::min(chunk.points, in.count - done);
+    if (points == 0) continue;
+    records.resize(points * in.record_length);
+    decode_chunk(*items, in, chunk, points, records.data());
+    done += points;
+    chunk_out(records.data(), points, chunk.end);
+  }
+  if (done < in.count)
+    throw FormatError("the chunks hold " + std::to_string(done) + " points, the header says " +
+                      std::to_string(in.count));
+}
+
+std::vector<uint8_t> decode_points(const PointData& in, const LaszipVlr& vlr) {
+  auto items = make_items(vlr, in.record_length);
+  const std::vector<Chunk> chunks = chunks_of(in, vlr);
   std::vector<uint8_t> records(in.count * in.record_length);
   uint64_t done = 0;
   for (const Chunk& chunk : chunks) {

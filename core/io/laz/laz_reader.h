@@ -6,6 +6,7 @@
 // Throws laz::FormatError on damaged or unsupported data.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,15 @@ struct PointData {
 
 // All point records, count * record_length bytes, in file order.
 std::vector<uint8_t> decode_points(const PointData& in, const LaszipVlr& vlr);
+
+// The same records a LASzip chunk at a time, in file order: `chunk` gets
+// each chunk's records (a buffer reused for the next), their count and the
+// file offset the chunk's bytes end at (what a mapped file may now release),
+// so a reader keeps one chunk decoded, never the whole file (a point-wise
+// compressed file, compressor 1, is one chunk).
+void decode_points_by_chunk(
+    const PointData& in, const LaszipVlr& vlr,
+    const std::function<void(const uint8_t* records, uint64_t count, uint64_t bytes_end)>& chunk);
 
 // A LAZ's point records may be at most this many times its compressed
 // bytes: LiDAR compresses 5-15 times, so a header claiming more is damaged

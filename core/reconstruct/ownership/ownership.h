@@ -9,6 +9,8 @@
 // modelled twice or by nobody), party edges (a wall shared with the
 // neighbour's building), and roof edges hidden under a neighbour's higher eave.
 #include <set>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "core/reconstruct/ownership/point_grid.h"
@@ -37,6 +39,10 @@ struct Ownership {
 // The scan's typical roof points per cell of the size ownership counts roof
 // in (the median over the cells holding any); 0 with no points.
 int typical_roof_points_per_cell(const std::vector<Vec3>& roof_points);
+// The same for a scan counted a part at a time: the cell a plan point counts
+// in, and the typical count from a histogram (points in a cell -> cells).
+std::pair<long, long> roof_cell(const Vec2& q);
+int typical_roof_points_per_cell(const std::map<int, size_t>& cells_by_count);
 
 // Decides, from the scene and its segmentation, what this parcel models.
 Ownership decide_ownership(const ParcelScene& s, const Segmentation& seg, const ReconstructionParams& p);

@@ -1,0 +1,233 @@
+#include "cadastre/batch/tiles.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "core/geometry/unique_points.h"
+#include "core/io/crs.h"
+#include "core/io/point_io.h"
+#include "core/reconstruct/ownership/ownership.h"
+#include "core/reconstruct/ownership/ownership_constants.h"
+
+namespace c3d {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The density is counted a block at a time; a block holds about this many
+// roof points (25 bytes each, and as much again to fold copies), so larger
+// clouds take more blocks, not more memory.
+constexpr double kDensityBlockPoints = 1.5e6;
+
+bool is_point_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  for (const char* known : {".las", ".laz", ".ply", ".pcd", ".xyz", ".txt", ".csv", ".pts"})
+    if (ext == known) return true;
+  return false;
+}
+
+std::vector<std::string> folder_files(const std::string& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && is_point_file(e.path())) out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<std::string> glob_files(const std::string& pattern) {
+  glob_t g{};
+  std::vector<std::string> out;
+  if (::glob(pattern.c_str(), 0, nullptr, &g) == 0)
+    for (size_t i = 0; i < g.gl_pathc; ++i)
+      if (fs::is_regular_file(g.gl_pathv[i])) out.push_back(g.gl_pathv[i]);
+  ::globfree(&g);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// A tile's points a block at a time, in the working CRS, with plausible heights only.
+using BlockFn = std::function<void(const std::vector<Vec3>& points, const std::vector<uint8_t>& classes)>;
+
+struct ReadCount {
+  size_t read = 0;       // points in the file
+  bool classes = false;  // the file holds classes
+  double first_bad = 0;  // the first height left out, for the message
+  bool bad = false;
+};
+
+void for_each_block(const Tile& t, const BlockFn& fn, ReadCount* counted = nullptr) {
+  if (t.held) {
+    if (counted) counted->read += t.held->points.size(), counted->classes = !t.held->classes.empty();
+    return fn(t.held->points, t.held->classes);
+  }
+  const bool reproject = !same_crs(t.crs_wkt, t.working);
+  std::vector<Vec3> pts;
+  std::vector<uint8_t> cls;
+  for_each_point_block(t.path, [&](const PointCloud& c) {
+    if (counted) counted->read += c.points.size(), counted->classes = counted->classes || !c.classes.empty();
+    pts = c.points;
+    if (reproject) reproject_points(pts, t.crs_wkt, t.working, t.path);
+    const bool classes = c.classes.size() == c.points.size();
+    cls.clear();
+    size_t kept = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      if (!plausible_elevation(pts[i].z())) {
+        if (counted && !counted->bad) counted->first_bad = pts[i].z(), counted->bad = true;
+        continue;
+      }
+      pts[kept++] = pts[i];
+      if (classes) cls.push_back(c.classes[i]);
+    }
+    pts.resize(kept);
+    fn(pts, cls);
+  });
+}
+
+std::string six_digits(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+}  // namespace
+
+void Box::add(double x, double y) {
+  min_x = std::min(min_x, x), max_x = std::max(max_x, x);
+  min_y = std::min(min_y, y), max_y = std::max(max_y, y);
+}
+
+void Box::add(const Box& b) {
+  if (b.empty()) return;
+  add(b.min_x, b.min_y);
+  add(b.max_x, b.max_y);
+}
+
+Box box_of(const MultiPolygon2& shape) {
+  Box b;
+  for (const auto& p : shape)
+    for (const auto& v : p.outer) b.add(v.x(), v.y());
+  return b;
+}
+
+std::vector<std::string> expand_point_files(const std::vector<std::string>& args) {
+  std::vector<std::string> out;
+  for (const std::string& a : args) {
+    std::error_code ec;
+    std::vector<std::string> found;
+    if (fs::is_directory(a, ec)) found = folder_files(a);
+    else if (a.find_first_of("*?[") != std::string::npos && !fs::exists(a, ec)) found = glob_files(a);
+    else found = {a};  // a file, or a name the reader refuses with its own message
+    if (found.empty())
+      throw InputError(a, fs::is_directory(a, ec) ? "folder holds no point cloud (.las .laz .ply .pcd .xyz .txt .csv)"
+                                                  : "no file matches the pattern");
+    out.insert(out.end(), found.begin(), found.end());
+  }
+  return out;
+}
+
+RegionPoints read_region(const std::vector<Tile>& tiles, const Box& box, const ClassMapping& m) {
+  RegionPoints r;
+  for (const Tile& t : tiles) {
+    if (!t.extent.touches(box)) continue;
+    for_each_block(t, [&](const std::vector<Vec3>& pts, const std::vector<uint8_t>& cls) {
+      for (size_t i = 0; i < pts.size(); ++i) {
+        if (!box.holds(pts[i])) continue;
+        if (t.walls) r.wall.push_back(pts[i]);
+        else if (cls.empty() || m.is_roof(cls[i])) r.roof.push_back(pts[i]);  // unclassified: roof
+        else if (m.is_wall(cls[i])) r.wall.push_back(pts[i]);
+      }
+    });
+  }
+  r.roof = one_per_place(r.roof);
+  r.wall = one_per_place(r.wall);
+  return r;
+}
+
+TileSurvey survey_tiles(const std::vector<Tile>& tiles, const ClassMapping& m) {
+  TileSurvey s;
+  std::vector<std::string> unclassified;
+  for (const Tile& t : tiles) {
+    ReadCount n;
+    size_t kept = 0;
+    for_each_block(
+        t,
+        [&](const std::vector<Vec3>& pts, const std::vector<uint8_t>& cls) {
+          kept += pts.size();
+          s.coverage.add(pts);
+          for (size_t i = 0; i < pts.size(); ++i) {
+            if (t.walls) ++s.wall;
+            else if (cls.empty() || m.is_roof(cls[i])) ++s.roof;
+            else if (m.is_wall(cls[i])) ++s.wall;
+            else if (m.is_ground(cls[i])) s.ground.add(pts[i].x(), pts[i].y());
+          }
+        },
+        &n);
+    const size_t read = n.read;
+    const bool classes = n.classes;
+    if (read > 0 && kept == 0)
+      throw InputError(t.path, "no point's height lies within " + elevation_bounds() + " (e.g. z = " +
+                                   six_digits(n.first_bad) + "): check the Z scale, offset and unit");
+    if (kept < read)
+      s.warnings.push_back(t.path + ": " + std::to_string(read - kept) + " points with a height outside " +
+                           elevation_bounds() + " left out");
+    if (!t.walls && !classes) unclassified.push_back(t.path + ": no classification, all points taken as roof");
+  }
+  s.warnings.insert(s.warnings.end(), unclassified.begin(), unclassified.end());
+  return s;
+}
+
+Dtm ground_dtm(const std::vector<Tile>& tiles, const TileSurvey& survey, const ClassMapping& m,
+               const std::string& crs_wkt) {
+  if (survey.ground.empty()) throw InputError("--dtm", "no DTM given and no ground-class points to build one from");
+  const Box& g = survey.ground;
+  GroundDtmBuilder grid(g.min_x, g.min_y, g.max_x, g.max_y, crs_wkt, 1.0, "ground-class points");
+  std::vector<Vec3> ground;
+  for (const Tile& t : tiles) {
+    if (t.walls) continue;
+    for_each_block(t, [&](const std::vector<Vec3>& pts, const std::vector<uint8_t>& cls) {
+      ground.clear();
+      for (size_t i = 0; i < cls.size(); ++i)
+        if (!m.is_roof(cls[i]) && !m.is_wall(cls[i]) && m.is_ground(cls[i])) ground.push_back(pts[i]);
+      grid.add(ground);
+    });
+  }
+  return grid.finish();
+}
+
+int typical_roof_density(const std::vector<Tile>& tiles, const ClassMapping& m, size_t roof_points) {
+  Box all;
+  for (const Tile& t : tiles) all.add(t.extent);
+  if (all.empty() || roof_points == 0) return 0;
+  // Blocks of whole roof cells, as many as keep a block near kDensityBlockPoints.
+  const double area = std::max(1.0, (all.max_x - all.min_x) * (all.max_y - all.min_y));
+  const double side = std::sqrt(area * kDensityBlockPoints / double(roof_points));
+  const long cells = std::max(64L, long(side / ownership::kRoofCellM));  // per block side
+  const auto lo = roof_cell(Vec2(all.min_x, all.min_y)), hi = roof_cell(Vec2(all.max_x, all.max_y));
+  std::map<int, size_t> histogram;  // points in a cell -> cells
+  std::unordered_map<uint64_t, int> count;
+  for (long bx = floor_div(lo.first, cells); bx <= floor_div(hi.first, cells); ++bx)
+    for (long by = floor_div(lo.second, cells); by <= floor_div(hi.second, cells); ++by) {
+      const Box core{bx * cells * ownership::kRoofCellM, by * cells * ownership::kRoofCellM, (bx + 1) * cells * ownership::kRoofCellM,
+                     (by + 1) * cells * ownership::kRoofCellM};
+      count.clear();
+      for (const Vec3& p : read_region(tiles, core.grown(kRegionMarginM), m).roof) {
+        const auto c = roof_cell(Vec2(p.x(), p.y()));
+        if (floor_div(c.first, cells) == bx && floor_div(c.second, cells) == by)
+          ++count[uint64_t(uint32_t(c.first)) << 32 | uint32_t(c.second)];
+      }
+      for (const auto& [cell, n] : count) ++histogram[n];
+    }
+  return typical_roof_points_per_cell(histogram);
+}
+
+}  // namespace c3d

@@ -1,0 +1,82 @@
+#pragma once
+// Many files as one cloud. --cloud and --walls name files, folders or globs;
+// each file is a tile known by its extent (a LAS/LAZ header's bounds, or one
+// pass over the points of a format without them), and the points of a region
+// are read from the tiles that touch it, a block at a time, keeping only those
+// inside: no tile is ever held whole (docs/inputs.md, "Tiles").
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cadastre/batch/plausibility.h"
+#include "core/io/dtm_io.h"
+#include "core/types.h"
+
+namespace c3d {
+
+// A box in plan, world coordinates of the working CRS.
+struct Box {
+  double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+  bool empty() const { return min_x > max_x; }
+  void add(double x, double y);
+  void add(const Box& b);
+  Box grown(double m) const { return {min_x - m, min_y - m, max_x + m, max_y + m}; }
+  bool touches(const Box& b) const {
+    return !empty() && !b.empty() && min_x <= b.max_x && b.min_x <= max_x && min_y <= b.max_y && b.min_y <= max_y;
+  }
+  bool holds(const Vec3& p) const { return p.x() >= min_x && p.x() <= max_x && p.y() >= min_y && p.y() <= max_y; }
+};
+
+Box box_of(const MultiPolygon2& shape);
+
+// The point-cloud files the arguments name, in order: a file as it is, a
+// folder's point clouds (.las .laz .ply .pcd .xyz .txt .csv .pts) sorted by
+// name, a glob's matches sorted. Throws InputError naming an argument that
+// names nothing.
+std::vector<std::string> expand_point_files(const std::vector<std::string>& args);
+
+struct Tile {
+  std::string path;
+  bool walls = false;    // a --walls file: every point is a wall point
+  std::string crs_wkt;   // its points' CRS: its own, or the one assumed for it
+  std::string working;   // the batch's CRS, where the points are reprojected to when it differs
+  Box extent;            // in the working CRS
+  // --classify: the cloud classified in memory (working CRS), read from here, not from the file.
+  std::shared_ptr<const PointCloud> held;
+};
+
+// A region is read this much wider than its points are needed: copies within
+// kSamePlaceM fold into one place alike in a region and in the whole cloud
+// wherever they lie this far inside the region's edge.
+constexpr double kRegionMarginM = 1.0;
+
+// The points of a region: roof and wall points inside it (boundary
+// included), working CRS, each class one point per place (one_per_place), in
+// the order of the tiles and of the points in their files, as a whole read
+// would give them.
+struct RegionPoints {
+  std::vector<Vec3> roof, wall;
+};
+RegionPoints read_region(const std::vector<Tile>& tiles, const Box& box, const ClassMapping& classes);
+
+// What one pass over every tile tells before any region is read.
+struct TileSurvey {
+  PointCoverage coverage;  // where the clouds have points of any class
+  Box ground;              // the ground-class points' extent
+  size_t roof = 0, wall = 0;
+  std::vector<std::string> warnings;  // once per file: heights left out, no classification
+};
+TileSurvey survey_tiles(const std::vector<Tile>& tiles, const ClassMapping& classes);
+
+// The DTM dtm_from_points builds from every ground-class point, a pass over
+// the tiles (the grid is held whole: 4 bytes per cell).
+Dtm ground_dtm(const std::vector<Tile>& tiles, const TileSurvey& survey, const ClassMapping& classes,
+               const std::string& crs_wkt);
+
+// typical_roof_points_per_cell over every roof point (one per place), counted
+// in blocks of the tiles' area read one at a time (roof_points: the survey's
+// count, which sizes the blocks).
+int typical_roof_density(const std::vector<Tile>& tiles, const ClassMapping& classes, size_t roof_points);
+
+}  // namespace c3d

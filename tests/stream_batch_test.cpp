@@ -1,0 +1,222 @@
+// Many tiles as one cloud and the chunked batch (docs/inputs.md "Tiles",
+// docs/scale.md "Streaming"): a folder or a glob of tiles gives the store one
+// file gives; any chunk size gives the same store; a region read keeps exactly
+// the points inside; a file streamed in blocks is the file read whole.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "cadastre/batch/batch.h"
+#include "cadastre/batch/store_sink.h"
+#include "cadastre/batch/tiles.h"
+#include "cadastre/store.h"
+#include "core/config/config.h"
+#include "core/error.h"
+#include "core/geometry/unique_points.h"
+#include "core/io/point_io.h"
+#include "tests/test_support.h"
+
+namespace c3d {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Town {
+  std::string dir;
+  BatchInputs inputs;
+};
+
+const Town& town() {
+  static const Town t = [] {
+    Town t;
+    t.dir = test::temp_dir("stream_town");
+    std::string log;
+    EXPECT_EQ(test::run_cli("sample --out " + t.dir + " --parcels 12 --seed 11 --density 25", &log), 0) << log;
+    t.inputs = BatchInputs{{t.dir + "/cloud.las"}, {}, t.dir + "/parcels.gpkg", t.dir + "/dtm.tif"};
+    return t;
+  }();
+  return t;
+}
+
+// The town's cloud cut into four LAS tiles by quadrant of its extent.
+std::string four_tiles() {
+  static const std::string dir = [] {
+    const std::string d = test::temp_dir("tiles");
+    const PointCloud whole = read_point_cloud(town().inputs.clouds[0]);
+    Box all;
+    for (const Vec3& p : whole.points) all.add(p.x(), p.y());
+    const double mx = (all.min_x + all.max_x) / 2, my = (all.min_y + all.max_y) / 2;
+    std::vector<PointCloud> tiles(4);
+    for (size_t i = 0; i < whole.points.size(); ++i) {
+      const Vec3& p = whole.points[i];
+      PointCloud& t = tiles[size_t(p.x() >= mx) + 2 * size_t(p.y() >= my)];
+      t.points.push_back(p);
+      t.classes.push_back(whole.classes[i]);
+    }
+    for (size_t k = 0; k < 4; ++k) {
+      tiles[k].crs_wkt = whole.crs_wkt;
+      write_las(d + "/tile_" + std::to_string(k) + ".las", tiles[k]);
+    }
+    return d;
+  }();
+  return dir;
+}
+
+BatchReport run_into(const BatchInputs& in, const std::string& store, int chunk_parcels) {
+  Config cfg = default_config();
+  cfg.batch.chunk_parcels = chunk_parcels;
+  StoreSink sink(store);
+  BatchSettings s;
+  s.jobs = 2;
+  return run_batch(in, cfg, sink, s);
+}
+
+// Same parcels, statuses, reasons, buildings, element areas and valuations.
+void expect_same_store(const std::string& a, const std::string& b) {
+  const BatchModel ma = load_batch_model(a), mb = load_batch_model(b);
+  ASSERT_EQ(ma.results.size(), mb.results.size());
+  size_t elements = 0;
+  for (size_t i = 0; i < ma.results.size(); ++i) {
+    const ParcelResult &ra = ma.results[i], &rb = mb.results[i];
+    EXPECT_EQ(ra.parcel_id, rb.parcel_id);
+    EXPECT_EQ(ra.status, rb.status) << ra.parcel_id;
+    EXPECT_EQ(ra.reason, rb.reason) << ra.parcel_id;
+    EXPECT_EQ(ra.roof_points, rb.roof_points) << ra.parcel_id;
+    ASSERT_EQ(ra.buildings.size(), rb.buildings.size()) << ra.parcel_id;
+    for (size_t k = 0; k < ra.buildings.size(); ++k) {
+      ASSERT_EQ(ra.buildings[k].elements.size(), rb.buildings[k].elements.size()) << ra.parcel_id;
+      for (size_t e = 0; e < ra.buildings[k].elements.size(); ++e, ++elements)
+        EXPECT_EQ(ra.buildings[k].elements[e].area, rb.buildings[k].elements[e].area) << ra.parcel_id;
+    }
+  }
+  EXPECT_GT(elements, 20u);
+  const auto va = load_valuations(a), vb = load_valuations(b);
+  ASSERT_EQ(va.size(), vb.size());
+  for (size_t i = 0; i < va.size(); ++i) {
+    EXPECT_EQ(va[i].njop, vb[i].njop);
+    EXPECT_EQ(va[i].tax, vb[i].tax);
+  }
+}
+
+void expect_same_figures(const BatchReport& a, const BatchReport& b) {
+  EXPECT_EQ(a.any_model_roof.n, b.any_model_roof.n);
+  EXPECT_NEAR(a.any_model_roof.rmse, b.any_model_roof.rmse, 1e-12);
+  EXPECT_EQ(a.any_model_roof.max, b.any_model_roof.max);
+  EXPECT_EQ(a.any_model_wall.n, b.any_model_wall.n);
+  EXPECT_NEAR(a.any_model_wall.mean, b.any_model_wall.mean, 1e-12);
+  EXPECT_EQ(a.roof_ruler.n, b.roof_ruler.n);
+  EXPECT_EQ(a.roof_ruler.median, b.roof_ruler.median);  // the same histogram, whatever the chunks
+  EXPECT_EQ(a.wall_ruler.p95, b.wall_ruler.p95);
+  EXPECT_EQ(a.wall_points_measured, b.wall_points_measured);
+  EXPECT_EQ(a.held, b.held);
+}
+
+struct Run {
+  std::string store;
+  BatchReport report;
+};
+
+// The town from its one file in one chunk: what every other run must equal.
+const Run& whole_file_run() {
+  static const Run r = [] {
+    const std::string store = test::temp_dir("whole") + "/cadastre.gpkg";
+    return Run{store, run_into(town().inputs, store, 1000)};
+  }();
+  return r;
+}
+
+TEST(StreamBatch, ChunkSizeChangesNothing) {
+  const BatchReport& all = whole_file_run().report;
+  EXPECT_EQ(all.held, 12u);
+  EXPECT_GT(all.any_model_roof.n, 1000);
+  for (int chunk : {1, 7}) {
+    const std::string store = test::temp_dir("chunk" + std::to_string(chunk)) + "/cadastre.gpkg";
+    const BatchReport r = run_into(town().inputs, store, chunk);
+    expect_same_store(whole_file_run().store, store);
+    expect_same_figures(all, r);
+  }
+}
+
+TEST(StreamBatch, FolderOrGlobOfTilesIsTheFile) {
+  const BatchReport& all = whole_file_run().report;
+  for (const std::string& cloud : {four_tiles(), four_tiles() + "/tile_*.las"}) {
+    BatchInputs in = town().inputs;
+    in.clouds = {cloud};
+    const std::string store = test::temp_dir(cloud == four_tiles() ? "folder" : "glob") + "/cadastre.gpkg";
+    const BatchReport r = run_into(in, store, 5);
+    expect_same_store(whole_file_run().store, store);
+    expect_same_figures(all, r);
+    EXPECT_EQ(load_runs(store).back().inputs.size(), 4u + 2u) << "each tile hashed, the parcels and the DTM";
+  }
+}
+
+TEST(StreamBatch, FolderWithoutCloudsAndUnmatchedGlobAreErrors) {
+  const std::string empty = test::temp_dir("empty");
+  EXPECT_THROW(expand_point_files({empty}), InputError);
+  EXPECT_THROW(expand_point_files({empty + "/*.laz"}), InputError);
+  const auto files = expand_point_files({four_tiles()});
+  ASSERT_EQ(files.size(), 4u);
+  EXPECT_TRUE(std::is_sorted(files.begin(), files.end()));
+}
+
+// The points of a file inside a box, split and folded as read_region promises, from the whole file.
+RegionPoints expected_region(const std::string& path, const Box& box, const ClassMapping& m) {
+  const PointCloud c = read_point_cloud(path);
+  RegionPoints r;
+  for (size_t i = 0; i < c.points.size(); ++i) {
+    if (!box.holds(c.points[i])) continue;
+    if (c.classes.empty() || m.is_roof(c.classes[i])) r.roof.push_back(c.points[i]);
+    else if (m.is_wall(c.classes[i])) r.wall.push_back(c.points[i]);
+  }
+  r.roof = one_per_place(r.roof);
+  r.wall = one_per_place(r.wall);
+  return r;
+}
+
+void expect_region_read_exact(const std::string& path, const ClassMapping& m) {
+  const CloudExtent e = read_cloud_extent(path);
+  ASSERT_TRUE(e.from_header) << path;
+  Tile t{path, false, e.crs_wkt, e.crs_wkt, {}, nullptr};
+  t.extent = {e.min_x, e.min_y, e.max_x, e.max_y};
+  const Box box{e.min_x + 0.3 * (e.max_x - e.min_x), e.min_y + 0.2 * (e.max_y - e.min_y),
+                e.min_x + 0.7 * (e.max_x - e.min_x), e.min_y + 0.6 * (e.max_y - e.min_y)};
+  const RegionPoints got = read_region({t}, box, m), want = expected_region(path, box, m);
+  EXPECT_GT(got.roof.size() + got.wall.size(), 0u) << path;
+  EXPECT_EQ(got.roof, want.roof) << path;
+  EXPECT_EQ(got.wall, want.wall) << path;
+}
+
+TEST(StreamBatch, RegionReadKeepsExactlyThePointsInside) {
+  expect_region_read_exact(town().inputs.clouds[0], default_config().classes);
+  const std::string laz = test::laz_dir();
+  if (laz.empty()) GTEST_SKIP() << "../shared/data/laz absent: LAZ region reads not checked";
+  ClassMapping everything;  // every class a roof class: all points count
+  for (int c = 0; c < 256; ++c) everything.roof.push_back(c);
+  for (const char* f : {"autzen_trim.laz", "simple.laz", "1.2-with-color.copc.laz"})
+    expect_region_read_exact(laz + "/" + f, everything);
+}
+
+TEST(StreamBatch, BlocksOfAFileAreTheFileReadWhole) {
+  std::vector<std::string> files = {town().inputs.clouds[0]};
+  if (!test::laz_dir().empty())
+    for (const char* f : {"autzen_trim.laz", "las_with_several_extra_byte_bloc.laz", "1.2-with-color.copc.laz"})
+      files.push_back(test::laz_dir() + "/" + f);
+  for (const std::string& f : files) {
+    const PointCloud whole = read_point_cloud(f);
+    PointCloud joined;
+    size_t blocks = 0;
+    for_each_point_block(f, [&](const PointCloud& b) {
+      ++blocks;
+      EXPECT_EQ(b.crs_wkt, whole.crs_wkt);
+      joined.points.insert(joined.points.end(), b.points.begin(), b.points.end());
+      joined.classes.insert(joined.classes.end(), b.classes.begin(), b.classes.end());
+    });
+    EXPECT_GE(blocks, 1u);
+    EXPECT_EQ(joined.points, whole.points) << f;
+    EXPECT_EQ(joined.classes, whole.classes) << f;
+  }
+}
+
+}  // namespace
+}  // namespace c3d
