@@ -21,7 +21,7 @@ import sys
 
 MAX_FILE_LINES = 600
 MAX_FUNCTION_LINES = 80
-MAX_CLI_LINES = 1050  # 900, and the parsing of merge and slurm (issue 37); the work stays in the library
+MAX_CLI_LINES = 1100  # 900, and the options of merge, slurm, --shard and --store (issue 37); the work stays in the library
 SOURCE_DIRS = ["core", "cadastre", "valuation", "ifc_citygml", "cli", "tests", "shaders"]
 EXTENSIONS = (".h", ".cpp", ".comp")
 SCOPE_RE = re.compile(r"\b(namespace|struct|class|union|enum)\b[^;{}()]*$|extern\s+\"C\"\s*$")
