@@ -72,6 +72,35 @@ struct MixHash {
   }
 };
 
+// Cell -> the last point kept in it, open addressing (no node per cell):
+// a table at least twice the points, so probes stay short.
+class CellTable {
+ public:
+  explicit CellTable(size_t points) {
+    size_t n = 16;
+    while (n < 2 * points) n *= 2;
+    keys_.resize(n);
+    heads_.assign(n, -1);
+    mask_ = n - 1;
+  }
+  // The head slot of cell c; -1 when the cell holds no point yet.
+  int& slot(const Cell& c, bool insert) {
+    for (size_t at = MixHash()(c) & mask_;; at = (at + 1) & mask_) {
+      if (heads_[at] < 0) {
+        if (insert) keys_[at] = c;
+        return insert ? heads_[at] : missing_ = -1;
+      }
+      if (keys_[at] == c) return heads_[at];
+    }
+  }
+
+ private:
+  std::vector<Cell> keys_;
+  std::vector<int> heads_;
+  size_t mask_ = 0;
+  int missing_ = -1;
+};
+
 // The cells on one axis that may hold a point within tol of coordinate v.
 int axis_cells(double v, double side, std::int64_t out[2]) {
   const double f = v / side, base = std::floor(f), frac = f - base;
@@ -88,8 +117,7 @@ int axis_cells(double v, double side, std::int64_t out[2]) {
 // within tol: the same set whatever cells are searched), found faster.
 std::vector<Vec3> one_per_place(const std::vector<Vec3>& points) {
   const double tol = kSamePlaceM, tol2 = tol * tol, side = 2 * tol;
-  std::unordered_map<Cell, int, MixHash> head;  // cell -> its last kept point
-  head.reserve(points.size());
+  CellTable head(points.size());
   std::vector<int> kept, before;  // kept points; per kept point, the one kept earlier in its cell
   kept.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
@@ -99,16 +127,13 @@ std::vector<Vec3> one_per_place(const std::vector<Vec3>& points) {
     bool near = false;
     for (int a = 0; a < nx && !near; ++a)
       for (int b = 0; b < ny && !near; ++b)
-        for (int c = 0; c < nz && !near; ++c) {
-          auto it = head.find(Cell{xs[a], ys[b], zs[c]});
-          if (it == head.end()) continue;
-          for (int k = it->second; k >= 0 && !near; k = before[size_t(k)])
+        for (int c = 0; c < nz && !near; ++c)
+          for (int k = head.slot(Cell{xs[a], ys[b], zs[c]}, false); k >= 0 && !near; k = before[size_t(k)])
             near = (points[size_t(kept[size_t(k)])] - p).squaredNorm() <= tol2;
-        }
     if (near) continue;
-    auto [it, fresh] = head.try_emplace(Cell{xs[0], ys[0], zs[0]}, int(kept.size()));
-    before.push_back(fresh ? -1 : it->second);
-    if (!fresh) it->second = int(kept.size());
+    int& h = head.slot(Cell{xs[0], ys[0], zs[0]}, true);
+    before.push_back(h);
+    h = int(kept.size());
     kept.push_back(int(i));
   }
   if (kept.size() == points.size()) return points;
