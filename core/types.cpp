@@ -42,6 +42,13 @@ bool Dtm::covers(double x, double y) const {
   return fx >= -0.5 && fy >= -0.5 && fx <= nx - 0.5 && fy <= ny - 0.5;
 }
 
+float Dtm::cell(int i, int j) const {
+  if (win_nx == 0) return z[size_t(j) * nx + i];
+  const int u = i - win_x, v = j - win_y;
+  if (u < 0 || v < 0 || u >= win_nx || v >= win_ny) return float(kNaN);
+  return z[size_t(v) * win_nx + u];
+}
+
 double Dtm::height_at(double x, double y) const {
   if (nx == 0 || ny == 0 || !covers(x, y)) return kNaN;
   double fx = std::clamp((x - x0) / dx, 0.0, double(nx - 1));
@@ -50,7 +57,7 @@ double Dtm::height_at(double x, double y) const {
   int iy = std::min(int(fy), ny - 2 < 0 ? 0 : ny - 2);
   int ix1 = std::min(ix + 1, nx - 1), iy1 = std::min(iy + 1, ny - 1);
   double tx = fx - ix, ty = fy - iy;
-  auto at = [&](int i, int j) { return double(z[size_t(j) * nx + i]); };
+  auto at = [&](int i, int j) { return double(cell(i, j)); };
   double a = at(ix, iy) * (1 - tx) + at(ix1, iy) * tx;
   double b = at(ix, iy1) * (1 - tx) + at(ix1, iy1) * tx;
   return a * (1 - ty) + b * ty;

@@ -95,8 +95,15 @@ struct Dtm {
   double x0 = 0, y0 = 0;     // world coordinates of the centre of cell (0,0)
   double dx = 1, dy = -1;    // cell size (dy negative for north-up rasters)
   int nx = 0, ny = 0;
-  std::vector<float> z;      // row-major, ny rows of nx
+  std::vector<float> z;      // row-major, ny rows of nx; or only a window (below)
   double nodata_share = 0;   // share of cells that were NoData before filling
+  // A window of a larger raster (DtmSource::window): z holds win_ny rows of
+  // win_nx cells from cell (win_x, win_y); x0, y0, nx, ny stay the whole
+  // raster's, so extents and lookups are computed exactly as on the whole.
+  // win_nx == 0: z holds the whole grid.
+  int win_x = 0, win_y = 0, win_nx = 0, win_ny = 0;
+  // Height of cell (i, j) of the whole grid; NaN outside the window held.
+  float cell(int i, int j) const;
   // Bilinear height at a world position; NaN outside the grid.
   double height_at(double x, double y) const;
   bool covers(double x, double y) const;

@@ -127,7 +127,10 @@ void classify_tiles(const BatchInputs& inputs, const Config& cfg, LoadedInputs& 
     if (!same_crs(t.crs_wkt, t.working)) reproject(clouds.back(), t.working);
     held.push_back(&t);
   }
-  classify_clouds(inputs.classifier_model, clouds, clouds.size(), inputs.dtm.empty() ? nullptr : &in.dtm,
+  Box extent;
+  for (const Tile* t : held) extent.add(t->extent);
+  const Dtm terrain = dtm_window(in, extent);
+  classify_clouds(inputs.classifier_model, clouds, clouds.size(), in.dtm_source ? &terrain : nullptr,
                   cfg.classes, in.warnings);
   for (size_t i = 0; i < clouds.size(); ++i) {
     keep_plausible_elevations(clouds[i], in.warnings);
@@ -143,7 +146,8 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
   check_override_ids(cfg.valuation.parcels, in.layer, cfg.source, !sel.where.empty() || !sel.bbox.empty(),
                      in.warnings);
   const bool have_dtm = !inputs.dtm.empty();
-  if (have_dtm) in.dtm = read_dtm(inputs.dtm);
+  if (have_dtm) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
+  if (have_dtm) in.dtm = in.dtm_source->header();
   index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), have_dtm, in);
   for (std::string& w : overlap_warnings(in.layer)) in.warnings.push_back(std::move(w));
   log::info("areas in " + areas_crs_text(in.crs_wkt));
@@ -153,7 +157,10 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
   in.warnings.insert(in.warnings.end(), survey.warnings.begin(), survey.warnings.end());
   in.coverage = std::move(survey.coverage);
   if (!have_dtm) in.dtm = ground_dtm(in.tiles, survey, cfg.classes, in.crs_wkt);
-  check_dtm_elevations(in.dtm, in.warnings);
+  if (in.dtm_source)
+    check_dtm_elevations(*in.dtm_source, in.warnings);
+  else
+    check_dtm_elevations(in.dtm, in.warnings);
   if (survey.roof == 0 && survey.wall == 0)
     throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
                      "no roof or wall points (check the class mapping)");
@@ -171,6 +178,10 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
   } catch (const InputError& e) {
     throw gdal.fold(e);
   }
+}
+
+Dtm dtm_window(const LoadedInputs& in, const Box& box) {
+  return in.dtm_source ? in.dtm_source->window(box.min_x, box.min_y, box.max_x, box.max_y) : Dtm{};
 }
 
 LocalFrame frame_of(const ParcelLayer& layer) {

@@ -3,6 +3,7 @@
 // files indexed as tiles (cadastre/batch/tiles.h) and surveyed once, all in
 // one CRS, and the batch's local frame. The points themselves are read a
 // region at a time (read_region), never all at once.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,8 @@ namespace c3d {
 
 struct LoadedInputs {
   ParcelLayer layer;
-  Dtm dtm;
+  Dtm dtm;  // with --dtm its header only (extent, CRS): cells come from dtm_source
+  std::shared_ptr<const DtmSource> dtm_source;  // --dtm, read a window at a time
   std::vector<Tile> tiles;       // the --cloud files, then the --walls files
   std::vector<std::string> cloud_files, wall_files;  // the files --cloud and --walls name
   PointCoverage coverage;        // where the clouds have points of any class
@@ -31,6 +33,10 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg);
 // Why parcel i cannot be modelled from these inputs (no point of the clouds
 // near it, no DTM under it), or "".
 std::string unreachable(const LoadedInputs& in, size_t i);
+
+// The --dtm cells under the box (DtmSource::window); without --dtm an empty Dtm
+// (in.dtm, built from ground points, is held whole).
+Dtm dtm_window(const LoadedInputs& in, const Box& box);
 
 // The batch's local origin: the south-west corner of the layer, on a 10 m grid.
 LocalFrame frame_of(const ParcelLayer& layer);

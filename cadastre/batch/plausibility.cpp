@@ -123,17 +123,33 @@ void keep_plausible_elevations(PointCloud& cloud, std::vector<std::string>& warn
                      elevation_bounds() + " left out");
 }
 
+namespace {
+
+void report_dtm_elevations(const std::string& source, size_t bad, size_t cells, float example,
+                           std::vector<std::string>& warnings) {
+  if (bad == 0) return;
+  if (bad == cells)
+    throw InputError(source, "no cell's height lies within " + elevation_bounds() + " (e.g. " +
+                                     num(example) + " m): check the vertical unit and offset");
+  warnings.push_back(source + ": " + std::to_string(bad) + " cells with a height outside " +
+                     elevation_bounds() + " (e.g. " + num(example) + " m); buildings on them are suspect");
+}
+
+}  // namespace
+
 void check_dtm_elevations(const Dtm& dtm, std::vector<std::string>& warnings) {
   size_t bad = 0;
   float example = 0;
   for (float z : dtm.z)
     if (!plausible_elevation(z)) example = bad++ ? example : z;
-  if (bad == 0) return;
-  if (bad == dtm.z.size())
-    throw InputError(dtm.source, "no cell's height lies within " + elevation_bounds() + " (e.g. " +
-                                     num(example) + " m): check the vertical unit and offset");
-  warnings.push_back(dtm.source + ": " + std::to_string(bad) + " cells with a height outside " +
-                     elevation_bounds() + " (e.g. " + num(example) + " m); buildings on them are suspect");
+  report_dtm_elevations(dtm.source, bad, dtm.z.size(), example, warnings);
+}
+
+void check_dtm_elevations(const DtmSource& dtm, std::vector<std::string>& warnings) {
+  float example = 0;
+  const size_t bad = dtm.count_cells([](float z) { return !plausible_elevation(z); }, &example);
+  const Dtm& h = dtm.header();
+  report_dtm_elevations(h.source, bad, size_t(h.nx) * size_t(h.ny), example, warnings);
 }
 
 ParcelResult failed_parcel(size_t index, const std::string& id, const std::string& reason) {

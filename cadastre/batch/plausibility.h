@@ -8,6 +8,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/io/dtm_io.h"
 #include "core/types.h"
 #include "core/config/config.h"
 #include "valuation/valuation_types.h"
@@ -66,6 +67,8 @@ void keep_plausible_elevations(PointCloud& cloud, std::vector<std::string>& warn
 // Throws InputError naming the DTM when no cell lies within the elevation
 // bounds; warns when some do not (parcels on them come out suspect).
 void check_dtm_elevations(const Dtm& dtm, std::vector<std::string>& warnings);
+// The same, a pass over the raster's blocks (nothing held).
+void check_dtm_elevations(const DtmSource& dtm, std::vector<std::string>& warnings);
 
 // A parcel the batch cannot model: `failed` with the reason.
 ParcelResult failed_parcel(size_t index, const std::string& id, const std::string& reason);

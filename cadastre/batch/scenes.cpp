@@ -109,7 +109,7 @@ ParcelScene make_scene(const SceneSource& src, size_t i) {
   s.overhang_buffer_m = g.overhang_buffer_m;
   s.context_m = g.overhang_buffer_m + kOwnershipContextM;
   s.roof_points_per_cell = in.roof_points_per_cell;
-  const Dtm* dtm = &in.dtm;
+  const Dtm* dtm = src.terrain ? src.terrain : &in.dtm;
   Vec3 o = frame.origin;
   s.terrain = [dtm, o](double x, double y) { return dtm->height_at(x + o.x(), y + o.y()) - o.z(); };
   return s;

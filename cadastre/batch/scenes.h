@@ -30,6 +30,7 @@ struct SceneSource {
   const RegionPoints* points = nullptr;
   const SceneGeometry* geometry = nullptr;
   LocalFrame frame;
+  const Dtm* terrain = nullptr;  // the region's DTM window; nullptr: inputs->dtm
   ParcelClipper::IndexLists roof_lists, wall_lists;  // per parcel: indices into points
 };
 

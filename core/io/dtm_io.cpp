@@ -9,6 +9,7 @@
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <mutex>
 #include <sstream>
 
 #include <Eigen/Dense>
@@ -50,6 +51,7 @@ void fill_nearest(std::vector<float>& z, const std::vector<char>& valid_in, int 
 // distance. Past this much work (about 2 s) the distance shrinks (Cimahi's
 // DTM needs 5e7) and fill_nearest fills what the shorter search leaves.
 constexpr double kMaxFillWork = 4e8;
+constexpr size_t kStripCells = size_t(1) << 22;  // cells read at once by a pass over the raster (16 MB)
 constexpr int kMinFillSearch = 32;  // cells; never shorter than this
 
 int fill_search_distance(const std::vector<float>& z, int nx, int ny, const std::string& source) {
@@ -258,14 +260,16 @@ size_t dtm_cell_budget() {
   return std::min(kMaxDtmCells, by_memory);
 }
 
-Dtm read_dtm(const std::string& path, size_t max_cells) {
+namespace {
+
+// The raster opened and its header checked: the Dtm's geometry and CRS, z empty.
+GdalDataset open_dtm(const std::string& path, Dtm& dtm) {
   register_gdal_drivers();
   CPLPushErrorHandler(CPLQuietErrorHandler);
   GdalDataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   CPLPopErrorHandler();
   if (!ds) throw InputError(path, "not a raster GDAL can read (" + std::string(CPLGetLastErrorMsg()) + ")");
   if (ds->GetRasterCount() < 1) throw InputError(path, "raster has no band");
-  Dtm dtm;
   dtm.source = path;
   dtm.crs_wkt = crs_of(*ds);
   double gt[6];
@@ -273,26 +277,119 @@ Dtm read_dtm(const std::string& path, size_t max_cells) {
   dtm.nx = ds->GetRasterXSize();
   dtm.ny = ds->GetRasterYSize();
   check_geotransform(path, gt, dtm.nx, dtm.ny);
-  check_grid_size(path, dtm.nx, dtm.ny, max_cells, "raster of");
   dtm.dx = gt[1];
   dtm.dy = gt[5];
   dtm.x0 = gt[0] + 0.5 * gt[1];
   dtm.y0 = gt[3] + 0.5 * gt[5];
-  dtm.z.resize(size_t(dtm.nx) * dtm.ny);
-  GDALRasterBand* band = ds->GetRasterBand(1);
-  if (band->RasterIO(GF_Read, 0, 0, dtm.nx, dtm.ny, dtm.z.data(), dtm.nx, dtm.ny, GDT_Float32, 0,
-                     0) != CE_None)
+  return ds;
+}
+
+// Cells [x, x + w) x [y, y + h) of band 1 into out, NoData and non-finite
+// heights as NaN.
+void read_cells(GDALDataset& ds, const std::string& path, int x, int y, int w, int h, std::vector<float>& out) {
+  out.resize(size_t(w) * size_t(h));
+  GDALRasterBand* band = ds.GetRasterBand(1);
+  if (band->RasterIO(GF_Read, x, y, w, h, out.data(), w, h, GDT_Float32, 0, 0) != CE_None)
     throw InputError(path, "cannot read band 1: " + std::string(CPLGetLastErrorMsg()));
   int has_nodata = 0;
   double nodata = band->GetNoDataValue(&has_nodata);
   // GDAL clamps a Float64 raster's values into float range; the NoData value alike.
   const float nodata_f = float(std::clamp(nodata, double(-FLT_MAX), double(FLT_MAX)));
-  for (float& v : dtm.z)
-    if ((has_nodata && (v == nodata_f || (std::isnan(nodata) && std::isnan(v)))) ||
-        !std::isfinite(v))
+  for (float& v : out)
+    if ((has_nodata && (v == nodata_f || (std::isnan(nodata) && std::isnan(v)))) || !std::isfinite(v))
       v = std::nanf("");
+}
+
+// Calls visit(z) for every row-major run of rows of the raster, a strip of
+// blocks at a time: only a strip is ever held.
+template <class Visit>
+void for_each_strip(GDALDataset& ds, const std::string& path, Visit visit) {
+  int bx = 0, by = 0;
+  ds.GetRasterBand(1)->GetBlockSize(&bx, &by);
+  const int nx = ds.GetRasterXSize(), ny = ds.GetRasterYSize();
+  const int rows = std::max(1, std::min(by, int(kStripCells / std::max(1, nx))));
+  std::vector<float> strip;
+  for (int y = 0; y < ny; y += rows) {
+    read_cells(ds, path, 0, y, nx, std::min(rows, ny - y), strip);
+    ds.GetRasterBand(1)->FlushCache();  // else GDAL's block cache keeps up to 5 % of memory
+    visit(strip);
+  }
+}
+
+}  // namespace
+
+Dtm read_dtm(const std::string& path, size_t max_cells) {
+  Dtm dtm;
+  GdalDataset ds = open_dtm(path, dtm);
+  check_grid_size(path, dtm.nx, dtm.ny, max_cells, "raster of");
+  read_cells(*ds, path, 0, 0, dtm.nx, dtm.ny, dtm.z);
   fill_holes(dtm);
   return dtm;
+}
+
+DtmSource::DtmSource(const std::string& path, size_t max_cells) : max_cells_(max_cells) {
+  Dtm header;
+  GdalDataset ds = open_dtm(path, header);
+  bool holes = false;
+  for_each_strip(*ds, path, [&](const std::vector<float>& z) {
+    holes = holes || std::any_of(z.begin(), z.end(), [](float v) { return std::isnan(v); });
+  });
+  if (holes) {
+    ds.reset();
+    whole_ = read_dtm(path, max_cells);  // holes are filled from the whole raster
+    header_ = whole_;
+    header_.z.clear();
+    header_.z.shrink_to_fit();
+    log::info(path + ": NoData cells, read whole (their fill looks at the whole raster)");
+  } else {
+    header_ = std::move(header);
+    ds_ = std::move(ds);
+  }
+}
+
+DtmSource::~DtmSource() = default;
+
+Dtm DtmSource::window(double min_x, double min_y, double max_x, double max_y) const {
+  Dtm w = header_;
+  // The cells whose centres are nearest the box's corners, kWindowMarginCells around.
+  auto col = [&](double x) { return int(std::floor((x - w.x0) / w.dx + 0.5)); };
+  auto row = [&](double y) { return int(std::floor((y - w.y0) / w.dy + 0.5)); };
+  const int c0 = std::max(0, std::min(col(min_x), col(max_x)) - kWindowMarginCells);
+  const int c1 = std::min(w.nx - 1, std::max(col(min_x), col(max_x)) + kWindowMarginCells);
+  const int r0 = std::max(0, std::min(row(min_y), row(max_y)) - kWindowMarginCells);
+  const int r1 = std::min(w.ny - 1, std::max(row(min_y), row(max_y)) + kWindowMarginCells);
+  w.win_x = c0, w.win_y = r0;
+  w.win_nx = std::max(0, c1 - c0 + 1), w.win_ny = std::max(0, r1 - r0 + 1);
+  if (w.win_nx == 0 || w.win_ny == 0) {  // the box misses the raster: a window of no cell of it
+    w.win_x = w.win_y = -1, w.win_nx = w.win_ny = 1, w.z.assign(1, std::nanf(""));
+    return w;
+  }
+  check_grid_size(w.source, w.win_nx, w.win_ny, max_cells_, "a window of");
+  if (!whole_.z.empty()) {
+    w.z.resize(size_t(w.win_nx) * size_t(w.win_ny));
+    for (int v = 0; v < w.win_ny; ++v)
+      std::copy_n(whole_.z.begin() + (size_t(r0 + v) * whole_.nx + c0), w.win_nx, w.z.begin() + size_t(v) * w.win_nx);
+    return w;
+  }
+  std::lock_guard<std::mutex> lock(read_);
+  read_cells(*ds_, w.source, c0, r0, w.win_nx, w.win_ny, w.z);
+  ds_->GetRasterBand(1)->FlushCache();  // the window is all that stays
+  return w;
+}
+
+size_t DtmSource::count_cells(const std::function<bool(float)>& pick, float* first) const {
+  size_t n = 0;
+  auto visit = [&](const std::vector<float>& z) {
+    for (float v : z)
+      if (pick(v) && n++ == 0 && first) *first = v;
+  };
+  if (!whole_.z.empty()) {
+    visit(whole_.z);
+    return n;
+  }
+  std::lock_guard<std::mutex> lock(read_);
+  for_each_strip(*ds_, header_.source, visit);
+  return n;
 }
 
 GroundDtmBuilder::GroundDtmBuilder(double min_x, double min_y, double max_x, double max_y,

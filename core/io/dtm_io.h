@@ -2,9 +2,13 @@
 // Digital terrain models: any GDAL raster, or a grid built from ground points.
 // NoData holes (typically under buildings) are always filled, so that walls can
 // be extruded down to the terrain everywhere.
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include "core/gdal_dataset.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -18,6 +22,36 @@ size_t dtm_cell_budget();
 // rotated or all-NoData rasters, and on a raster of more than max_cells cells
 // (checked before anything is allocated).
 Dtm read_dtm(const std::string& path, size_t max_cells = dtm_cell_budget());
+
+// A GDAL raster DTM opened once (read_dtm's checks) and read a window at a
+// time, so that no more than a window is held however large the raster. A
+// window's cells and lookups equal read_dtm's grid's (Dtm::win_*). A raster
+// with NoData is read whole once (read_dtm): GDALFillNodata fills its holes
+// from the whole raster, which a window cannot reproduce.
+class DtmSource {
+ public:
+  explicit DtmSource(const std::string& path, size_t max_cells = dtm_cell_budget());
+  ~DtmSource();
+  // Extent, cells, CRS and NoData share of the whole raster; z empty.
+  const Dtm& header() const { return header_; }
+  bool windowed() const { return whole_.z.empty(); }
+  // The cells covering the box, kWindowMarginCells more around, clipped to the
+  // raster. Throws InputError when the window has more than max_cells cells.
+  Dtm window(double min_x, double min_y, double max_x, double max_y) const;
+  // How many cells' heights pick picks (a pass over the raster's blocks), and
+  // the first such height in row order.
+  size_t count_cells(const std::function<bool(float)>& pick, float* first) const;
+
+  // Bilinear lookups read the cell beyond; one more for safety.
+  static constexpr int kWindowMarginCells = 2;
+
+ private:
+  size_t max_cells_;
+  Dtm header_;
+  Dtm whole_;  // a raster with NoData, filled; else empty
+  GdalDataset ds_;
+  mutable std::mutex read_;  // GDAL datasets are not thread-safe
+};
 
 enum class DtmCell { Min, Mean };
 
