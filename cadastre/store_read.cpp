@@ -260,8 +260,19 @@ std::vector<ParcelValuation> read_valuations(const std::string& path, const std:
 bool is_database_url(const std::string& loc) { return sql::is_postgres_url(loc); }
 
 bool store_exists(const std::string& loc) {
-  if (!is_database_url(loc)) return std::filesystem::exists(loc);
-  return sql::Db(loc, true).has_table("parcel_job");
+  if (is_database_url(loc)) return sql::Db(loc, true).has_table("parcel_job");
+  if (!std::filesystem::exists(loc)) return false;
+  // The schema is written in one transaction: a batch killed before it
+  // commits leaves a file without a single table (empty, or a header only),
+  // which holds nothing to keep.
+  if (std::filesystem::file_size(loc) == 0) return false;
+  try {
+    const sql::Db db(loc, true);
+    sql::Stmt tables(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table'");
+    return !tables.step() || tables.get_int(0) > 0;
+  } catch (const InputError&) {
+    throw InputError(loc, "not a GeoPackage or SQLite file; left as it is: choose another --store or --out");
+  }
 }
 
 BatchModel load_batch_model(const std::string& path) { return read_batch_model(path, nullptr); }

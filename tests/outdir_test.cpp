@@ -237,3 +237,28 @@ TEST(OutDir, EveryStageReportsProgressAndTheLastLineCountsStatuses) {
   EXPECT_TRUE(has(log, counts)) << counts << "\n" << log;
   EXPECT_FALSE(has(log, "\r")) << "no bar in a log";
 }
+
+TEST(OutDir, AStoreFileWithoutTablesLeftByAKilledBatchIsTakenOverButAForeignFileIsNot) {
+  const std::string dir = test::temp_dir("empty_store");
+  make_town(dir + "/town", 4, 2);
+  const std::string out = dir + "/out", store = out + "/cadastre.gpkg";
+  int rc = 0;
+  // What a batch killed before its schema committed leaves: an empty file, or
+  // one with the GeoPackage header only.
+  for (const bool header : {false, true}) {
+    fs::remove_all(out);
+    fs::create_directories(out);
+    std::ofstream(store).close();
+    if (header) test::sql_exec(store, "PRAGMA application_id = 1196444487; PRAGMA user_version = 10300;");
+    const std::string log = run(batch_args(dir + "/town", out) + " --quiet", &rc);
+    EXPECT_EQ(rc, 0) << log;
+    EXPECT_GT(Sqlite(store).number("SELECT count(*) FROM la_spatialunit"), 0) << log;
+  }
+  fs::remove_all(out);
+  fs::create_directories(out);
+  std::ofstream(store) << "not a database\n";
+  const std::string log = run(batch_args(dir + "/town", out) + " --quiet", &rc);
+  EXPECT_EQ(rc, 1) << log;
+  EXPECT_TRUE(has(log, store + ": not a GeoPackage or SQLite file")) << log;
+  EXPECT_EQ(read_file(store), "not a database\n") << "a foreign file is left as it was";
+}
