@@ -102,7 +102,7 @@ void expect_same_store(const std::string& a, const std::string& b) {
 void expect_same_figures(const BatchReport& a, const BatchReport& b) {
   EXPECT_EQ(a.any_model_roof.n, b.any_model_roof.n);
   EXPECT_NEAR(a.any_model_roof.rmse, b.any_model_roof.rmse, 1e-12);
-  EXPECT_EQ(a.any_model_roof.max, b.any_model_roof.max);
+  EXPECT_NEAR(a.any_model_roof.max, b.any_model_roof.max, 1e-9);  // faces paged otherwise: last bits
   EXPECT_EQ(a.any_model_wall.n, b.any_model_wall.n);
   EXPECT_NEAR(a.any_model_wall.mean, b.any_model_wall.mean, 1e-12);
   EXPECT_EQ(a.roof_ruler.n, b.roof_ruler.n);

@@ -1,5 +1,6 @@
 #include "cadastre/batch/batch_deviation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -57,77 +58,188 @@ std::vector<Vec3> counted_points(const std::vector<Vec3>& pts, const ParcelClipp
   return out;
 }
 
-// Distances to the nearest face, NaN where none: searched around the chunk,
-// wider for the points whose nearest face could lie beyond the search.
-struct Nearest {
-  std::vector<double> roof, wall;
+// Points and their distance to the nearest face so far (NaN: none yet).
+struct Measured {
+  std::vector<Vec3> pts;
+  std::vector<double> d;
   std::vector<char> of_building;  // wall points within kFootprintReachM of a footprint
+};
+
+Measured unmeasured(std::vector<Vec3> pts) {
+  Measured m;
+  m.d.assign(pts.size(), std::numeric_limits<double>::quiet_NaN());
+  m.of_building.assign(pts.size(), 0);
+  m.pts = std::move(pts);
+  return m;
+}
+
+// What every chunk's search reads: the parcels' boxes grown by how far their
+// models may reach, and their places in the layer's Hilbert order.
+struct Layout {
+  std::vector<Box> reach;
+  std::vector<size_t> rank;
+  size_t page;  // parcels whose models are held at once
+};
+
+Layout layout_of(const ParcelLayer& layer, double model_reach, size_t page) {
+  Layout l{{}, std::vector<size_t>(layer.parcels.size()), page};
+  for (const Parcel& p : layer.parcels) l.reach.push_back(box_of(p.shape).grown(model_reach));
+  std::vector<size_t> all(layer.parcels.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  size_t at = 0;
+  for (const auto& run : spatial_chunks(layer, all, all.size()))
+    for (size_t i : run) l.rank[i] = at++;
+  return l;
+}
+
+// Which points a page of models with this box may hold a nearer face for:
+// the open ones whose nearest face so far lies further than the box.
+std::vector<char> nearer_than_found(const Measured& m, const std::vector<char>& open, const Box& b) {
+  std::vector<char> ask(m.pts.size(), 0);
+  for (size_t k = 0; k < m.pts.size(); ++k) {
+    if (!open[k]) continue;
+    const double dx = std::max({b.min_x - m.pts[k].x(), 0.0, m.pts[k].x() - b.max_x});
+    const double dy = std::max({b.min_y - m.pts[k].y(), 0.0, m.pts[k].y() - b.max_y});
+    ask[k] = !(m.d[k] <= std::hypot(dx, dy));  // NaN: none found yet
+  }
+  return ask;
+}
+
+// Lowers d (the nearest face so far) of the points `ask` picks to their
+// distance to the faces of `index`.
+void lower(const FaceIndex& index, Measured& m, const std::vector<char>& ask) {
+  if (index.empty()) return;
+  std::vector<Vec3> pts;
+  std::vector<size_t> at;
+  for (size_t k = 0; k < m.pts.size(); ++k)
+    if (ask[k]) pts.push_back(m.pts[k]), at.push_back(k);
+  if (pts.empty()) return;
+  const std::vector<SurfaceHit> hits = index.nearest(pts);
+  for (size_t j = 0; j < at.size(); ++j) {
+    double& best = m.d[at[j]];
+    if (!(best <= hits[j].distance)) best = hits[j].distance;  // NaN: none yet
+  }
+}
+
+// The roof and wall points of a search, which of them are still open, and
+// whether any face was seen.
+struct Search {
+  Measured roof, wall;
+  std::vector<char> roof_open, wall_open;
   bool roof_faces = false, wall_faces = false;  // any face with an area, anywhere
 };
 
-struct ChunkSearch {
-  const LoadedInputs& in;
-  BatchSink& sink;
-  Box points_box;
-  double model_reach;
-  std::vector<char> loaded;  // per parcel: its model has been searched
-
-  // The parcels not searched yet whose models may reach within r of the chunk's points.
-  std::vector<int> new_parcels_within(double r) {
-    std::vector<int> ring;
-    const Box b = points_box.grown(r);
-    for (size_t i = 0; i < in.layer.parcels.size(); ++i)
-      if (!loaded[i] && box_of(in.layer.parcels[i].shape).grown(model_reach).touches(b))
-        ring.push_back(int(i)), loaded[i] = 1;
-    return ring;
+// Lowers the open points' distances by the models of `parcels`, read from the
+// sink a page of spatially close parcels at a time (so no more than a page of
+// models is held, however many parcels are searched); a page is not asked
+// about points it cannot hold a nearer face for. With `footprints`, a wall
+// point near a page's footprint is marked of_building.
+void lower_by_pages(BatchSink& sink, const Layout& l, std::vector<size_t> parcels, Search& s, bool footprints) {
+  std::sort(parcels.begin(), parcels.end(), [&](size_t a, size_t b) { return l.rank[a] < l.rank[b]; });
+  for (size_t at = 0; at < parcels.size(); at += l.page) {
+    const size_t end = std::min(parcels.size(), at + l.page);
+    Box box;
+    for (size_t k = at; k < end; ++k) box.add(l.reach[parcels[k]]);
+    const std::vector<char> ask_roof = nearer_than_found(s.roof, s.roof_open, box);
+    const std::vector<char> ask_wall = nearer_than_found(s.wall, s.wall_open, box);
+    const auto none = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) == v.end(); };
+    if (none(ask_roof) && none(ask_wall) && !footprints) continue;
+    const BatchModel model = sink.models(std::vector<int>(parcels.begin() + long(at), parcels.begin() + long(end)));
+    if (footprints) {
+      const std::vector<char> near = near_rings(s.wall.pts, footprint_rings(model), kFootprintReachM);
+      for (size_t k = 0; k < near.size(); ++k) s.wall.of_building[k] |= near[k];
+    }
+    const FaceIndex roofs(world_faces(model, {ElementType::Roof}));
+    const FaceIndex walls(world_faces(model, {ElementType::Wall, ElementType::PartyWall}));
+    s.roof_faces = s.roof_faces || !roofs.empty();
+    s.wall_faces = s.wall_faces || !walls.empty();
+    lower(roofs, s.roof, ask_roof);
+    lower(walls, s.wall, ask_wall);
   }
-};
+}
 
-// Lowers d (the nearest face so far) of the open points by the faces of
-// `index`; a point is settled when its nearest face lies within r (no face
-// unsearched can be nearer) or nothing is left unsearched. True when all are.
-bool settle(const FaceIndex& index, const std::vector<Vec3>& pts, std::vector<double>& d, std::vector<char>& open,
-            double r, bool last) {
-  std::vector<Vec3> ask;
-  std::vector<size_t> at;
-  for (size_t k = 0; k < pts.size(); ++k)
-    if (open[k]) ask.push_back(pts[k]), at.push_back(k);
-  if (ask.empty()) return true;
-  std::vector<SurfaceHit> hits;
-  if (!index.empty()) hits = index.nearest(ask);
+// A point is settled when its nearest face lies within r (no face unsearched
+// can be nearer) or nothing is left unsearched. True when all are.
+bool close_within(const std::vector<double>& d, std::vector<char>& open, double r, bool last) {
   bool done = true;
-  for (size_t j = 0; j < at.size(); ++j) {
-    double& best = d[at[j]];
-    if (!hits.empty() && !(best <= hits[j].distance)) best = hits[j].distance;  // NaN: none yet
-    if (best <= r || last) open[at[j]] = 0;
+  for (size_t k = 0; k < d.size(); ++k) {
+    if (!open[k]) continue;
+    if (d[k] <= r || last) open[k] = 0;
     else done = false;
   }
   return done;
 }
 
-Nearest nearest_faces(ChunkSearch& s, const std::vector<Vec3>& roof, const std::vector<Vec3>& wall) {
-  Nearest n;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  n.roof.assign(roof.size(), nan);
-  n.wall.assign(wall.size(), nan);
-  std::vector<char> roof_open(roof.size(), 1), wall_open(wall.size(), 1);
-  s.loaded.assign(s.in.layer.parcels.size(), 0);
-  size_t searched = 0;
-  for (double r = kFirstSearchM;; r *= 4) {
-    const std::vector<int> ring = s.new_parcels_within(r);
-    searched += ring.size();
-    const bool last = searched == s.in.layer.parcels.size();
-    const BatchModel model = s.sink.models(ring);
-    if (r == kFirstSearchM)  // every footprint within reach is in the first ring
-      n.of_building = near_rings(wall, footprint_rings(model), kFootprintReachM);
-    const FaceIndex roofs(world_faces(model, {ElementType::Roof}));
-    const FaceIndex walls(world_faces(model, {ElementType::Wall, ElementType::PartyWall}));
-    n.roof_faces = n.roof_faces || !roofs.empty();
-    n.wall_faces = n.wall_faces || !walls.empty();
-    const bool roof_done = settle(roofs, roof, n.roof, roof_open, r, last);
-    const bool wall_done = settle(walls, wall, n.wall, wall_open, r, last);
-    if ((roof_done && wall_done) || last) return n;
+// Where the rings stop: a point whose nearest face lies further than this
+// from its chunk (one in a parcel with no model, far from any other) waits
+// for one pass over all models, instead of its chunk reading most of them.
+constexpr double kLastRingM = 160.0;
+
+// A chunk's points against the models around it, in rings growing fourfold
+// from kFirstSearchM to kLastRingM; the points left open wait for settle_far.
+Search search_rings(BatchSink& sink, const Layout& l, const Box& points_box, std::vector<Vec3> roof,
+                    std::vector<Vec3> wall) {
+  Search s{unmeasured(std::move(roof)), unmeasured(std::move(wall)), {}, {}};
+  s.roof_open.assign(s.roof.pts.size(), 1), s.wall_open.assign(s.wall.pts.size(), 1);
+  std::vector<char> searched(l.reach.size(), 0);
+  size_t count = 0;
+  for (double r = kFirstSearchM; r <= kLastRingM; r *= 4) {
+    std::vector<size_t> ring;  // the parcels not searched yet whose models may reach within r
+    const Box b = points_box.grown(r);
+    for (size_t i = 0; i < l.reach.size(); ++i)
+      if (!searched[i] && l.reach[i].touches(b)) ring.push_back(i), searched[i] = 1;
+    count += ring.size();
+    // Every footprint within reach of a point is in the first ring.
+    lower_by_pages(sink, l, std::move(ring), s, r == kFirstSearchM);
+    const bool last = count == l.reach.size();
+    const bool roof_done = close_within(s.roof.d, s.roof_open, r, last);
+    const bool wall_done = close_within(s.wall.d, s.wall_open, r, last);
+    if ((roof_done && wall_done) || last) break;
   }
+  return s;
+}
+
+// Moves the open points of `from` to `to`; the settled ones stay.
+void move_open(Measured& from, const std::vector<char>& open, Measured& to) {
+  Measured kept;
+  for (size_t k = 0; k < from.pts.size(); ++k) {
+    Measured& m = open[k] ? to : kept;
+    m.pts.push_back(from.pts[k]), m.d.push_back(from.d[k]), m.of_building.push_back(from.of_building[k]);
+  }
+  from = std::move(kept);
+}
+
+// The batch's pooled figures, a part at a time.
+struct Totals {
+  std::vector<Deviation> roof_parts, wall_parts;
+  RulerAccumulator roof_ruler, wall_ruler;
+  size_t wall_near = 0, measured = 0;
+  bool roof_faces = false, wall_faces = false;
+
+  void add(const Measured& roof, const Measured& wall) {
+    roof_parts.push_back(deviation(roof.d));
+    roof_ruler.add(roof.d);
+    wall_parts.push_back(deviation(wall.d));
+    std::vector<double> of_buildings;
+    for (size_t k = 0; k < wall.pts.size(); ++k)
+      if (wall.of_building[k]) of_buildings.push_back(wall.d[k]);
+    wall_ruler.add(of_buildings);
+    wall_near += wall.pts.size();
+    measured += of_buildings.size();
+  }
+};
+
+// The points this chunk counts, read from the tiles; the region's other
+// points are freed before any model is read.
+std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs& in, const Config& cfg,
+                                                             const std::vector<size_t>& chunk,
+                                                             const ParcelClipper& inside,
+                                                             const ParcelClipper& reach) {
+  std::vector<char> in_chunk(in.layer.parcels.size(), 0);
+  for (size_t i : chunk) in_chunk[i] = 1;
+  const RegionPoints pts =
+      read_region(in.tiles, chunk_box(in.layer, chunk, kWallPointReachM + kRegionMarginM), cfg.classes);
+  return {counted_points(pts.roof, inside, true, in_chunk), counted_points(pts.wall, reach, false, in_chunk)};
 }
 
 }  // namespace
@@ -138,39 +250,32 @@ void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& s
   ClipParams near = cfg.clip;
   near.overhang_buffer_m = kWallPointReachM;
   const ParcelClipper inside(in.layer, exact), reach(in.layer, near);
+  const double model_reach = cfg.clip.overhang_buffer_m + kOwnershipContextM + kModelMarginM;
+  const Layout layout = layout_of(in.layer, model_reach, size_t(std::max(1, cfg.batch.chunk_parcels)));
   std::vector<size_t> all(in.layer.parcels.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  const double model_reach = cfg.clip.overhang_buffer_m + kOwnershipContextM + kModelMarginM;
-  std::vector<Deviation> roof_parts, wall_parts;
-  RulerAccumulator roof_ruler, wall_ruler;
-  size_t wall_near = 0, measured = 0;
-  bool roof_faces = false, wall_faces = false;
-  for (const auto& chunk : spatial_chunks(in.layer, all, size_t(cfg.batch.chunk_parcels))) {
-    std::vector<char> in_chunk(all.size(), 0);
-    for (size_t i : chunk) in_chunk[i] = 1;
-    const RegionPoints pts =
-        read_region(in.tiles, chunk_box(in.layer, chunk, kWallPointReachM + kRegionMarginM), cfg.classes);
-    const std::vector<Vec3> roof = counted_points(pts.roof, inside, true, in_chunk);
-    const std::vector<Vec3> wall = counted_points(pts.wall, reach, false, in_chunk);
-    ChunkSearch search{in, sink, chunk_box(in.layer, chunk, kWallPointReachM), model_reach, {}};
-    const Nearest n = nearest_faces(search, roof, wall);
-    roof_faces = roof_faces || n.roof_faces;
-    wall_faces = wall_faces || n.wall_faces;
-    roof_parts.push_back(deviation(n.roof));
-    roof_ruler.add(n.roof);
-    wall_parts.push_back(deviation(n.wall));
-    std::vector<double> of_buildings;
-    for (size_t k = 0; k < wall.size(); ++k)
-      if (n.of_building[k]) of_buildings.push_back(n.wall[k]);
-    wall_ruler.add(of_buildings);
-    wall_near += wall.size();
-    measured += of_buildings.size();
+  Totals totals;
+  Search far;  // the points no ring settled: against every model at the end
+  for (const auto& chunk : spatial_chunks(in.layer, all, layout.page)) {
+    auto [roof, wall] = chunk_points(in, cfg, chunk, inside, reach);
+    Search s = search_rings(sink, layout, chunk_box(in.layer, chunk, kWallPointReachM), std::move(roof),
+                            std::move(wall));
+    totals.roof_faces = totals.roof_faces || s.roof_faces;
+    totals.wall_faces = totals.wall_faces || s.wall_faces;
+    move_open(s.roof, s.roof_open, far.roof);
+    move_open(s.wall, s.wall_open, far.wall);
+    totals.add(s.roof, s.wall);
   }
-  if (roof_faces) report.any_model_roof = pool(roof_parts), report.roof_ruler = roof_ruler.figures();
-  if (!wall_faces) return;
-  report.any_model_wall = pool(wall_parts);
-  report.wall_ruler = wall_ruler.figures();
-  if (wall_near > 0) report.wall_points_measured = double(measured) / double(wall_near);
+  if (!far.roof.pts.empty() || !far.wall.pts.empty()) {
+    far.roof_open.assign(far.roof.pts.size(), 1), far.wall_open.assign(far.wall.pts.size(), 1);
+    lower_by_pages(sink, layout, all, far, false);
+    totals.add(far.roof, far.wall);
+  }
+  if (totals.roof_faces) report.any_model_roof = pool(totals.roof_parts), report.roof_ruler = totals.roof_ruler.figures();
+  if (!totals.wall_faces) return;
+  report.any_model_wall = pool(totals.wall_parts);
+  report.wall_ruler = totals.wall_ruler.figures();
+  if (totals.wall_near > 0) report.wall_points_measured = double(totals.measured) / double(totals.wall_near);
 }
 
 }  // namespace c3d
