@@ -54,9 +54,7 @@ void extend_dtm_east(const std::string& from, const std::string& to, double metr
 // height) to cover the far parcel.
 BatchInputs town_with_far_parcel() {
   static const BatchInputs in = [] {
-    const std::string dir = test::temp_dir("far_town");
-    std::string log;
-    EXPECT_EQ(test::run_cli("sample --out " + dir + " --parcels 12 --seed 11 --density 25", &log), 0) << log;
+    const std::string dir = test::sample_town("--parcels 12 --seed 11 --density 25").dir;
     GDALAllRegister();
     std::unique_ptr<GDALDataset> ds(
         GDALDataset::Open((dir + "/parcels.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE));

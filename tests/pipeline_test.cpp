@@ -19,23 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Town {
-  std::string dir;
-  BatchInputs inputs;
-};
-
 // A small sample town, made once for the whole file.
-const Town& town() {
-  static const Town t = [] {
-    Town t;
-    t.dir = test::temp_dir("pipeline_town");
-    std::string log;
-    EXPECT_EQ(test::run_cli("sample --out " + t.dir + " --parcels 4 --seed 3 --density 25", &log), 0) << log;
-    t.inputs = BatchInputs{{t.dir + "/cloud.las"}, {}, t.dir + "/parcels.gpkg", t.dir + "/dtm.tif"};
-    return t;
-  }();
-  return t;
-}
+const test::SampleTown& town() { return test::sample_town("--parcels 4 --seed 3 --density 25"); }
 
 // Holds results in memory; `held` are the keys an earlier run left (what --resume finds).
 class MemorySink : public BatchSink {
@@ -87,7 +72,7 @@ BatchSettings resume() {
 }  // namespace
 
 TEST(Pipeline, TwentyLineProgramGivesTheCliModels) {
-  const Town& t = town();
+  const test::SampleTown& t = town();
   const std::string lib = test::temp_dir("lib"), cli = test::temp_dir("cli");
   const std::string cmd = std::string(C3D_MINIMAL_BATCH) + " " + t.inputs.clouds[0] + " " + t.inputs.parcels +
                           " " + t.inputs.dtm + " " + lib + " > " + lib + "/log 2>&1";

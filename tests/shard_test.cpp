@@ -58,21 +58,7 @@ TEST(Shard, PartsCoverTheLayerOnceAndAreCompact) {
 
 namespace {
 
-struct Town {
-  std::string dir;
-  BatchInputs inputs;
-};
-
-const Town& sample_town() {
-  static const Town town = [] {
-    Town t{test::temp_dir("town"), {}};
-    std::string out;
-    EXPECT_EQ(test::run_cli("sample --out " + t.dir + " --parcels 24 --seed 3", &out), 0) << out;
-    t.inputs = BatchInputs{{t.dir + "/cloud.las"}, {}, t.dir + "/parcels.gpkg", t.dir + "/dtm.tif"};
-    return t;
-  }();
-  return town;
-}
+const test::SampleTown& sample_town() { return test::sample_town("--parcels 24 --seed 3"); }
 
 // Runs the sample town (one shard of it, or all) into a fresh store.
 std::string run_town(const std::string& name, Shard shard = {}) {

@@ -22,22 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Town {
-  std::string dir;
-  BatchInputs inputs;
-};
-
-const Town& town() {
-  static const Town t = [] {
-    Town t;
-    t.dir = test::temp_dir("stream_town");
-    std::string log;
-    EXPECT_EQ(test::run_cli("sample --out " + t.dir + " --parcels 12 --seed 11 --density 25", &log), 0) << log;
-    t.inputs = BatchInputs{{t.dir + "/cloud.las"}, {}, t.dir + "/parcels.gpkg", t.dir + "/dtm.tif"};
-    return t;
-  }();
-  return t;
-}
+const test::SampleTown& town() { return test::sample_town("--parcels 12 --seed 11 --density 25"); }
 
 // The town's cloud cut into four LAS tiles by quadrant of its extent.
 std::string four_tiles() {

@@ -6,6 +6,7 @@
 #include <sqlite3.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -76,6 +77,20 @@ std::optional<std::vector<std::string>> val3dity_invalid(const std::string& city
     if (!f.at("validity").get<bool>()) invalid.push_back(f.at("id").get<std::string>());
   if (invalid.empty() && !r.at("validity").get<bool>()) invalid.push_back("<file>");
   return invalid;
+}
+
+const SampleTown& sample_town(const std::string& args) {
+  static std::map<std::string, SampleTown> towns;
+  auto [at, made] = towns.try_emplace(args);
+  if (made) {
+    std::string name = "town";  // in the first asking test's folder (ctest runs tests as processes of their own)
+    for (char c : args) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    const std::string d = temp_dir(name);
+    std::string log;
+    EXPECT_EQ(run_cli("sample --out " + d + " " + args, &log), 0) << log;
+    at->second = SampleTown{d, BatchInputs{{d + "/cloud.las"}, {}, d + "/parcels.gpkg", d + "/dtm.tif"}};
+  }
+  return at->second;
 }
 
 std::string temp_dir(const std::string& name) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "cadastre/batch/batch.h"
 #include "core/types.h"
 
 namespace c3d::test {
@@ -17,6 +18,15 @@ std::string laz_dir();
 // A fresh empty directory under the build's temp area (<build>/tests/tmp/<Suite.Test>/name),
 // so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);
+
+// A sample town, `cadastre3d sample --out DIR ARGS`, made once per test binary
+// and argument list (a failure fails the test that first asks), and its files
+// as a batch takes them.
+struct SampleTown {
+  std::string dir;
+  BatchInputs inputs;
+};
+const SampleTown& sample_town(const std::string& args);
 
 // Closed shells as CityJSON, one Building object per solid (vertices on a
 // 1 mm grid), for val3dity to judge shells that no export writes alone.
