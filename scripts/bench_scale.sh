@@ -40,7 +40,7 @@ while getopts "b:s:S:B:n:t:j:w:o:k" opt; do
   case $opt in
     b) BASE="$OPTARG" ;; s) SIZES="$OPTARG" ;; S) SLURM_SIZES="$OPTARG" ;; B) BASE_SIZES="$OPTARG" ;;
     n) TASKS="$OPTARG" ;; t) TILE="$OPTARG" ;; j) JOBS="$OPTARG" ;; w) WAIT_S="$OPTARG" ;;
-    o) OUT="$OPTARG" ;; k) KEEP=1 ;; *) sed -n 2,36p "$0"; exit 2 ;;
+    o) OUT="$OPTARG" ;; k) KEEP=1 ;; *) sed -n 2,33p "$0"; exit 2 ;;
   esac
 done
 # picked SIZE LIST: is SIZE in LIST ("all": every size, "none": none)
