@@ -1,4 +1,4 @@
-// cadastre3d slurm --shards N --out OUT [--store LOC] [--submit] BATCH_OPTIONS...
+// cadastre3d slurm --shards N --out OUT [--store LOC] [--launcher CMD] [--submit] BATCH_OPTIONS...
 // writes and submits the Slurm job array of a sharded batch (cadastre/batch/slurm.h).
 // The batch's options are checked by `batch`'s own parser and passed on as given.
 #include <filesystem>
@@ -48,6 +48,9 @@ void register_slurm(CLI::App& app) {
   cmd->add_option("--cpus-per-task", plan->cpus_per_task, "CPUs of each task; the batch runs as many --jobs")
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--sbatch", plan->sbatch_options, "One more #SBATCH line for both scripts, e.g. --sbatch=--partition=cpu");
+  cmd->add_option("--launcher", plan->launcher,
+                  "Shell words each task's cadastre3d runs under, e.g. srun, or "
+                  "'/usr/bin/time -v -a -o OUT/slurm/time-$SLURM_JOB_ID' ($K: the task's shard)");
   auto* sub = cmd->add_flag("--submit", *submit, "Submit the array and the finish job after it; prints their job ids");
   cmd->add_flag("--dry-run", "Write the scripts and print how to submit them (the default)")->excludes(sub);
   cmd->callback([plan, submit, cmd] {

@@ -29,6 +29,12 @@ std::string header(const SlurmPlan& p, const std::string& name, const std::strin
   return s;
 }
 
+// The command line's start: the launcher as written (shell text, so $K or
+// $SLURM_JOB_ID in it expand in the task), then the quoted cadastre3d.
+std::string run_exe(const SlurmPlan& p) {
+  return (p.launcher.empty() ? "" : p.launcher + " ") + shell_quote(p.exe);
+}
+
 std::string shards_script(const SlurmPlan& p) {
   const std::string n = std::to_string(p.shards);
   std::string s = header(p, "c3d-shards", "shard-%a.log");
@@ -36,7 +42,7 @@ std::string shards_script(const SlurmPlan& p) {
        "# Written by `cadastre3d slurm`: task K models shard K/" + n + " of the parcels.\n"
        "# A killed task reruns with  " + slurm_dir(p.out) + "/rerun.sh K  (or sbatch --array=K this file):\n"
        "# --resume keeps the parcels it stored, so nothing is written twice.\n"
-       "set -u\nK=$SLURM_ARRAY_TASK_ID\n" + shell_quote(p.exe) + " batch";
+       "set -u\nK=$SLURM_ARRAY_TASK_ID\n" + run_exe(p) + " batch";
   for (const auto& a : p.batch_args) s += " " + shell_quote(a);
   s += " --out " + shard_out(p, "$K") + " --shard $K/" + n + " --resume";
   bool jobs = false;  // the user's --jobs, else the CPUs Slurm gave the task
@@ -52,7 +58,7 @@ std::string shards_script(const SlurmPlan& p) {
 std::string finish_script(const SlurmPlan& p) {
   std::string s = header(p, "c3d-finish", "finish.log") + "# Written by `cadastre3d slurm`: runs after every shard task.\nset -e\n";
   const std::string formats = p.formats.empty() ? "" : " --formats " + shell_quote(p.formats);
-  const std::string exe = shell_quote(p.exe), out = shell_quote(p.out);
+  const std::string exe = run_exe(p), out = shell_quote(p.out);
   if (p.store.empty()) {
     s += "exec " + exe + " merge --out " + out + " --overwrite" + formats;
     for (int k = 1; k <= p.shards; ++k) s += " " + shard_out(p, std::to_string(k)) + "/cadastre.gpkg";

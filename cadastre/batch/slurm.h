@@ -19,6 +19,7 @@ struct SlurmPlan {
   std::string formats;                  // the finish step's exports (comma list); "": the batch's default
   int cpus_per_task = 0;                // 0: Slurm's default; each task runs --jobs of its CPUs
   std::vector<std::string> sbatch_options;  // more #SBATCH lines, e.g. --partition=cpu
+  std::string launcher;  // shell words every cadastre3d of the scripts runs under (srun, /usr/bin/time ...); "": none
 };
 
 struct SlurmScripts {
