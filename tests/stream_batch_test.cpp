@@ -145,12 +145,12 @@ TEST(StreamBatch, FolderWithoutCloudsAndUnmatchedGlobAreErrors) {
   EXPECT_TRUE(std::is_sorted(files.begin(), files.end()));
 }
 
-// The points of a file inside a box, split and folded as read_region promises, from the whole file.
-RegionPoints expected_region(const std::string& path, const Box& box, const ClassMapping& m) {
+// The points of a file inside a region, split and folded as read_region promises, from the whole file.
+RegionPoints expected_region(const std::string& path, const Region& region, const ClassMapping& m) {
   const PointCloud c = read_point_cloud(path);
   RegionPoints r;
   for (size_t i = 0; i < c.points.size(); ++i) {
-    if (!box.holds(c.points[i])) continue;
+    if (!region.holds(c.points[i])) continue;
     if (c.classes.empty() || m.is_roof(c.classes[i])) r.roof.push_back(c.points[i]);
     else if (m.is_wall(c.classes[i])) r.wall.push_back(c.points[i]);
   }
@@ -166,10 +166,36 @@ void expect_region_read_exact(const std::string& path, const ClassMapping& m) {
   t.extent = {e.min_x, e.min_y, e.max_x, e.max_y};
   const Box box{e.min_x + 0.3 * (e.max_x - e.min_x), e.min_y + 0.2 * (e.max_y - e.min_y),
                 e.min_x + 0.7 * (e.max_x - e.min_x), e.min_y + 0.6 * (e.max_y - e.min_y)};
-  const RegionPoints got = read_region({t}, box, m), want = expected_region(path, box, m);
-  EXPECT_GT(got.roof.size() + got.wall.size(), 0u) << path;
-  EXPECT_EQ(got.roof, want.roof) << path;
-  EXPECT_EQ(got.wall, want.wall) << path;
+  // The box, and its west and east thirds as a region of two parts.
+  const double w = (box.max_x - box.min_x) / 3;
+  const Region whole{box}, sides = region_of({{box.min_x, box.min_y, box.min_x + w, box.max_y},
+                                              {box.max_x - w, box.min_y, box.max_x, box.max_y}});
+  size_t in_whole = 0;
+  for (const Region* region : {&whole, &sides}) {
+    const RegionPoints got = read_region({t}, *region, m), want = expected_region(path, *region, m);
+    EXPECT_GT(got.roof.size() + got.wall.size(), 0u) << path;
+    EXPECT_EQ(got.roof, want.roof) << path;
+    EXPECT_EQ(got.wall, want.wall) << path;
+    if (region == &whole) in_whole = got.roof.size() + got.wall.size();
+    else EXPECT_LT(got.roof.size() + got.wall.size(), in_whole) << path << ": the gap between the parts is left out";
+  }
+}
+
+TEST(StreamBatch, ARegionHoldsItsPartsAndLeavesTheGapsBetween) {
+  const Box a{100, 200, 130, 210}, b{180, 260, 190, 300};
+  const Region r = region_of({a, b});
+  EXPECT_EQ(r.box.min_x, 100);
+  EXPECT_EQ(r.box.max_y, 300);
+  for (const Box& part : {a, b})  // corners, edges and inside of each part
+    for (double fx : {0.0, 0.37, 1.0})
+      for (double fy : {0.0, 0.61, 1.0}) {
+        const Vec3 p(part.min_x + fx * (part.max_x - part.min_x), part.min_y + fy * (part.max_y - part.min_y), 0);
+        EXPECT_TRUE(r.holds(p)) << p.transpose();
+      }
+  EXPECT_FALSE(r.holds(Vec3(160, 230, 0)));  // between the parts, cells away from both
+  EXPECT_FALSE(r.holds(Vec3(195, 230, 0)));
+  EXPECT_FALSE(r.holds(Vec3(99, 205, 0)));   // outside the box
+  EXPECT_TRUE(Region{a}.holds(Vec3(115, 205, 0)));
 }
 
 TEST(StreamBatch, RegionReadKeepsExactlyThePointsInside) {

@@ -132,9 +132,9 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
   const int jobs = job_count(settings.jobs, todo.size());
   for (const auto& chunk : spatial_chunks(in.layer, todo, size_t(cfg.batch.chunk_parcels))) {
     const auto t_read = Clock::now();
-    const Box box = chunk_box(in.layer, chunk, geometry.reach_m + kRegionMarginM);
-    const RegionPoints points = read_region(in.tiles, box, cfg.classes);
-    const Dtm terrain = dtm_window(in, box);
+    const Region region = chunk_region(in.layer, chunk, geometry.reach_m + kRegionMarginM);
+    const RegionPoints points = read_region(in.tiles, region, cfg.classes);
+    const Dtm terrain = dtm_window(in, region.box);
     SceneSource scenes = prepare_scenes(in, points, geometry, frame);
     if (in.dtm_source) scenes.terrain = &terrain;
     report.timings.stages["read points"] += seconds_since(t_read);

@@ -238,7 +238,7 @@ std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs&
   std::vector<char> in_chunk(in.layer.parcels.size(), 0);
   for (size_t i : chunk) in_chunk[i] = 1;
   const RegionPoints pts =
-      read_region(in.tiles, chunk_box(in.layer, chunk, kWallPointReachM + kRegionMarginM), cfg.classes);
+      read_region(in.tiles, chunk_region(in.layer, chunk, kWallPointReachM + kRegionMarginM), cfg.classes);
   return {counted_points(pts.roof, inside, true, in_chunk), counted_points(pts.wall, reach, false, in_chunk)};
 }
 

@@ -30,4 +30,10 @@ Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double
   return b.grown(reach);
 }
 
+Region chunk_region(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach) {
+  std::vector<Box> parts;
+  for (size_t i : chunk) parts.push_back(box_of(layer.parcels[i].shape).grown(reach));
+  return region_of(parts);
+}
+
 }  // namespace c3d

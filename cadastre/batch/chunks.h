@@ -18,5 +18,7 @@ std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const 
 
 // The box of the chunk's parcels grown by `reach`.
 Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach);
+// Its region: the cells within that box near a parcel's box grown by `reach`.
+Region chunk_region(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach);
 
 }  // namespace c3d

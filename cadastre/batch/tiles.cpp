@@ -135,13 +135,38 @@ std::vector<std::string> expand_point_files(const std::vector<std::string>& args
   return out;
 }
 
-RegionPoints read_region(const std::vector<Tile>& tiles, const Box& box, const ClassMapping& m) {
+bool Region::holds(const Vec3& p) const {
+  if (!box.holds(p)) return false;
+  if (cell <= 0) return true;
+  const long x = std::min(nx - 1, long((p.x() - box.min_x) / cell));
+  const long y = std::min(ny - 1, long((p.y() - box.min_y) / cell));
+  return keep[size_t(y * nx + x)] != 0;
+}
+
+Region region_of(const std::vector<Box>& parts) {
+  Region r;
+  for (const Box& b : parts) r.box.add(b);
+  if (r.box.empty()) return r;
+  r.cell = kRegionCellM;
+  r.nx = long((r.box.max_x - r.box.min_x) / r.cell) + 1;
+  r.ny = long((r.box.max_y - r.box.min_y) / r.cell) + 1;
+  r.keep.assign(size_t(r.nx * r.ny), 0);
+  for (const Box& b : parts) {
+    if (b.empty()) continue;
+    const long x0 = long((b.min_x - r.box.min_x) / r.cell), x1 = std::min(r.nx - 1, long((b.max_x - r.box.min_x) / r.cell));
+    const long y0 = long((b.min_y - r.box.min_y) / r.cell), y1 = std::min(r.ny - 1, long((b.max_y - r.box.min_y) / r.cell));
+    for (long y = y0; y <= y1; ++y) std::fill_n(r.keep.begin() + (y * r.nx + x0), x1 - x0 + 1, char(1));
+  }
+  return r;
+}
+
+RegionPoints read_region(const std::vector<Tile>& tiles, const Region& region, const ClassMapping& m) {
   RegionPoints r;
   for (const Tile& t : tiles) {
-    if (!t.extent.touches(box)) continue;
+    if (!t.extent.touches(region.box)) continue;
     for_each_block(t, [&](const std::vector<Vec3>& pts, const std::vector<uint8_t>& cls) {
       for (size_t i = 0; i < pts.size(); ++i) {
-        if (!box.holds(pts[i])) continue;
+        if (!region.holds(pts[i])) continue;
         if (t.walls) r.wall.push_back(pts[i]);
         else if (cls.empty() || m.is_roof(cls[i])) r.roof.push_back(pts[i]);  // unclassified: roof
         else if (m.is_wall(cls[i])) r.wall.push_back(pts[i]);

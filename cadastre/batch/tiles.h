@@ -58,7 +58,25 @@ constexpr double kRegionMarginM = 1.0;
 struct RegionPoints {
   std::vector<Vec3> roof, wall;
 };
-RegionPoints read_region(const std::vector<Tile>& tiles, const Box& box, const ClassMapping& classes);
+
+// Where a region keeps points: its box, and within it the cells of a
+// kRegionCellM grid that touch any of its parts. A chunk's parts are its
+// parcels' boxes grown by the reach: its points without the gaps its box
+// spans between them (a run of the Hilbert order can be L-shaped).
+struct Region {
+  Box box;
+  double cell = 0;  // m; 0: the whole box
+  long nx = 0, ny = 0;
+  std::vector<char> keep;  // nx * ny, row by row from the box's min corner
+  bool holds(const Vec3& p) const;
+};
+constexpr double kRegionCellM = 5.0;  // fine enough to follow parcels, few cells for a chunk
+Region region_of(const std::vector<Box>& parts);
+
+RegionPoints read_region(const std::vector<Tile>& tiles, const Region& region, const ClassMapping& classes);
+inline RegionPoints read_region(const std::vector<Tile>& tiles, const Box& box, const ClassMapping& classes) {
+  return read_region(tiles, Region{box}, classes);
+}
 
 // What one pass over every tile tells before any region is read.
 struct TileSurvey {
