@@ -59,8 +59,9 @@ class DtmSource {
   // 4 MB of filled heights a tile: small next to a chunk's points, large
   // enough that a chunk's window touches few tiles.
   static constexpr int kFillTileCells = 1024;
-  // The fill's reach beyond its tile, and the inverse-distance search's: wider
-  // than a building's hole (AHN's largest halls are ~200 m at 1 m cells).
+  // The fill's reach beyond its tile, and the inverse-distance search's: a
+  // hole up to 2 x 256 cells wide (256 m at 1 m cells, 128 m at AHN's 0.5 m) is
+  // filled from its rims; a wider one can show a seam at a tile's edge.
   static constexpr int kFillMarginCells = 256;
 
  private:
