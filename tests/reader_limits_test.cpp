@@ -173,8 +173,10 @@ TEST(ReaderLimits, DtmGeotransformBeyondTheEarthIsRefused) {
 
 // tests/fuzz, seed 1, iteration 1085 (the deflate-tiled seed with its width
 // set to 18192): a 2 KB GeoTIFF that is NoData but for a few cells kept
-// GDALFillNodata busy for 26 s; the search now shrinks and says so.
-TEST(ReaderLimits, NoDataStripFillIsBoundedAndSaysSo) {
+// GDALFillNodata busy for 26 s. It is filled in tiles now (1024 cells and the
+// search at most 256 around), which bounds the work without a warning; the
+// tiles far from the valid cells look farther (a grown margin).
+TEST(ReaderLimits, NoDataStripFillIsBounded) {
   const std::string path = test::temp_dir("dtm_strip") + "/strip.tif";
   GDALAllRegister();
   const char* options[] = {"COMPRESS=DEFLATE", nullptr};
@@ -189,12 +191,13 @@ TEST(ReaderLimits, NoDataStripFillIsBoundedAndSaysSo) {
             CE_None);
   GDALClose(ds);
   std::vector<std::string> warnings;
-  log::set_sink([&](log::Level, const std::string& m) { warnings.push_back(m); });
+  log::set_sink([&](log::Level l, const std::string& m) {
+    if (l >= log::Level::Warn) warnings.push_back(m);
+  });
   const Dtm d = read_dtm(path);
   log::set_sink([](log::Level, const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
   EXPECT_EQ(d.nx, 18192);
-  ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("inverse-distance fill searches"), std::string::npos) << warnings[0];
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
   for (float v : d.z) ASSERT_TRUE(v >= 780.0f && v <= 795.0f);
 }
 

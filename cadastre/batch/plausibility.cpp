@@ -149,7 +149,7 @@ void check_dtm_elevations(const DtmSource& dtm, std::vector<std::string>& warnin
   float example = 0;
   const size_t bad = dtm.count_cells([](float z) { return !plausible_elevation(z); }, &example);
   const Dtm& h = dtm.header();
-  report_dtm_elevations(h.source, bad, size_t(h.nx) * size_t(h.ny), example, warnings);
+  report_dtm_elevations(h.source, bad, size_t(h.nx) * size_t(h.ny) - dtm.nodata_cells(), example, warnings);
 }
 
 ParcelResult failed_parcel(size_t index, const std::string& id, const std::string& reason) {

@@ -67,7 +67,8 @@ void keep_plausible_elevations(PointCloud& cloud, std::vector<std::string>& warn
 // Throws InputError naming the DTM when no cell lies within the elevation
 // bounds; warns when some do not (parcels on them come out suspect).
 void check_dtm_elevations(const Dtm& dtm, std::vector<std::string>& warnings);
-// The same, a pass over the raster's blocks (nothing held).
+// The same, a pass over the raster's blocks (nothing held), over its valid
+// (not NoData) cells.
 void check_dtm_elevations(const DtmSource& dtm, std::vector<std::string>& warnings);
 
 // A parcel the batch cannot model: `failed` with the reason.

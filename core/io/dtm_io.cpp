@@ -7,212 +7,21 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <deque>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <sstream>
 
-#include <Eigen/Dense>
-
 #include "core/error.h"
 #include "core/gdal_dataset.h"
+#include "core/io/dtm_fill.h"
 #include "core/io/read_limits.h"
 #include "core/log.h"
 
 namespace c3d {
 namespace {
 
-// Remaining holes take the value of the nearest valid cell (multi-source BFS,
-// 8-connected): GDALFillNodata stops at its search distance.
-void fill_nearest(std::vector<float>& z, const std::vector<char>& valid_in, int nx, int ny) {
-  std::vector<char> valid = valid_in;
-  std::deque<size_t> queue;
-  for (size_t i = 0; i < z.size(); ++i)
-    if (valid[i]) queue.push_back(i);
-  while (!queue.empty()) {
-    size_t i = queue.front();
-    queue.pop_front();
-    int x = int(i % nx), y = int(i / nx);
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        int u = x + dx, v = y + dy;
-        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
-        size_t j = size_t(v) * nx + u;
-        if (valid[j]) continue;
-        valid[j] = 1;
-        z[j] = z[i];
-        queue.push_back(j);
-      }
-  }
-}
-
-// GDALFillNodata's time grows with NoData cells x search distance: a 2 KB
-// GeoTIFF of 18192 x 12 cells, all but a few NoData, took 26 s at the full
-// distance. Past this much work (about 2 s) the distance shrinks (Cimahi's
-// DTM needs 5e7) and fill_nearest fills what the shorter search leaves.
-constexpr double kMaxFillWork = 4e8;
 constexpr size_t kStripCells = size_t(1) << 22;  // cells read at once by a pass over the raster (16 MB)
-constexpr int kMinFillSearch = 32;  // cells; never shorter than this
-
-int fill_search_distance(const std::vector<float>& z, int nx, int ny, const std::string& source) {
-  const double holes = double(std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
-  const int full = std::max(nx, ny);
-  if (holes * full <= kMaxFillWork) return full;
-  const int shorter = std::max(kMinFillSearch, int(kMaxFillWork / holes));
-  if (shorter >= full) return full;
-  log::warn(log::format("%s: %.0f NoData cells; inverse-distance fill searches %d cells (not %d), "
-                        "the nearest valid height beyond", source.c_str(), holes, shorter, full));
-  return shorter;
-}
-
-// GDALFillNodata (inverse distance) on an in-memory copy of z, NaN being
-// NoData; whatever it leaves takes the nearest valid cell.
-void idw_fill(std::vector<float>& z, int nx, int ny, const std::string& source) {
-  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
-  GdalDataset ds(mem->Create("", nx, ny, 1, GDT_Float32, nullptr));
-  GDALRasterBand* band = ds->GetRasterBand(1);
-  constexpr float kNoData = -3.4e38f;
-  std::vector<float> work = z;
-  for (float& v : work)
-    if (std::isnan(v)) v = kNoData;
-  band->SetNoDataValue(kNoData);
-  if (band->RasterIO(GF_Write, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
-    throw InputError(source, "cannot fill NoData (in-memory raster write failed)");
-  // Its work rasters in memory too: by default GDAL writes them as GeoTIFFs in
-  // the current directory, and a killed batch would leave them there.
-  const char* const fill_options[] = {"TEMP_FILE_DRIVER=MEM", nullptr};
-  GDALFillNodata(band, nullptr, fill_search_distance(z, nx, ny, source), 0, 0, const_cast<char**>(fill_options),
-                 nullptr, nullptr);
-  if (band->RasterIO(GF_Read, 0, 0, nx, ny, work.data(), nx, ny, GDT_Float32, 0, 0) != CE_None)
-    throw InputError(source, "cannot fill NoData (in-memory raster read failed)");
-  std::vector<char> valid(z.size());
-  for (size_t i = 0; i < z.size(); ++i) {
-    valid[i] = work[i] != kNoData && std::isfinite(work[i]);
-    z[i] = work[i];
-  }
-  fill_nearest(z, valid, nx, ny);
-}
-
-// Under a building the terrain's slope and curvature run on, but an
-// inverse-distance fill flattens them: it put detached houses' floors 1.5 cm
-// (RMS) off, and the middle of a row of houses 5 cm. So each hole of building
-// size is filled with a moving least-squares quadratic: at each cell, the
-// quadratic fitted to the valid cells within kRing cells around the hole,
-// weighted by their distance to that cell (Gaussian, kSurfaceScale_m), plus
-// the inverse-distance fill of that surface's residuals on the ring, so the
-// fill meets the ring's own heights. A ring the surface does not fit (walls,
-// trees: RMS > kRingFitRms) keeps the plain fill.
-constexpr int kRing = 2;
-constexpr size_t kMaxSurfaceHole = 10000;  // cells; larger holes keep the plain fill
-constexpr double kSurfaceScale_m = 6.0;
-constexpr double kRingFitRms = 0.10;       // m
-
-struct HoleRegion {
-  std::vector<size_t> cells;
-  int x0, y0, x1, y1;  // bounding box with the ring, clipped to the grid
-};
-
-// 4-connected NoData components of `hole`.
-std::vector<HoleRegion> hole_components(const std::vector<char>& hole, int nx, int ny) {
-  std::vector<HoleRegion> out;
-  std::vector<char> seen(hole.size(), 0);
-  for (size_t start = 0; start < hole.size(); ++start) {
-    if (!hole[start] || seen[start]) continue;
-    HoleRegion h{{start}, nx, ny, -1, -1};
-    seen[start] = 1;
-    for (size_t k = 0; k < h.cells.size(); ++k) {
-      int x = int(h.cells[k] % nx), y = int(h.cells[k] / nx);
-      h.x0 = std::min(h.x0, x), h.x1 = std::max(h.x1, x), h.y0 = std::min(h.y0, y), h.y1 = std::max(h.y1, y);
-      const int step[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-      for (const auto& d : step) {
-        int u = x + d[0], v = y + d[1];
-        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
-        size_t j = size_t(v) * nx + u;
-        if (hole[j] && !seen[j]) seen[j] = 1, h.cells.push_back(j);
-      }
-    }
-    h.x0 = std::max(0, h.x0 - kRing), h.y0 = std::max(0, h.y0 - kRing);
-    h.x1 = std::min(nx - 1, h.x1 + kRing), h.y1 = std::min(ny - 1, h.y1 + kRing);
-    out.push_back(std::move(h));
-  }
-  return out;
-}
-
-// The valid cells within kRing cells of the hole.
-std::vector<size_t> ring_of(const HoleRegion& h, const std::vector<char>& hole, int nx) {
-  std::vector<size_t> ring;
-  int w = h.x1 - h.x0 + 1;
-  std::vector<char> in_ring(size_t(w) * size_t(h.y1 - h.y0 + 1), 0);
-  for (size_t c : h.cells) {
-    int x = int(c % nx), y = int(c / nx);
-    for (int v = std::max(h.y0, y - kRing); v <= std::min(h.y1, y + kRing); ++v)
-      for (int u = std::max(h.x0, x - kRing); u <= std::min(h.x1, x + kRing); ++u) {
-        size_t j = size_t(v) * nx + u, local = size_t(v - h.y0) * size_t(w) + size_t(u - h.x0);
-        if (!hole[j] && !in_ring[local]) in_ring[local] = 1, ring.push_back(j);
-      }
-  }
-  return ring;
-}
-
-// Moving least-squares quadratic through the ring cells, evaluated at cell
-// (x, y); NaN where the weighted ring does not span both axes.
-double mls_height(const std::vector<size_t>& ring, const std::vector<float>& z, int nx, double x, double y,
-                  double scale_cells) {
-  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
-  for (size_t r : ring) {
-    double u = double(r % nx) - x, v = double(r / nx) - y, d2 = (u * u + v * v) / (scale_cells * scale_cells);
-    if (d2 > 9.0) continue;  // weight below 1e-4
-    double w = std::exp(-d2);
-    Eigen::Matrix<double, 6, 1> t;
-    t << 1, u, v, u * u, u * v, v * v;
-    ata += w * t * t.transpose();
-    atb += w * z[r] * t;
-  }
-  Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
-  if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-9) return std::nan("");
-  return ldlt.solve(atb)(0);  // the constant term: the surface at (x, y)
-}
-
-void fill_with_surface(std::vector<float>& z, const std::vector<char>& hole, const HoleRegion& h, int nx,
-                       double cell_m, const std::string& source) {
-  if (h.cells.size() > kMaxSurfaceHole) return;
-  std::vector<size_t> ring = ring_of(h, hole, nx);
-  if (ring.size() < 12) return;
-  double scale = std::max(2.0, kSurfaceScale_m / cell_m);
-  auto surface = [&](size_t cell) { return mls_height(ring, z, nx, double(cell % nx), double(cell / nx), scale); };
-  int w = h.x1 - h.x0 + 1, hgt = h.y1 - h.y0 + 1;
-  auto local = [&](size_t cell) { return size_t(int(cell / nx) - h.y0) * w + size_t(int(cell % nx) - h.x0); };
-  std::vector<float> residual(size_t(w) * size_t(hgt), std::nanf(""));
-  double sq = 0;
-  for (size_t r : ring) {
-    double d = z[r] - surface(r);
-    if (!std::isfinite(d)) return;
-    sq += d * d;
-    residual[local(r)] = float(d);
-  }
-  if (!(std::sqrt(sq / double(ring.size())) <= kRingFitRms)) return;
-  std::vector<double> fitted(h.cells.size());
-  for (size_t k = 0; k < h.cells.size(); ++k)
-    if (!std::isfinite(fitted[k] = surface(h.cells[k]))) return;
-  idw_fill(residual, w, hgt, source);
-  for (size_t k = 0; k < h.cells.size(); ++k) z[h.cells[k]] = float(fitted[k] + residual[local(h.cells[k])]);
-}
-
-// Fills NaN cells of dtm.z: inverse-distance interpolation (GDALFillNodata),
-// building-size holes with the terrain's trend (fill_with_surface).
-void fill_holes(Dtm& dtm) {
-  const size_t cells = dtm.z.size();
-  size_t holes = std::count_if(dtm.z.begin(), dtm.z.end(), [](float v) { return std::isnan(v); });
-  dtm.nodata_share = cells ? double(holes) / double(cells) : 0.0;
-  if (holes == 0) return;
-  if (holes == cells) throw InputError(dtm.source, "DTM has no valid height (all cells NoData)");
-  std::vector<char> hole(cells);
-  for (size_t i = 0; i < cells; ++i) hole[i] = std::isnan(dtm.z[i]);
-  idw_fill(dtm.z, dtm.nx, dtm.ny, dtm.source);
-  for (const auto& h : hole_components(hole, dtm.nx, dtm.ny))
-    fill_with_surface(dtm.z, hole, h, dtm.nx, std::abs(dtm.dx), dtm.source);
-}
 
 std::string crs_of(const GDALDataset& ds) {
   const OGRSpatialReference* srs = ds.GetSpatialRef();
@@ -319,35 +128,129 @@ void for_each_strip(GDALDataset& ds, const std::string& path, Visit visit) {
 }  // namespace
 
 Dtm read_dtm(const std::string& path, size_t max_cells) {
-  Dtm dtm;
-  GdalDataset ds = open_dtm(path, dtm);
-  check_grid_size(path, dtm.nx, dtm.ny, max_cells, "raster of");
-  read_cells(*ds, path, 0, 0, dtm.nx, dtm.ny, dtm.z);
-  fill_holes(dtm);
-  return dtm;
+  {
+    Dtm header;
+    open_dtm(path, header);
+    check_grid_size(path, header.nx, header.ny, max_cells, "raster of");
+  }
+  return DtmSource(path, max_cells).whole();
 }
 
+namespace {
+
+// Neighbouring chunks (Hilbert order) share tiles: a tile and its eight
+// neighbours stay filled (36 MB at most).
+constexpr size_t kCachedTiles = 9;
+// A tile with no valid cell within its margin looks farther (doubling the
+// margin) while its grown tile holds at most this many cells (~2900 x 2900,
+// some 200 MB while filled); beyond, its cells have no terrain: an InputError.
+constexpr size_t kMaxGrownTileCells = size_t(1) << 23;
+
+bool has_valid(const std::vector<float>& z) {
+  return std::any_of(z.begin(), z.end(), [](float v) { return !std::isnan(v); });
+}
+
+}  // namespace
+
 DtmSource::DtmSource(const std::string& path, size_t max_cells) : max_cells_(max_cells) {
-  Dtm header;
-  GdalDataset ds = open_dtm(path, header);
-  bool holes = false;
-  for_each_strip(*ds, path, [&](const std::vector<float>& z) {
-    holes = holes || std::any_of(z.begin(), z.end(), [](float v) { return std::isnan(v); });
+  ds_ = open_dtm(path, header_);
+  for_each_strip(*ds_, path, [&](const std::vector<float>& z) {
+    nodata_cells_ += size_t(std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
   });
-  if (holes) {
-    ds.reset();
-    whole_ = read_dtm(path, max_cells);  // holes are filled from the whole raster
-    header_ = whole_;
-    header_.z.clear();
-    header_.z.shrink_to_fit();
-    log::info(path + ": NoData cells, read whole (their fill looks at the whole raster)");
-  } else {
-    header_ = std::move(header);
-    ds_ = std::move(ds);
-  }
+  const size_t cells = size_t(header_.nx) * size_t(header_.ny);
+  if (nodata_cells_ == cells) throw InputError(path, "DTM has no valid height (all cells NoData)");
+  header_.nodata_share = double(nodata_cells_) / double(cells);
+  if (nodata_cells_ > 0 && (header_.nx > kFillTileCells || header_.ny > kFillTileCells))
+    log::info(log::format("%s: NoData cells, filled in tiles of %d cells and %d around", path.c_str(),
+                          kFillTileCells, kFillMarginCells));
 }
 
 DtmSource::~DtmSource() = default;
+
+// Tile (ti, tj) filled from itself and its margin (clipped to the raster);
+// a raster within one tile is filled whole, as one grid.
+std::shared_ptr<const DtmSource::Tile> DtmSource::fill_tile(int ti, int tj) const {
+  const int nx = header_.nx, ny = header_.ny;
+  const int x0 = ti * kFillTileCells, y0 = tj * kFillTileCells;
+  const int x1 = std::min(nx, x0 + kFillTileCells), y1 = std::min(ny, y0 + kFillTileCells);
+  const bool one_tile = nx <= kFillTileCells && ny <= kFillTileCells;
+  for (int margin = kFillMarginCells;; margin *= 2) {
+    const int gx0 = std::max(0, x0 - margin), gy0 = std::max(0, y0 - margin);
+    const int gx1 = std::min(nx, x1 + margin), gy1 = std::min(ny, y1 + margin);
+    Dtm grown = header_;
+    grown.nx = gx1 - gx0, grown.ny = gy1 - gy0;
+    const size_t held = size_t(grown.nx) * size_t(grown.ny);
+    if (held > kMaxGrownTileCells && margin > kFillMarginCells)
+      throw InputError(header_.source, log::format("no valid height within %d cells of cells %d..%d x %d..%d",
+                                                   margin / 2, x0, x1 - 1, y0, y1 - 1));
+    {
+      std::lock_guard<std::mutex> lock(read_);
+      read_cells(*ds_, header_.source, gx0, gy0, grown.nx, grown.ny, grown.z);
+      ds_->GetRasterBand(1)->FlushCache();
+    }
+    size_t peak = peak_fill_cells_;
+    while (held > peak && !peak_fill_cells_.compare_exchange_weak(peak, held)) {
+    }
+    if (!has_valid(grown.z)) continue;  // the whole raster has some: look farther
+    FillTile limits{kFillMarginCells, x0 - gx0, y0 - gy0, x1 - gx0, y1 - gy0,
+                    gx0 > 0, gy0 > 0, gx1 < nx, gy1 < ny};
+    fill_holes(grown, one_tile ? nullptr : &limits);
+    auto tile = std::make_shared<Tile>(size_t(x1 - x0) * size_t(y1 - y0));
+    for (int v = y0; v < y1; ++v)
+      std::copy_n(grown.z.begin() + (size_t(v - gy0) * grown.nx + (x0 - gx0)), x1 - x0,
+                  tile->begin() + size_t(v - y0) * (x1 - x0));
+    return tile;
+  }
+}
+
+// The tile from the cache, or filled once (other threads asking meanwhile wait for it).
+std::shared_ptr<const DtmSource::Tile> DtmSource::tile(int ti, int tj) const {
+  const size_t key = size_t(tj) * size_t(header_.nx / kFillTileCells + 1) + size_t(ti);
+  std::promise<std::shared_ptr<const Tile>> filling;
+  std::shared_future<std::shared_ptr<const Tile>> ready, mine;
+  {
+    std::lock_guard<std::mutex> lock(cache_mutex_);
+    auto hit = std::find_if(cache_.begin(), cache_.end(), [&](const auto& e) { return e.first == key; });
+    if (hit != cache_.end()) {
+      cache_.splice(cache_.begin(), cache_, hit);
+      ready = hit->second;
+    } else {
+      mine = filling.get_future().share();
+      cache_.emplace_front(key, mine);
+      if (cache_.size() > kCachedTiles) cache_.pop_back();
+    }
+  }
+  if (ready.valid()) return ready.get();  // filled, or being filled by another thread
+  try {
+    filling.set_value(fill_tile(ti, tj));
+  } catch (...) {
+    filling.set_exception(std::current_exception());
+  }
+  return mine.get();
+}
+
+// Cells [c0, c0 + w) x [r0, r0 + h) into out: read as they are, or from the
+// filled tiles they lie in.
+void DtmSource::copy_cells(int c0, int r0, int w, int h, std::vector<float>& out) const {
+  if (nodata_cells_ == 0) {
+    std::lock_guard<std::mutex> lock(read_);
+    read_cells(*ds_, header_.source, c0, r0, w, h, out);
+    ds_->GetRasterBand(1)->FlushCache();  // the window is all that stays
+    return;
+  }
+  out.resize(size_t(w) * size_t(h));
+  for (int tj = r0 / kFillTileCells; tj <= (r0 + h - 1) / kFillTileCells; ++tj)
+    for (int ti = c0 / kFillTileCells; ti <= (c0 + w - 1) / kFillTileCells; ++ti) {
+      const std::shared_ptr<const Tile> t = tile(ti, tj);
+      const int tx0 = ti * kFillTileCells, ty0 = tj * kFillTileCells;
+      const int tw = std::min(header_.nx, tx0 + kFillTileCells) - tx0;
+      const int x0 = std::max(c0, tx0), x1 = std::min(c0 + w, tx0 + tw);
+      const int y0 = std::max(r0, ty0), y1 = std::min({r0 + h, ty0 + kFillTileCells, header_.ny});
+      for (int v = y0; v < y1; ++v)
+        std::copy_n(t->begin() + (size_t(v - ty0) * tw + (x0 - tx0)), x1 - x0,
+                    out.begin() + (size_t(v - r0) * w + (x0 - c0)));
+    }
+}
 
 Dtm DtmSource::window(double min_x, double min_y, double max_x, double max_y) const {
   Dtm w = header_;
@@ -365,30 +268,23 @@ Dtm DtmSource::window(double min_x, double min_y, double max_x, double max_y) co
     return w;
   }
   check_grid_size(w.source, w.win_nx, w.win_ny, max_cells_, "a window of");
-  if (!whole_.z.empty()) {
-    w.z.resize(size_t(w.win_nx) * size_t(w.win_ny));
-    for (int v = 0; v < w.win_ny; ++v)
-      std::copy_n(whole_.z.begin() + (size_t(r0 + v) * whole_.nx + c0), w.win_nx, w.z.begin() + size_t(v) * w.win_nx);
-    return w;
-  }
-  std::lock_guard<std::mutex> lock(read_);
-  read_cells(*ds_, w.source, c0, r0, w.win_nx, w.win_ny, w.z);
-  ds_->GetRasterBand(1)->FlushCache();  // the window is all that stays
+  copy_cells(c0, r0, w.win_nx, w.win_ny, w.z);
   return w;
+}
+
+Dtm DtmSource::whole() const {
+  Dtm d = header_;
+  copy_cells(0, 0, d.nx, d.ny, d.z);
+  return d;
 }
 
 size_t DtmSource::count_cells(const std::function<bool(float)>& pick, float* first) const {
   size_t n = 0;
-  auto visit = [&](const std::vector<float>& z) {
-    for (float v : z)
-      if (pick(v) && n++ == 0 && first) *first = v;
-  };
-  if (!whole_.z.empty()) {
-    visit(whole_.z);
-    return n;
-  }
   std::lock_guard<std::mutex> lock(read_);
-  for_each_strip(*ds_, header_.source, visit);
+  for_each_strip(*ds_, header_.source, [&](const std::vector<float>& z) {
+    for (float v : z)
+      if (!std::isnan(v) && pick(v) && n++ == 0 && first) *first = v;
+  });
   return n;
 }
 

@@ -2,7 +2,10 @@
 // Digital terrain models: any GDAL raster, or a grid built from ground points.
 // NoData holes (typically under buildings) are always filled, so that walls can
 // be extruded down to the terrain everywhere.
+#include <atomic>
 #include <functional>
+#include <future>
+#include <list>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -17,40 +20,65 @@ namespace c3d {
 // half the physical memory holds fewer (core/io/read_limits.h).
 size_t dtm_cell_budget();
 
-// Band 1 of any raster GDAL opens; NoData filled by GDALFillNodata, then any
-// remaining hole by its nearest valid cell. Throws InputError on unreadable,
+// Band 1 of any raster GDAL opens, NoData filled as DtmSource fills it (so
+// the cells equal DtmSource's windows). Throws InputError on unreadable,
 // rotated or all-NoData rasters, and on a raster of more than max_cells cells
 // (checked before anything is allocated).
 Dtm read_dtm(const std::string& path, size_t max_cells = dtm_cell_budget());
 
 // A GDAL raster DTM opened once (read_dtm's checks) and read a window at a
-// time, so that no more than a window is held however large the raster. A
-// window's cells and lookups equal read_dtm's grid's (Dtm::win_*). A raster
-// with NoData is read whole once (read_dtm): GDALFillNodata fills its holes
-// from the whole raster, which a window cannot reproduce.
+// time, so that no more than a window and a few filled tiles are held however
+// large the raster. NoData is filled on a fixed grid of tiles of the raster:
+// tile (i, j) is cells [i S, (i+1) S) x [j S, (j+1) S), S = kFillTileCells,
+// filled from itself and kFillMarginCells around it (GDALFillNodata searching
+// no farther than the margin, then the nearest valid cell there), so a cell's
+// height depends on the raster alone, never on the windows asked for. A raster
+// within one tile is filled whole. A window's cells and lookups equal
+// read_dtm's grid's (Dtm::win_*). Thread-safe.
 class DtmSource {
  public:
   explicit DtmSource(const std::string& path, size_t max_cells = dtm_cell_budget());
   ~DtmSource();
   // Extent, cells, CRS and NoData share of the whole raster; z empty.
   const Dtm& header() const { return header_; }
-  bool windowed() const { return whole_.z.empty(); }
+  size_t nodata_cells() const { return nodata_cells_; }
   // The cells covering the box, kWindowMarginCells more around, clipped to the
   // raster. Throws InputError when the window has more than max_cells cells.
   Dtm window(double min_x, double min_y, double max_x, double max_y) const;
-  // How many cells' heights pick picks (a pass over the raster's blocks), and
-  // the first such height in row order.
+  // All cells (read_dtm), assembled a tile at a time.
+  Dtm whole() const;
+  // How many valid (not NoData) cells' heights pick picks (a pass over the
+  // raster's blocks), and the first such height in row order.
   size_t count_cells(const std::function<bool(float)>& pick, float* first) const;
+  // The most cells one tile's fill has held (its tile and margin): what
+  // filling costs, whatever the raster's size.
+  size_t peak_fill_cells() const { return peak_fill_cells_; }
 
   // Bilinear lookups read the cell beyond; one more for safety.
   static constexpr int kWindowMarginCells = 2;
+  // 4 MB of filled heights a tile: small next to a chunk's points, large
+  // enough that a chunk's window touches few tiles.
+  static constexpr int kFillTileCells = 1024;
+  // The fill's reach beyond its tile, and the inverse-distance search's: a
+  // hole up to 2 x 256 cells wide (256 m at 1 m cells, 128 m at AHN's 0.5 m) is
+  // filled from its rims; a wider one can show a seam at a tile's edge.
+  static constexpr int kFillMarginCells = 256;
 
  private:
+  using Tile = std::vector<float>;  // a tile's filled cells, row-major
+  std::shared_ptr<const Tile> tile(int ti, int tj) const;
+  std::shared_ptr<const Tile> fill_tile(int ti, int tj) const;
+  void copy_cells(int c0, int r0, int nx, int ny, std::vector<float>& out) const;
+
   size_t max_cells_;
   Dtm header_;
-  Dtm whole_;  // a raster with NoData, filled; else empty
+  size_t nodata_cells_ = 0;
   GdalDataset ds_;
   mutable std::mutex read_;  // GDAL datasets are not thread-safe
+  // The tiles filled last, most recent first (a future while one is filled).
+  mutable std::mutex cache_mutex_;
+  mutable std::list<std::pair<size_t, std::shared_future<std::shared_ptr<const Tile>>>> cache_;
+  mutable std::atomic<size_t> peak_fill_cells_{0};
 };
 
 enum class DtmCell { Min, Mean };
