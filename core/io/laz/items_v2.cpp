@@ -68,7 +68,7 @@ class GpsTime11Reader : public ItemReader {
 
  private:
   Decoder& dec_;
-  GpsTimeDecoder gps_{false};
+  GpsTimeCoder gps_{false};
 };
 
 class Rgb12Reader : public ItemReader {

@@ -3,7 +3,7 @@
 #include <cstring>
 
 #include "core/io/laz/gps_time.h"
-#include "core/io/laz/integer_compressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/item_reader.h"
 #include "core/io/laz/item_writer.h"
 
@@ -86,7 +86,7 @@ class Point10Writer : public ItemWriter {
   SymbolModel changed_values_{64};
   SymbolModel scan_angle_[2] = {SymbolModel(256), SymbolModel(256)};
   ModelBank flags_{256, 256}, classification_{256, 256}, user_data_{256, 256};
-  IntegerCompressor ic_intensity_{16, 4}, ic_point_source_{16}, ic_dx_{32, 2}, ic_dy_{32, 22}, ic_z_{32, 20};
+  IntegerCoder ic_intensity_{16, 4}, ic_point_source_{16}, ic_dx_{32, 2}, ic_dy_{32, 22}, ic_z_{32, 20};
 };
 
 void Point10Writer::init(const uint8_t* first, uint32_t&) {
@@ -95,7 +95,7 @@ void Point10Writer::init(const uint8_t* first, uint32_t&) {
   changed_values_.reset();
   scan_angle_[0].reset(), scan_angle_[1].reset();
   flags_.reset(), classification_.reset(), user_data_.reset();
-  for (IntegerCompressor* ic : {&ic_intensity_, &ic_point_source_, &ic_dx_, &ic_dy_, &ic_z_}) ic->reset();
+  for (IntegerCoder* ic : {&ic_intensity_, &ic_point_source_, &ic_dx_, &ic_dy_, &ic_z_}) ic->reset();
   std::memcpy(last_, first, 20);
 }
 
@@ -154,7 +154,7 @@ class GpsTime11Writer : public ItemWriter {
     return bits;
   }
   Encoder& enc_;
-  GpsTimeEncoder gps_{false};
+  GpsTimeCoder gps_{false};
 };
 
 class Rgb12Writer : public ItemWriter {

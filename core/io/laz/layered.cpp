@@ -2,7 +2,7 @@
 #include "core/io/laz/layered.h"
 
 #include "core/io/laz/gps_time.h"
-#include "core/io/laz/integer_decompressor.h"
+#include "core/io/laz/integer_coder.h"
 
 namespace c3d::laz {
 
@@ -30,9 +30,9 @@ struct Context {
   SymbolModel scanner_channel{3}, return_number_gps_same{13};
   ModelBank number_of_returns{16, 16}, return_number{16, 16};
   ModelBank classification{64, 256}, flags{64, 64}, user_data{64, 256};
-  IntegerDecompressor ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
-  IntegerDecompressor ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
-  GpsTimeDecoder gps{true};
+  IntegerCoder ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
+  IntegerCoder ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
+  GpsTimeCoder gps{true};
 
   void init(const Point14& from);
 };
@@ -41,7 +41,7 @@ void Context::init(const Point14& from) {
   for (SymbolModel& m : changed_values) m.reset();
   scanner_channel.reset(), return_number_gps_same.reset();
   for (ModelBank* b : {&number_of_returns, &return_number, &classification, &flags, &user_data}) b->reset();
-  for (IntegerDecompressor* ic : {&ic_dx, &ic_dy, &ic_z, &ic_intensity, &ic_scan_angle, &ic_point_source})
+  for (IntegerCoder* ic : {&ic_dx, &ic_dy, &ic_z, &ic_intensity, &ic_scan_angle, &ic_point_source})
     ic->reset();
   for (int i = 0; i < 12; ++i) last_dx[i].reset(), last_dy[i].reset();
   for (int i = 0; i < 8; ++i) last_z[i] = from.z, last_intensity[i] = from.intensity;

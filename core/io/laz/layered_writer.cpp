@@ -1,7 +1,7 @@
 // The POINT14 item encoder (layered, item version 3): the inverse of
 // layered.cpp, over the same models, one encoder per layer.
 #include "core/io/laz/gps_time.h"
-#include "core/io/laz/integer_compressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/item_writer.h"
 #include "core/io/laz/layered.h"
 
@@ -21,15 +21,15 @@ struct WriteContext {
   SymbolModel scanner_channel{3}, return_number_gps_same{13};
   ModelBank number_of_returns{16, 16}, return_number{16, 16};
   ModelBank classification{64, 256}, flags{64, 64}, user_data{64, 256};
-  IntegerCompressor ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
-  IntegerCompressor ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
-  GpsTimeEncoder gps{true};
+  IntegerCoder ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
+  IntegerCoder ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
+  GpsTimeCoder gps{true};
 
   void init(const Point14& from) {
     for (SymbolModel& m : changed_values) m.reset();
     scanner_channel.reset(), return_number_gps_same.reset();
     for (ModelBank* b : {&number_of_returns, &return_number, &classification, &flags, &user_data}) b->reset();
-    for (IntegerCompressor* ic : {&ic_dx, &ic_dy, &ic_z, &ic_intensity, &ic_scan_angle, &ic_point_source})
+    for (IntegerCoder* ic : {&ic_dx, &ic_dy, &ic_z, &ic_intensity, &ic_scan_angle, &ic_point_source})
       ic->reset();
     for (int i = 0; i < 12; ++i) last_dx[i].reset(), last_dy[i].reset();
     for (int i = 0; i < 8; ++i) last_z[i] = from.z, last_intensity[i] = from.intensity;

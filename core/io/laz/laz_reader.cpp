@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "core/io/laz/integer_decompressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/layered.h"
 #include "core/io/laz/point10.h"
 
@@ -113,7 +113,7 @@ std::vector<Chunk> read_chunk_table(const PointData& in, uint32_t chunk_size) {
     throw FormatError("chunk table lists " + std::to_string(n) + " chunks, more than the data holds");
   Decoder dec;
   dec.start(in.file + table + 8, in.file + in.file_size);
-  IntegerDecompressor ic(32, 2);
+  IntegerCoder ic(32, 2);
   std::vector<Chunk> chunks(n);
   int32_t points = 0, bytes = 0;
   uint64_t pos = chunks_start;

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "core/io/laz/integer_compressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/item_reader.h"
 #include "core/io/laz/item_writer.h"
 
@@ -97,7 +97,7 @@ void write_chunk_table(const std::vector<uint32_t>& chunk_bytes, std::vector<uin
   put_u32(out, uint32_t(chunk_bytes.size()));
   if (chunk_bytes.empty()) return;
   Encoder enc;
-  IntegerCompressor ic(32, 2);
+  IntegerCoder ic(32, 2);
   int32_t last = 0;
   for (uint32_t bytes : chunk_bytes) {
     ic.compress(enc, last, int32_t(bytes), 1);

@@ -1,7 +1,7 @@
 // The POINT10 v2 item decoder (LAZ specification, point formats 0-5).
 #include "core/io/laz/point10.h"
 
-#include "core/io/laz/integer_decompressor.h"
+#include "core/io/laz/integer_coder.h"
 
 namespace c3d::laz {
 
@@ -71,7 +71,7 @@ class Point10Reader : public ItemReader {
   SymbolModel changed_values_{64};
   SymbolModel scan_angle_[2] = {SymbolModel(256), SymbolModel(256)};
   ModelBank flags_{256, 256}, classification_{256, 256}, user_data_{256, 256};
-  IntegerDecompressor ic_intensity_{16, 4}, ic_point_source_{16}, ic_dx_{32, 2}, ic_dy_{32, 22},
+  IntegerCoder ic_intensity_{16, 4}, ic_point_source_{16}, ic_dx_{32, 2}, ic_dy_{32, 22},
       ic_z_{32, 20};
 };
 
@@ -81,7 +81,7 @@ void Point10Reader::init(const uint8_t* first, uint32_t&) {
   changed_values_.reset();
   scan_angle_[0].reset(), scan_angle_[1].reset();
   flags_.reset(), classification_.reset(), user_data_.reset();
-  for (IntegerDecompressor* ic : {&ic_intensity_, &ic_point_source_, &ic_dx_, &ic_dy_, &ic_z_})
+  for (IntegerCoder* ic : {&ic_intensity_, &ic_point_source_, &ic_dx_, &ic_dy_, &ic_z_})
     ic->reset();
   std::memcpy(last_, first, 20);
   set<uint16_t>(kIntensity, 0);  // version 2 predicts the first intensity from 0
