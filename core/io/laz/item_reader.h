@@ -95,5 +95,12 @@ inline uint32_t return_level(uint32_t n, uint32_t r, uint32_t cap) {  // |n - r|
   const uint32_t d = n > r ? n - r : r - n;
   return d < cap ? d : cap;
 }
+// The contexts of y's and z's corrector (POINT10 and POINT14): the bit
+// lengths of x's (and y's) correctors, even, capped; `single`: one return.
+inline uint32_t y_context(uint32_t single, uint32_t k_x) { return single + (k_x < 20 ? k_x & ~1u : 20); }
+inline uint32_t z_context(uint32_t single, uint32_t k_x, uint32_t k_y) {
+  const uint32_t k = (k_x + k_y) / 2;
+  return single + (k < 18 ? k & ~1u : 18);
+}
 
 }  // namespace c3d::laz

@@ -34,9 +34,6 @@ std::unique_ptr<ItemWriter> make_point14_writer();
 std::unique_ptr<ItemWriter> make_rgb14_writer(bool nir);
 std::unique_ptr<ItemWriter> make_byte14_writer(uint32_t count);
 
-// The colour as decode_rgb reads it back, predicted from `last`.
-void encode_rgb(Encoder& enc, RgbModels& m, const uint16_t last[3], const uint16_t rgb[3]);
-
 // One layer of a layered chunk: its encoder, and whether any value changed
 // (an unchanged layer is written empty and the decoder keeps the value).
 struct LayerOut {

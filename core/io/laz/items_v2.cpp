@@ -11,24 +11,21 @@ namespace c3d::laz {
 
 namespace {
 
-// One byte of a channel: `low` selects the low or the high byte.
-uint16_t channel_byte(uint16_t v, bool low) { return low ? v & 0xFF : v >> 8; }
-
 // Green and blue's byte (low or high) predicted from red's change in that byte.
 void decode_green_blue(Decoder& dec, RgbModels& m, uint32_t sym, const uint16_t last[3],
                        uint16_t out[3], bool low) {
   const int shift = low ? 0 : 8;
   const int bit_g = low ? 2 : 3, bit_b = low ? 4 : 5;
-  int32_t diff = channel_byte(out[0], low) - channel_byte(last[0], low);
-  uint16_t g = channel_byte(last[1], low), b = channel_byte(last[2], low);
+  int32_t diff = byte_of(out[0], low) - byte_of(last[0], low);
+  uint16_t g = byte_of(last[1], low), b = byte_of(last[2], low);
   if (sym & (1u << bit_g)) {
     const int32_t corr = int32_t(dec.decode_symbol(m.diff[bit_g]));
-    g = fold_u8(corr + clamp_u8(diff + channel_byte(last[1], low)));
+    g = fold_u8(corr + clamp_u8(diff + byte_of(last[1], low)));
   }
   if (sym & (1u << bit_b)) {
     const int32_t corr = int32_t(dec.decode_symbol(m.diff[bit_b]));
-    diff = (diff + (g - channel_byte(last[1], low))) / 2;
-    b = fold_u8(corr + clamp_u8(diff + channel_byte(last[2], low)));
+    diff = (diff + (g - byte_of(last[1], low))) / 2;
+    b = fold_u8(corr + clamp_u8(diff + byte_of(last[2], low)));
   }
   out[1] = uint16_t(out[1] | (g << shift));
   out[2] = uint16_t(out[2] | (b << shift));

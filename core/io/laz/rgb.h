@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "core/io/laz/arithmetic_decoder.h"
+#include "core/io/laz/arithmetic_encoder.h"
 
 namespace c3d::laz {
 
@@ -17,7 +18,12 @@ struct RgbModels {
   }
 };
 
+// One byte of a 16-bit value: `low` selects the low or the high byte.
+inline uint8_t byte_of(uint16_t v, bool low) { return uint8_t(low ? v & 0xFF : v >> 8); }
+
 // Decodes the next colour (three 16-bit channels) from the last one.
 void decode_rgb(Decoder& dec, RgbModels& m, const uint16_t last[3], uint16_t out[3]);
+// The colour as decode_rgb reads it back, predicted from `last`.
+void encode_rgb(Encoder& enc, RgbModels& m, const uint16_t last[3], const uint16_t rgb[3]);
 
 }  // namespace c3d::laz
