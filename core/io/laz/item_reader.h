@@ -69,6 +69,22 @@ class ModelBank {
   std::vector<std::unique_ptr<SymbolModel>> models_;
 };
 
+// The state of BYTE and of a channel of BYTE14: one model and one last
+// value a byte.
+struct ByteContext {
+  using Value = uint8_t;
+  bool unused = true;
+  std::vector<SymbolModel> models;
+  std::vector<uint8_t> last;
+  void start(const void* from, size_t count) {
+    if (models.empty()) models.assign(count, SymbolModel(256));
+    for (SymbolModel& m : models) m.reset();
+    last.assign(static_cast<const uint8_t*>(from), static_cast<const uint8_t*>(from) + count);
+    unused = false;
+  }
+  uint8_t* values() { return last.data(); }
+};
+
 // Median of the last five values, updated in LASzip's streaming order.
 class Median5 {
  public:

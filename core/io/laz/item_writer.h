@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "core/io/laz/arithmetic_encoder.h"
-#include "core/io/laz/rgb.h"
 
 namespace c3d::laz {
 

@@ -5,6 +5,7 @@
 #include "core/io/laz/gps_time.h"
 #include "core/io/laz/item_writer.h"
 #include "core/io/laz/point10.h"
+#include "core/io/laz/rgb.h"
 
 namespace c3d::laz {
 
@@ -18,14 +19,14 @@ namespace {
 void encode_green_blue(Encoder& enc, RgbModels& m, uint32_t sym, const uint16_t last[3], const uint16_t rgb[3],
                        bool low) {
   const int bit_g = low ? 2 : 3, bit_b = low ? 4 : 5;
-  int32_t diff = byte_of(rgb[0], low) - byte_of(last[0], low);
+  const int32_t diff = byte_of(rgb[0], low) - byte_of(last[0], low);
   if (sym & (1u << bit_g)) {
-    const int32_t corr = byte_of(rgb[1], low) - clamp_u8(diff + byte_of(last[1], low));
+    const int32_t corr = byte_of(rgb[1], low) - predict_green(diff, byte_of(last[1], low));
     enc.encode_symbol(m.diff[bit_g], fold_u8(corr));
   }
   if (sym & (1u << bit_b)) {
-    diff = (diff + (byte_of(rgb[1], low) - byte_of(last[1], low))) / 2;
-    const int32_t corr = byte_of(rgb[2], low) - clamp_u8(diff + byte_of(last[2], low));
+    const int32_t green_diff = byte_of(rgb[1], low) - byte_of(last[1], low);
+    const int32_t corr = byte_of(rgb[2], low) - predict_blue(diff, green_diff, byte_of(last[2], low));
     enc.encode_symbol(m.diff[bit_b], fold_u8(corr));
   }
 }
@@ -124,41 +125,35 @@ class GpsTime11Writer : public ItemWriter {
 class Rgb12Writer : public ItemWriter {
  public:
   explicit Rgb12Writer(Encoder& enc) : enc_(enc) {}
-  void init(const uint8_t* first, uint32_t&) override {
-    models_.reset();
-    std::memcpy(last_, first, 6);
-  }
+  void init(const uint8_t* first, uint32_t&) override { state_.start(first, 6); }
   void encode(const uint8_t* item, uint32_t&) override {
     uint16_t rgb[3];
     std::memcpy(rgb, item, 6);
-    encode_rgb(enc_, models_, last_, rgb);
-    std::memcpy(last_, rgb, 6);
+    encode_rgb(enc_, state_.rgb, state_.last, rgb);
+    std::memcpy(state_.last, rgb, 6);
   }
 
  private:
   Encoder& enc_;
-  RgbModels models_;
-  uint16_t last_[3] = {};
+  RgbContext state_;
 };
 
 class ByteWriter : public ItemWriter {
  public:
-  ByteWriter(Encoder& enc, uint32_t count) : enc_(enc), models_(count, SymbolModel(256)), last_(count) {}
-  void init(const uint8_t* first, uint32_t&) override {
-    for (SymbolModel& m : models_) m.reset();
-    std::memcpy(last_.data(), first, last_.size());
-  }
+  ByteWriter(Encoder& enc, uint32_t count) : enc_(enc), count_(count) {}
+  void init(const uint8_t* first, uint32_t&) override { state_.start(first, count_); }
   void encode(const uint8_t* item, uint32_t&) override {
-    for (size_t i = 0; i < last_.size(); ++i) {
-      enc_.encode_symbol(models_[i], fold_u8(int32_t(item[i]) - last_[i]));
-      last_[i] = item[i];
+    uint8_t* last = state_.values();
+    for (size_t i = 0; i < count_; ++i) {
+      enc_.encode_symbol(state_.models[i], fold_u8(int32_t(item[i]) - last[i]));
+      last[i] = item[i];
     }
   }
 
  private:
   Encoder& enc_;
-  std::vector<SymbolModel> models_;
-  std::vector<uint8_t> last_;
+  size_t count_;
+  ByteContext state_;
 };
 
 }  // namespace

@@ -130,37 +130,6 @@ class Point14Contexts {
   uint32_t current_ = 0;
 };
 
-// The per-channel state of RGB14 and RGBNIR14 (bytes: 6 or 8 of the record).
-struct RgbContext {
-  using Value = uint16_t;
-  bool unused = true;
-  RgbModels rgb;
-  SymbolModel nir_used{4};
-  SymbolModel nir_diff[2] = {SymbolModel(256), SymbolModel(256)};
-  uint16_t last[4] = {};
-  void start(const void* from, size_t bytes) {
-    rgb.reset(), nir_used.reset(), nir_diff[0].reset(), nir_diff[1].reset();
-    std::memcpy(last, from, bytes);
-    unused = false;
-  }
-  uint16_t* values() { return last; }
-};
-
-// The per-channel state of BYTE14: one model and one last value a byte.
-struct ByteContext {
-  using Value = uint8_t;
-  bool unused = true;
-  std::vector<SymbolModel> models;
-  std::vector<uint8_t> last;
-  void start(const void* from, size_t count) {
-    if (models.empty()) models.assign(count, SymbolModel(256));
-    for (SymbolModel& m : models) m.reset();
-    last.assign(static_cast<const uint8_t*>(from), static_cast<const uint8_t*>(from) + count);
-    unused = false;
-  }
-  uint8_t* values() { return last.data(); }
-};
-
 // The contexts of a layered item that follows POINT14's scanner channel.
 // Version 3 has a quirk the encoder shares, so both directions keep it: on
 // switching to a channel already used in the chunk, the predictor keeps the

@@ -12,10 +12,6 @@ namespace c3d::laz {
 
 namespace {
 
-enum ItemType : uint16_t {
-  kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kWavePacket13 = 9,
-  kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
-};
 constexpr uint32_t kVariableChunks = 0xFFFFFFFFu;
 // Extra bytes a record may carry: each has its own models (up to 4 sets of
 // 2.3 kB), so a damaged item size must not reach 65535 of them. No survey
@@ -71,7 +67,7 @@ std::unique_ptr<ItemReader> make_layered(const Item& it) {
 
 std::unique_ptr<Items> make_items(const LaszipVlr& vlr, uint32_t record_length) {
   auto items = std::make_unique<Items>();
-  items->layered = vlr.compressor == 3;
+  items->layered = vlr.compressor == kCompressorLayered;
   uint32_t offset = 0;
   for (const Item& it : vlr.items) {
     if ((it.type == kByte || it.type == kByte14) && it.size > kMaxExtraBytes)
@@ -171,9 +167,9 @@ LaszipVlr parse_laszip_vlr(const uint8_t* data, size_t size) {
     vlr.items.push_back({load<uint16_t>(p), load<uint16_t>(p + 2), load<uint16_t>(p + 4)});
   }
   if (vlr.coder != 0) throw FormatError("unknown LASzip coder " + std::to_string(vlr.coder));
-  if (vlr.compressor < 1 || vlr.compressor > 3)
+  if (vlr.compressor < kCompressorPointwise || vlr.compressor > kCompressorLayered)
     throw FormatError("unknown LASzip compressor " + std::to_string(vlr.compressor));
-  if (vlr.compressor != 1 && vlr.chunk_size == 0) throw FormatError("LASzip chunk size 0");
+  if (vlr.compressor != kCompressorPointwise && vlr.chunk_size == 0) throw FormatError("LASzip chunk size 0");
   return vlr;
 }
 
@@ -185,7 +181,7 @@ std::vector<Chunk> chunks_of(const PointData& in, const LaszipVlr& vlr) {
     throw FormatError("header claims " + std::to_string(in.count) + " points, more than " +
                       std::to_string(kMaxLazExpansion) + " times the " + std::to_string(compressed) +
                       " compressed bytes can hold");
-  return vlr.compressor == 1 ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
+  return vlr.compressor == kCompressorPointwise ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
                              : read_chunk_table(in, vlr.chunk_size);
 }
 

@@ -13,10 +13,6 @@ namespace c3d::laz {
 
 namespace {
 
-enum ItemType : uint16_t { kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kPoint14 = 10, kRgb14 = 11,
-                           kRgbNir14 = 12, kByte14 = 14 };
-constexpr uint16_t kCompressorPointwiseChunked = 2, kCompressorLayered = 3;
-
 template <typename T>
 T load(const uint8_t* p) {
   T v;
