@@ -11,12 +11,45 @@
 #include <vector>
 
 #include "core/io/laz/arithmetic_decoder.h"
+#include "core/io/laz/laz_reader.h"
 
 namespace c3d::laz {
 
 // A damaged or unsupported LAZ stream; laz_reader turns it into InputError.
 struct FormatError : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+template <typename T>
+T load(const uint8_t* p) {  // a field at an unaligned address
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// The coders of one record's items (ItemReader or ItemWriter), the one stream
+// the point-wise items share, and where each item starts in the record.
+template <class Stream, class Coder>
+struct RecordItems {
+  Stream stream;
+  std::vector<std::unique_ptr<Coder>> coders;
+  std::vector<uint32_t> offsets;
+  bool layered = false;
+
+  // Makes each item's coder (make(item)); the items must fill the record.
+  template <class Make>
+  void add(const LaszipVlr& vlr, uint32_t record_length, Make make) {
+    layered = vlr.compressor == kCompressorLayered;
+    uint32_t offset = 0;
+    for (const Item& it : vlr.items) {
+      coders.push_back(make(it));
+      offsets.push_back(offset);
+      offset += it.size;
+    }
+    if (offset != record_length)
+      throw FormatError("LASzip items make " + std::to_string(offset) + "-byte records, the header says " +
+                        std::to_string(record_length));
+  }
 };
 
 // Reads a chunk's header fields and layer bytes, never past `end`.

@@ -109,15 +109,10 @@ void Point10Writer::encode(const uint8_t* item, uint32_t&) {
 class GpsTime11Writer : public ItemWriter {
  public:
   explicit GpsTime11Writer(Encoder& enc) : enc_(enc) {}
-  void init(const uint8_t* first, uint32_t&) override { gps_.init(load(first)); }
-  void encode(const uint8_t* item, uint32_t&) override { gps_.encode(enc_, load(item)); }
+  void init(const uint8_t* first, uint32_t&) override { gps_.init(load<uint64_t>(first)); }
+  void encode(const uint8_t* item, uint32_t&) override { gps_.encode(enc_, load<uint64_t>(item)); }
 
  private:
-  static uint64_t load(const uint8_t* p) {
-    uint64_t bits;
-    std::memcpy(&bits, p, 8);
-    return bits;
-  }
   Encoder& enc_;
   GpsTimeCoder gps_{false};
 };

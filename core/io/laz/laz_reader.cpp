@@ -20,24 +20,11 @@ constexpr uint16_t kMaxExtraBytes = 4096;
 // Items of a record: a point, GPS time, colour and extra bytes make four.
 constexpr uint16_t kMaxItems = 16;
 
-template <typename T>
-T load(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
 std::string item_name(const Item& it) {
   return "item type " + std::to_string(it.type) + " version " + std::to_string(it.version);
 }
 
-// The decoders of one record's items, and where each item starts in it.
-struct Items {
-  Decoder dec;  // the chunk's stream (point-wise compressors)
-  std::vector<std::unique_ptr<ItemReader>> readers;
-  std::vector<uint32_t> offsets;
-  bool layered = false;
-};
+using Items = RecordItems<Decoder, ItemReader>;
 
 std::unique_ptr<ItemReader> make_v2(const Item& it, Decoder& dec) {
   if (it.version != 2)
@@ -67,20 +54,13 @@ std::unique_ptr<ItemReader> make_layered(const Item& it) {
 
 std::unique_ptr<Items> make_items(const LaszipVlr& vlr, uint32_t record_length) {
   auto items = std::make_unique<Items>();
-  items->layered = vlr.compressor == kCompressorLayered;
-  uint32_t offset = 0;
-  for (const Item& it : vlr.items) {
+  items->add(vlr, record_length, [&](const Item& it) {
     if ((it.type == kByte || it.type == kByte14) && it.size > kMaxExtraBytes)
       throw FormatError(std::to_string(it.size) + " extra bytes per point (at most " +
                         std::to_string(kMaxExtraBytes) + " are read)");
-    items->readers.push_back(items->layered ? make_layered(it) : make_v2(it, items->dec));
-    items->offsets.push_back(offset);
-    offset += it.size;
-  }
-  if (offset != record_length)
-    throw FormatError("LASzip items make " + std::to_string(offset) + "-byte records, the header says " +
-                      std::to_string(record_length));
-  if (items->readers.empty() || (vlr.items[0].type == kPoint14) != items->layered)
+    return vlr.compressor == kCompressorLayered ? make_layered(it) : make_v2(it, items->stream);
+  });
+  if (items->coders.empty() || (vlr.items[0].type == kPoint14) != items->layered)
     throw FormatError("compressor " + std::to_string(vlr.compressor) + " does not fit the items");
   return items;
 }
@@ -130,11 +110,11 @@ uint32_t start_chunk(Items& items, ByteCursor& in, const uint8_t* first) {
   uint32_t context = 0;
   if (items.layered) {
     in.u32("point count");
-    for (auto& r : items.readers) r->read_layer_sizes(in);
-    for (auto& r : items.readers) r->load_layers(in);
+    for (auto& r : items.coders) r->read_layer_sizes(in);
+    for (auto& r : items.coders) r->load_layers(in);
   }
-  for (size_t i = 0; i < items.readers.size(); ++i) items.readers[i]->init(first + items.offsets[i], context);
-  if (!items.layered) items.dec.start(in.pos, in.end);
+  for (size_t i = 0; i < items.coders.size(); ++i) items.coders[i]->init(first + items.offsets[i], context);
+  if (!items.layered) items.stream.start(in.pos, in.end);
   return context;
 }
 
@@ -144,10 +124,10 @@ void decode_chunk(Items& items, const PointData& in, const Chunk& chunk, uint64_
   const uint8_t* first = cursor.take(in.record_length, "first point");
   std::memcpy(out, first, in.record_length);
   uint32_t context = start_chunk(items, cursor, first);
-  const size_t n_items = items.readers.size();
+  const size_t n_items = items.coders.size();
   for (uint64_t p = 1; p < points; ++p) {
     uint8_t* record = out + p * in.record_length;
-    for (size_t i = 0; i < n_items; ++i) items.readers[i]->decode(record + items.offsets[i], context);
+    for (size_t i = 0; i < n_items; ++i) items.coders[i]->decode(record + items.offsets[i], context);
   }
 }
 

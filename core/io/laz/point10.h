@@ -32,9 +32,7 @@ struct Point10Context {
   static uint32_t intensity_context(uint32_t m) { return m < 3 ? m : 3; }
   template <typename T>
   static T load(const uint8_t* record, int at) {
-    T v;
-    std::memcpy(&v, record + at, sizeof v);
-    return v;
+    return laz::load<T>(record + at);
   }
   template <typename T>
   T field(int at) const {
