@@ -47,4 +47,12 @@ struct LayerOut {
 
 void put_u32(std::vector<uint8_t>& out, uint32_t v);
 
+// A layered chunk's tail: the byte counts of `n` layers, then their bytes.
+inline void put_layer_sizes(const LayerOut* layers, size_t n, std::vector<uint8_t>& out) {
+  for (size_t i = 0; i < n; ++i) put_u32(out, uint32_t(layers[i].bytes.size()));
+}
+inline void put_layers(const LayerOut* layers, size_t n, std::vector<uint8_t>& out) {
+  for (size_t i = 0; i < n; ++i) out.insert(out.end(), layers[i].bytes.begin(), layers[i].bytes.end());
+}
+
 }  // namespace c3d::laz

@@ -50,10 +50,7 @@ class Point14Reader : public ItemReader {
 };
 
 void Point14Reader::init(const uint8_t* first, uint32_t& context_out) {
-  Point14 p;
-  p.from_raw(first);
-  contexts_.begin_chunk(p);
-  context_out = contexts_.channel();
+  context_out = contexts_.begin_chunk(first);
 }
 
 // A new scanner channel, coded as its distance from the current one.

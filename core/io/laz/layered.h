@@ -98,11 +98,15 @@ struct Point14Context {
 // The contexts of a chunk's four scanner channels, each made on first use.
 class Point14Contexts {
  public:
-  void begin_chunk(const Point14& first) {
+  // Starts a chunk at its first (raw) record; returns its channel.
+  uint32_t begin_chunk(const uint8_t* first_record) {
     for (auto& c : contexts_)
       if (c) c->unused = true;
+    Point14 first;
+    first.from_raw(first_record);
     current_ = first.channel;
     at(current_).init(first);
+    return current_;
   }
   uint32_t channel() const { return current_; }
   Point14Context& current() { return at(current_); }

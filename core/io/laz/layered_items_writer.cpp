@@ -15,7 +15,7 @@ class Rgb14Writer : public ItemWriter {
  public:
   explicit Rgb14Writer(bool nir) : nir_(nir), contexts_(nir ? 8 : 6) {}
   void init(const uint8_t* first, uint32_t& context) override {
-    layer_.changed = nir_layer_.changed = false;
+    layers_[kRgb].changed = layers_[kNir].changed = false;
     contexts_.begin_chunk(context, first);
   }
   void encode(const uint8_t* item, uint32_t& context) override {
@@ -23,8 +23,8 @@ class Rgb14Writer : public ItemWriter {
     RgbContext& c = contexts_.follow(context, kVersion, last);
     uint16_t rgb[3];
     std::memcpy(rgb, item, 6);
-    layer_.changed |= std::memcmp(rgb, last, 6) != 0;
-    encode_rgb(layer_.enc, c.rgb, last, rgb);
+    layers_[kRgb].changed |= std::memcmp(rgb, last, 6) != 0;
+    encode_rgb(layers_[kRgb].enc, c.rgb, last, rgb);
     std::memcpy(last, rgb, 6);
     if (nir_) {
       uint16_t nir;
@@ -34,30 +34,26 @@ class Rgb14Writer : public ItemWriter {
     }
   }
   void finish_layers() override {
-    layer_.finish();
-    nir_layer_.finish();
+    layers_[kRgb].finish();
+    layers_[kNir].finish();
   }
-  void write_layer_sizes(std::vector<uint8_t>& out) const override {
-    put_u32(out, uint32_t(layer_.bytes.size()));
-    if (nir_) put_u32(out, uint32_t(nir_layer_.bytes.size()));
-  }
-  void write_layers(std::vector<uint8_t>& out) const override {
-    out.insert(out.end(), layer_.bytes.begin(), layer_.bytes.end());
-    if (nir_) out.insert(out.end(), nir_layer_.bytes.begin(), nir_layer_.bytes.end());
-  }
+  // The NIR layer only where the item has NIR.
+  void write_layer_sizes(std::vector<uint8_t>& out) const override { put_layer_sizes(layers_, nir_ ? 2 : 1, out); }
+  void write_layers(std::vector<uint8_t>& out) const override { put_layers(layers_, nir_ ? 2 : 1, out); }
 
  private:
   void encode_nir(RgbContext& c, uint16_t last, uint16_t nir) {
-    Encoder& enc = nir_layer_.enc;
+    Encoder& enc = layers_[kNir].enc;
     const uint32_t sym = uint32_t(byte_of(last, true) != byte_of(nir, true)) |
                          (uint32_t(byte_of(last, false) != byte_of(nir, false)) << 1);
     enc.encode_symbol(c.nir_used, sym);
     if (sym & 1) enc.encode_symbol(c.nir_diff[0], fold_u8(byte_of(nir, true) - byte_of(last, true)));
     if (sym & 2) enc.encode_symbol(c.nir_diff[1], fold_u8(byte_of(nir, false) - byte_of(last, false)));
-    nir_layer_.changed |= sym != 0;
+    layers_[kNir].changed |= sym != 0;
   }
   bool nir_;
-  LayerOut layer_, nir_layer_;
+  enum { kRgb, kNir };
+  LayerOut layers_[2];
   ChannelFollower<RgbContext> contexts_;
 };
 
@@ -81,11 +77,9 @@ class Byte14Writer : public ItemWriter {
     for (LayerOut& l : layers_) l.finish();
   }
   void write_layer_sizes(std::vector<uint8_t>& out) const override {
-    for (const LayerOut& l : layers_) put_u32(out, uint32_t(l.bytes.size()));
+    put_layer_sizes(layers_.data(), layers_.size(), out);
   }
-  void write_layers(std::vector<uint8_t>& out) const override {
-    for (const LayerOut& l : layers_) out.insert(out.end(), l.bytes.begin(), l.bytes.end());
-  }
+  void write_layers(std::vector<uint8_t>& out) const override { put_layers(layers_.data(), layers_.size(), out); }
 
  private:
   std::vector<LayerOut> layers_;

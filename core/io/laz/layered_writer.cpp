@@ -14,12 +14,8 @@ class Point14Writer : public ItemWriter {
   void finish_layers() override {
     for (int i = 0; i < kLayers; ++i) layers_[i].finish(i == kXY);
   }
-  void write_layer_sizes(std::vector<uint8_t>& out) const override {
-    for (const LayerOut& l : layers_) put_u32(out, uint32_t(l.bytes.size()));
-  }
-  void write_layers(std::vector<uint8_t>& out) const override {
-    for (const LayerOut& l : layers_) out.insert(out.end(), l.bytes.begin(), l.bytes.end());
-  }
+  void write_layer_sizes(std::vector<uint8_t>& out) const override { put_layer_sizes(layers_, kLayers, out); }
+  void write_layers(std::vector<uint8_t>& out) const override { put_layers(layers_, kLayers, out); }
 
  private:
   uint32_t changed_values(const Point14& last, const Point14& p) const;
@@ -33,10 +29,7 @@ class Point14Writer : public ItemWriter {
 
 void Point14Writer::init(const uint8_t* first, uint32_t& context_out) {
   for (LayerOut& l : layers_) l.changed = false;
-  Point14 p;
-  p.from_raw(first);
-  contexts_.begin_chunk(p);
-  context_out = contexts_.channel();
+  context_out = contexts_.begin_chunk(first);
 }
 
 // Bits 6..0: scanner channel, point source, GPS time, scan angle, number of
