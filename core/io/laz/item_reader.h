@@ -1,7 +1,8 @@
 #pragma once
-// Pieces the LAZ item decoders share: the error a damaged stream raises, a
+// Pieces the LAZ item decoders share, most of them with the encoders too:
+// the error a damaged stream raises, a record's item coders (RecordItems), a
 // bounds-checked cursor over a chunk's bytes, the item decoder interface and
-// the small predictors of the LAZ specification.
+// the small predictors and contexts of the LAZ specification.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
