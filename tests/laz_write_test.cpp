@@ -11,8 +11,7 @@
 
 #include "core/error.h"
 #include "core/io/laz/arithmetic_encoder.h"
-#include "core/io/laz/integer_compressor.h"
-#include "core/io/laz/integer_decompressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/item_reader.h"
 #include "core/io/laz/laz_writer.h"
 #include "core/io/point_io.h"
@@ -59,14 +58,14 @@ TEST(LazEncoder, IntegersRoundTripIncludingExtremes) {
   std::vector<std::pair<int32_t, int32_t>> pairs = {
       {0, INT32_MIN}, {INT32_MIN, 0}, {INT32_MAX, INT32_MIN}, {-1, INT32_MAX}, {5, 5}, {0, 1}, {1, 0}};
   for (int i = 0; i < 5000; ++i) pairs.push_back({int32_t(rng()), int32_t(rng() % 2000) - 1000});
-  laz::IntegerCompressor c32(32, 2), c16(16, 1);
+  laz::IntegerCoder c32(32, 2), c16(16, 1);
   laz::Encoder enc;
   for (const auto& [pred, real] : pairs) {
     c32.compress(enc, pred, real, 1);
     c16.compress(enc, pred & 0xFFFF, real & 0xFFFF);
   }
   const std::vector<uint8_t> bytes = enc.finish();
-  laz::IntegerDecompressor d32(32, 2), d16(16, 1);
+  laz::IntegerCoder d32(32, 2), d16(16, 1);
   laz::Decoder dec;
   dec.start(bytes.data(), bytes.data() + bytes.size());
   for (const auto& [pred, real] : pairs) {

@@ -14,10 +14,10 @@ constexpr int kMaxSwitches = 4;
 
 }  // namespace
 
-GpsTimeDecoder::GpsTimeDecoder(bool layered)
+GpsTimeCoder::GpsTimeCoder(bool layered)
     : layered_(layered), multi_(layered ? kMultiTotal - 1 : kMultiTotal), zero_diff_(layered ? 5 : 6) {}
 
-void GpsTimeDecoder::init(uint64_t first_bits) {
+void GpsTimeCoder::init(uint64_t first_bits) {
   last_ = next_ = 0;
   for (int i = 0; i < 4; ++i) time_[i] = 0, diff_[i] = 0, extreme_[i] = 0;
   time_[0] = first_bits;
@@ -26,18 +26,43 @@ void GpsTimeDecoder::init(uint64_t first_bits) {
   ic_.reset();
 }
 
-void GpsTimeDecoder::decode_full(Decoder& dec) {
+void GpsTimeCoder::start_sequence(uint64_t bits) {
   next_ = (next_ + 1) & 3;
-  const uint32_t high = uint32_t(ic_.decompress(dec, int32_t(uint32_t(time_[last_] >> 32)), 8));
-  time_[next_] = (uint64_t(high) << 32) | dec.read_int();
   last_ = next_;
+  time_[last_] = bits;
   diff_[last_] = 0;
   extreme_[last_] = 0;
 }
 
+void GpsTimeCoder::count_extreme(int32_t diff) {
+  if (++extreme_[last_] > 3) {  // a new regular difference
+    diff_[last_] = diff;
+    extreme_[last_] = 0;
+  }
+}
+
+// Codes 2-499 predict code times the last difference, 500 and 501-510
+// (-1 to -10 times) likewise, the extremes 500 and -10 as extreme; code 0 is
+// an extreme difference predicted from nothing.
+GpsTimeCoder::Multiplier GpsTimeCoder::multiplier(int32_t code) const {
+  const int32_t last = diff_[last_];
+  const auto times = [last](int32_t multi) { return int32_t(uint32_t(multi) * uint32_t(last)); };
+  if (code == 0) return {0, 7, true};
+  if (code < kMulti) return {times(code), code < 10 ? 2u : 3u, false};
+  if (code == kMulti) return {times(kMulti), 4, true};
+  const int32_t multi = kMulti - code;
+  if (multi > kMultiMinus) return {times(multi), 5, false};
+  return {times(kMultiMinus), 6, true};
+}
+
+void GpsTimeCoder::decode_full(Decoder& dec) {
+  const uint32_t high = uint32_t(ic_.decompress(dec, int32_t(uint32_t(time_[last_] >> 32)), 8));
+  start_sequence((uint64_t(high) << 32) | dec.read_int());
+}
+
 // After a zero difference: 0 unchanged, 1 a 32-bit difference, 2 a full
 // time, 3-5 switch sequence. Returns true when a switch asks to go on.
-bool GpsTimeDecoder::decode_after_zero_diff(Decoder& dec) {
+bool GpsTimeCoder::decode_after_zero_diff(Decoder& dec) {
   const int32_t code = int32_t(dec.decode_symbol(zero_diff_)) + (layered_ ? 1 : 0);
   if (code == 1) {
     diff_[last_] = ic_.decompress(dec, 0, 0);
@@ -52,36 +77,15 @@ bool GpsTimeDecoder::decode_after_zero_diff(Decoder& dec) {
   return false;
 }
 
-// A difference predicted as `multi` times the last one (contexts 2-7).
-int32_t GpsTimeDecoder::diff_for_multiplier(Decoder& dec, int32_t multi) {
-  const int32_t last = diff_[last_];
-  int32_t diff;
-  bool extreme = false;
-  if (multi == 0) {
-    diff = ic_.decompress(dec, 0, 7);
-    extreme = true;
-  } else if (multi < kMulti) {
-    diff = ic_.decompress(dec, int32_t(uint32_t(multi) * uint32_t(last)), multi < 10 ? 2 : 3);
-  } else if (multi == kMulti) {
-    diff = ic_.decompress(dec, int32_t(uint32_t(kMulti) * uint32_t(last)), 4);
-    extreme = true;
-  } else {
-    multi = kMulti - multi;
-    if (multi > kMultiMinus) {
-      diff = ic_.decompress(dec, int32_t(uint32_t(multi) * uint32_t(last)), 5);
-    } else {
-      diff = ic_.decompress(dec, int32_t(uint32_t(kMultiMinus) * uint32_t(last)), 6);
-      extreme = true;
-    }
-  }
-  if (extreme && ++extreme_[last_] > 3) {  // a new regular difference
-    diff_[last_] = diff;
-    extreme_[last_] = 0;
-  }
+// A difference predicted from the multiplier code (contexts 2-7).
+int32_t GpsTimeCoder::diff_for_multiplier(Decoder& dec, int32_t code) {
+  const Multiplier m = multiplier(code);
+  const int32_t diff = ic_.decompress(dec, m.pred, m.context);
+  if (m.extreme) count_extreme(diff);
   return diff;
 }
 
-bool GpsTimeDecoder::decode_after_diff(Decoder& dec) {
+bool GpsTimeCoder::decode_after_diff(Decoder& dec) {
   int32_t code = int32_t(dec.decode_symbol(multi_));
   if (layered_ && code >= kUnchanged) ++code;
   if (code == 1) {
@@ -98,7 +102,7 @@ bool GpsTimeDecoder::decode_after_diff(Decoder& dec) {
   return false;
 }
 
-uint64_t GpsTimeDecoder::decode(Decoder& dec) {
+uint64_t GpsTimeCoder::decode(Decoder& dec) {
   for (int i = 0; i < kMaxSwitches; ++i) {
     const bool switched = diff_[last_] == 0 ? decode_after_zero_diff(dec) : decode_after_diff(dec);
     if (!switched) return time_[last_];

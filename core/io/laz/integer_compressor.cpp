@@ -1,9 +1,9 @@
-// The LAZ integer compressor (see the header).
-#include "core/io/laz/integer_compressor.h"
+// The LAZ integer compressor (see integer_coder.h).
+#include "core/io/laz/integer_coder.h"
 
 namespace c3d::laz {
 
-void IntegerCompressor::compress(Encoder& enc, int32_t pred, int32_t real, uint32_t context) {
+void IntegerCoder::compress(Encoder& enc, int32_t pred, int32_t real, uint32_t context) {
   // The corrector, folded into [corr_min, corr_max] (32-bit values wrap around).
   int32_t corr = int32_t(uint32_t(real) - uint32_t(pred));
   if (m_.corr_range) {
@@ -15,7 +15,7 @@ void IntegerCompressor::compress(Encoder& enc, int32_t pred, int32_t real, uint3
   write_corrector(enc, corr, m_.bits[context]);
 }
 
-void IntegerCompressor::write_corrector(Encoder& enc, int32_t c, SymbolModel& bits_model) {
+void IntegerCoder::write_corrector(Encoder& enc, int32_t c, SymbolModel& bits_model) {
   // k: the tightest interval [-(2^k - 1), 2^k] holding c.
   uint32_t c1 = c <= 0 ? 0u - uint32_t(c) : uint32_t(c) - 1;
   k_ = 0;

@@ -1,5 +1,5 @@
-// The LAZ integer models and decompressor (see the headers).
-#include "core/io/laz/integer_decompressor.h"
+// The LAZ integer models and decompressor (see integer_coder.h).
+#include "core/io/laz/integer_coder.h"
 
 namespace c3d::laz {
 
@@ -29,7 +29,7 @@ void IntegerModels::reset() {
   for (SymbolModel& m : corrector) m.reset();
 }
 
-int32_t IntegerDecompressor::decompress(Decoder& dec, int32_t pred, uint32_t context) {
+int32_t IntegerCoder::decompress(Decoder& dec, int32_t pred, uint32_t context) {
   // Two's-complement wrap-around as the encoder computed it, without signed overflow.
   int32_t real = int32_t(uint32_t(pred) + uint32_t(read_corrector(dec, m_.bits[context])));
   if (real < 0) real = int32_t(uint32_t(real) + m_.corr_range);
@@ -37,7 +37,7 @@ int32_t IntegerDecompressor::decompress(Decoder& dec, int32_t pred, uint32_t con
   return real;
 }
 
-int32_t IntegerDecompressor::read_corrector(Decoder& dec, SymbolModel& bits_model) {
+int32_t IntegerCoder::read_corrector(Decoder& dec, SymbolModel& bits_model) {
   k_ = dec.decode_symbol(bits_model);
   if (k_ == 0) return int32_t(dec.decode_bit(m_.corrector_0));
   // k = 32 (32-bit values only) is the one corrector -2^31: no further bits.

@@ -1,7 +1,8 @@
 #pragma once
-// Pieces the LAZ item decoders share: the error a damaged stream raises, a
+// Pieces the LAZ item decoders share, most of them with the encoders too:
+// the error a damaged stream raises, a record's item coders (RecordItems), a
 // bounds-checked cursor over a chunk's bytes, the item decoder interface and
-// the small predictors of the LAZ specification.
+// the small predictors and contexts of the LAZ specification.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -11,12 +12,45 @@
 #include <vector>
 
 #include "core/io/laz/arithmetic_decoder.h"
+#include "core/io/laz/laz_reader.h"
 
 namespace c3d::laz {
 
 // A damaged or unsupported LAZ stream; laz_reader turns it into InputError.
 struct FormatError : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+template <typename T>
+T load(const uint8_t* p) {  // a field at an unaligned address
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// The coders of one record's items (ItemReader or ItemWriter), the one stream
+// the point-wise items share, and where each item starts in the record.
+template <class Stream, class Coder>
+struct RecordItems {
+  Stream stream;
+  std::vector<std::unique_ptr<Coder>> coders;
+  std::vector<uint32_t> offsets;
+  bool layered = false;
+
+  // Makes each item's coder (make(item)); the items must fill the record.
+  template <class Make>
+  void add(const LaszipVlr& vlr, uint32_t record_length, Make make) {
+    layered = vlr.compressor == kCompressorLayered;
+    uint32_t offset = 0;
+    for (const Item& it : vlr.items) {
+      coders.push_back(make(it));
+      offsets.push_back(offset);
+      offset += it.size;
+    }
+    if (offset != record_length)
+      throw FormatError("LASzip items make " + std::to_string(offset) + "-byte records, the header says " +
+                        std::to_string(record_length));
+  }
 };
 
 // Reads a chunk's header fields and layer bytes, never past `end`.
@@ -69,6 +103,22 @@ class ModelBank {
   std::vector<std::unique_ptr<SymbolModel>> models_;
 };
 
+// The state of BYTE and of a channel of BYTE14: one model and one last
+// value a byte.
+struct ByteContext {
+  using Value = uint8_t;
+  bool unused = true;
+  std::vector<SymbolModel> models;
+  std::vector<uint8_t> last;
+  void start(const void* from, size_t count) {
+    if (models.empty()) models.assign(count, SymbolModel(256));
+    for (SymbolModel& m : models) m.reset();
+    last.assign(static_cast<const uint8_t*>(from), static_cast<const uint8_t*>(from) + count);
+    unused = false;
+  }
+  uint8_t* values() { return last.data(); }
+};
+
 // Median of the last five values, updated in LASzip's streaming order.
 class Median5 {
  public:
@@ -94,6 +144,13 @@ extern const uint8_t kReturnMap6[16][16];  // POINT14: 6 contexts
 inline uint32_t return_level(uint32_t n, uint32_t r, uint32_t cap) {  // |n - r|, capped
   const uint32_t d = n > r ? n - r : r - n;
   return d < cap ? d : cap;
+}
+// The contexts of y's and z's corrector (POINT10 and POINT14): the bit
+// lengths of x's (and y's) correctors, even, capped; `single`: one return.
+inline uint32_t y_context(uint32_t single, uint32_t k_x) { return single + (k_x < 20 ? k_x & ~1u : 20); }
+inline uint32_t z_context(uint32_t single, uint32_t k_x, uint32_t k_y) {
+  const uint32_t k = (k_x + k_y) / 2;
+  return single + (k < 18 ? k & ~1u : 18);
 }
 
 }  // namespace c3d::laz

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "core/io/laz/arithmetic_encoder.h"
-#include "core/io/laz/rgb.h"
 
 namespace c3d::laz {
 
@@ -34,9 +33,6 @@ std::unique_ptr<ItemWriter> make_point14_writer();
 std::unique_ptr<ItemWriter> make_rgb14_writer(bool nir);
 std::unique_ptr<ItemWriter> make_byte14_writer(uint32_t count);
 
-// The colour as decode_rgb reads it back, predicted from `last`.
-void encode_rgb(Encoder& enc, RgbModels& m, const uint16_t last[3], const uint16_t rgb[3]);
-
 // One layer of a layered chunk: its encoder, and whether any value changed
 // (an unchanged layer is written empty and the decoder keeps the value).
 struct LayerOut {
@@ -50,5 +46,13 @@ struct LayerOut {
 };
 
 void put_u32(std::vector<uint8_t>& out, uint32_t v);
+
+// A layered chunk's tail: the byte counts of `n` layers, then their bytes.
+inline void put_layer_sizes(const LayerOut* layers, size_t n, std::vector<uint8_t>& out) {
+  for (size_t i = 0; i < n; ++i) put_u32(out, uint32_t(layers[i].bytes.size()));
+}
+inline void put_layers(const LayerOut* layers, size_t n, std::vector<uint8_t>& out) {
+  for (size_t i = 0; i < n; ++i) out.insert(out.end(), layers[i].bytes.begin(), layers[i].bytes.end());
+}
 
 }  // namespace c3d::laz

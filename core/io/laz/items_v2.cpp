@@ -11,24 +11,20 @@ namespace c3d::laz {
 
 namespace {
 
-// One byte of a channel: `low` selects the low or the high byte.
-uint16_t channel_byte(uint16_t v, bool low) { return low ? v & 0xFF : v >> 8; }
-
 // Green and blue's byte (low or high) predicted from red's change in that byte.
 void decode_green_blue(Decoder& dec, RgbModels& m, uint32_t sym, const uint16_t last[3],
                        uint16_t out[3], bool low) {
   const int shift = low ? 0 : 8;
   const int bit_g = low ? 2 : 3, bit_b = low ? 4 : 5;
-  int32_t diff = channel_byte(out[0], low) - channel_byte(last[0], low);
-  uint16_t g = channel_byte(last[1], low), b = channel_byte(last[2], low);
+  const int32_t diff = byte_of(out[0], low) - byte_of(last[0], low);
+  uint16_t g = byte_of(last[1], low), b = byte_of(last[2], low);
   if (sym & (1u << bit_g)) {
     const int32_t corr = int32_t(dec.decode_symbol(m.diff[bit_g]));
-    g = fold_u8(corr + clamp_u8(diff + channel_byte(last[1], low)));
+    g = fold_u8(corr + predict_green(diff, byte_of(last[1], low)));
   }
   if (sym & (1u << bit_b)) {
     const int32_t corr = int32_t(dec.decode_symbol(m.diff[bit_b]));
-    diff = (diff + (g - channel_byte(last[1], low))) / 2;
-    b = fold_u8(corr + clamp_u8(diff + channel_byte(last[2], low)));
+    b = fold_u8(corr + predict_blue(diff, g - byte_of(last[1], low), byte_of(last[2], low)));
   }
   out[1] = uint16_t(out[1] | (g << shift));
   out[2] = uint16_t(out[2] | (b << shift));
@@ -68,45 +64,39 @@ class GpsTime11Reader : public ItemReader {
 
  private:
   Decoder& dec_;
-  GpsTimeDecoder gps_{false};
+  GpsTimeCoder gps_{false};
 };
 
 class Rgb12Reader : public ItemReader {
  public:
   explicit Rgb12Reader(Decoder& dec) : dec_(dec) {}
-  void init(const uint8_t* first, uint32_t&) override {
-    models_.reset();
-    std::memcpy(last_, first, 6);
-  }
+  void init(const uint8_t* first, uint32_t&) override { state_.start(first, 6); }
   void decode(uint8_t* out, uint32_t&) override {
     uint16_t rgb[3];
-    decode_rgb(dec_, models_, last_, rgb);
+    decode_rgb(dec_, state_.rgb, state_.last, rgb);
     std::memcpy(out, rgb, 6);
-    std::memcpy(last_, rgb, 6);
+    std::memcpy(state_.last, rgb, 6);
   }
 
  private:
   Decoder& dec_;
-  RgbModels models_;
-  uint16_t last_[3] = {};
+  RgbContext state_;
 };
 
 class ByteReader : public ItemReader {
  public:
-  ByteReader(Decoder& dec, uint32_t count) : dec_(dec), models_(count, SymbolModel(256)), last_(count) {}
-  void init(const uint8_t* first, uint32_t&) override {
-    for (SymbolModel& m : models_) m.reset();
-    std::memcpy(last_.data(), first, last_.size());
-  }
+  ByteReader(Decoder& dec, uint32_t count) : dec_(dec), count_(count) {}
+  void init(const uint8_t* first, uint32_t&) override { state_.start(first, count_); }
   void decode(uint8_t* out, uint32_t&) override {
-    for (size_t i = 0; i < last_.size(); ++i)
-      out[i] = last_[i] = fold_u8(last_[i] + int32_t(dec_.decode_symbol(models_[i])));
+    uint8_t* last = state_.values();
+    for (size_t i = 0; i < count_; ++i)
+      out[i] = last[i] = fold_u8(last[i] + int32_t(dec_.decode_symbol(state_.models[i])));
   }
 
  private:
   Decoder& dec_;
-  std::vector<SymbolModel> models_;
-  std::vector<uint8_t> last_;
+  size_t count_;
+  ByteContext state_;
 };
 
 }  // namespace

@@ -1,9 +1,6 @@
 // The POINT14 item decoder (layered, item versions 3 and 4).
 #include "core/io/laz/layered.h"
 
-#include "core/io/laz/gps_time.h"
-#include "core/io/laz/integer_decompressor.h"
-
 namespace c3d::laz {
 
 const uint8_t kReturnMap6[16][16] = {
@@ -16,33 +13,11 @@ const uint8_t kReturnMap6[16][16] = {
     {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4, 4}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4},
     {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5}};
 
-namespace {
-
-// The models and predictors of one scanner channel.
-struct Context {
-  bool unused = true;
-  Point14 last;
-  uint16_t last_intensity[8] = {};
-  int32_t last_z[8] = {};
-  Median5 last_dx[12], last_dy[12];
-  SymbolModel changed_values[8] = {SymbolModel(128), SymbolModel(128), SymbolModel(128), SymbolModel(128),
-                                   SymbolModel(128), SymbolModel(128), SymbolModel(128), SymbolModel(128)};
-  SymbolModel scanner_channel{3}, return_number_gps_same{13};
-  ModelBank number_of_returns{16, 16}, return_number{16, 16};
-  ModelBank classification{64, 256}, flags{64, 64}, user_data{64, 256};
-  IntegerDecompressor ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
-  IntegerDecompressor ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
-  GpsTimeDecoder gps{true};
-
-  void init(const Point14& from);
-};
-
-void Context::init(const Point14& from) {
+void Point14Context::init(const Point14& from) {
   for (SymbolModel& m : changed_values) m.reset();
   scanner_channel.reset(), return_number_gps_same.reset();
   for (ModelBank* b : {&number_of_returns, &return_number, &classification, &flags, &user_data}) b->reset();
-  for (IntegerDecompressor* ic : {&ic_dx, &ic_dy, &ic_z, &ic_intensity, &ic_scan_angle, &ic_point_source})
-    ic->reset();
+  for (IntegerCoder* ic : {&ic_dx, &ic_dy, &ic_z, &ic_intensity, &ic_scan_angle, &ic_point_source}) ic->reset();
   for (int i = 0; i < 12; ++i) last_dx[i].reset(), last_dy[i].reset();
   for (int i = 0; i < 8; ++i) last_z[i] = from.z, last_intensity[i] = from.intensity;
   gps.init(from.gps);
@@ -50,6 +25,8 @@ void Context::init(const Point14& from) {
   last.gps_changed = false;
   unused = false;
 }
+
+namespace {
 
 class Point14Reader : public ItemReader {
  public:
@@ -63,45 +40,28 @@ class Point14Reader : public ItemReader {
   void decode(uint8_t* out, uint32_t& context) override;
 
  private:
-  Context& context(uint32_t c) {
-    if (!contexts_[c]) contexts_[c] = std::make_unique<Context>();
-    return *contexts_[c];
-  }
-  Context& switch_channel(uint32_t& context);
-  uint32_t decode_returns(Context& c, uint32_t changed, bool gps_change);
-  void decode_xyz(Context& c, uint32_t n, uint32_t r, bool gps_change);
-  void decode_other_layers(Context& c, uint32_t changed, uint32_t cpr, bool gps_change);
+  Point14Context& switch_channel(uint32_t& context);
+  uint32_t decode_returns(Point14Context& c, uint32_t changed, bool gps_change);
+  void decode_xyz(Point14Context& c, uint32_t n, uint32_t r, bool gps_change);
+  void decode_other_layers(Point14Context& c, uint32_t changed, uint32_t cpr, bool gps_change);
 
   Layer layers_[kLayers];
-  std::unique_ptr<Context> contexts_[4];
-  uint32_t current_ = 0;
+  Point14Contexts contexts_;
 };
 
 void Point14Reader::init(const uint8_t* first, uint32_t& context_out) {
-  for (auto& c : contexts_)
-    if (c) c->unused = true;
-  Point14 p;
-  p.from_raw(first);
-  current_ = p.channel;
-  context_out = current_;
-  context(current_).init(p);
+  context_out = contexts_.begin_chunk(first);
 }
 
-// A new scanner channel: its models start from the point last decoded.
-Context& Point14Reader::switch_channel(uint32_t& context_out) {
-  Context& old = context(current_);
-  const uint32_t diff = layers_[kXY].dec.decode_symbol(old.scanner_channel);
-  const uint32_t channel = (current_ + diff + 1) % 4;
-  Context& now = context(channel);
-  if (now.unused) now.init(old.last);
-  current_ = channel;
-  context_out = channel;
-  now.last.channel = uint8_t(channel);
-  return now;
+// A new scanner channel, coded as its distance from the current one.
+Point14Context& Point14Reader::switch_channel(uint32_t& context_out) {
+  const uint32_t diff = layers_[kXY].dec.decode_symbol(contexts_.current().scanner_channel);
+  context_out = (contexts_.channel() + diff + 1) % 4;
+  return contexts_.switch_to(context_out);
 }
 
 // The number of returns n (stored) and the return number r (returned).
-uint32_t Point14Reader::decode_returns(Context& c, uint32_t changed, bool gps_change) {
+uint32_t Point14Reader::decode_returns(Point14Context& c, uint32_t changed, bool gps_change) {
   Decoder& dec = layers_[kXY].dec;
   Point14& last = c.last;
   if (changed & 4) last.nret = uint8_t(dec.decode_symbol(c.number_of_returns[last.nret]));
@@ -119,59 +79,52 @@ uint32_t Point14Reader::decode_returns(Context& c, uint32_t changed, bool gps_ch
   return r;
 }
 
-void Point14Reader::decode_xyz(Context& c, uint32_t n, uint32_t r, bool gps_change) {
+void Point14Reader::decode_xyz(Point14Context& c, uint32_t n, uint32_t r, bool gps_change) {
   Decoder& dec = layers_[kXY].dec;
-  const uint32_t m = (uint32_t(kReturnMap6[n][r]) << 1) | gps_change, single = n == 1;
+  const uint32_t m = xy_context(n, r, gps_change), single = n == 1;
   int32_t diff = c.ic_dx.decompress(dec, c.last_dx[m].get(), single);
   c.last.x = wrap_add(c.last.x, diff);
   c.last_dx[m].add(diff);
-  uint32_t k_bits = c.ic_dx.k();
-  diff = c.ic_dy.decompress(dec, c.last_dy[m].get(), single + (k_bits < 20 ? k_bits & ~1u : 20));
+  diff = c.ic_dy.decompress(dec, c.last_dy[m].get(), y_context(single, c.ic_dx.k()));
   c.last.y = wrap_add(c.last.y, diff);
   c.last_dy[m].add(diff);
   if (!layers_[kZ].changed) return;
-  k_bits = (c.ic_dx.k() + c.ic_dy.k()) / 2;
   const uint32_t l = return_level(n, r, 7);
-  c.last.z = c.ic_z.decompress(layers_[kZ].dec, c.last_z[l], single + (k_bits < 18 ? k_bits & ~1u : 18));
+  c.last.z = c.ic_z.decompress(layers_[kZ].dec, c.last_z[l], z_context(single, c.ic_dx.k(), c.ic_dy.k()));
   c.last_z[l] = c.last.z;
 }
 
-void Point14Reader::decode_other_layers(Context& c, uint32_t changed, uint32_t cpr, bool gps_change) {
+void Point14Reader::decode_other_layers(Point14Context& c, uint32_t changed, uint32_t cpr, bool gps_change) {
   Point14& p = c.last;
-  if (layers_[kClass].changed) {
-    const uint32_t key = ((p.classification & 0x1Fu) << 1) + (cpr == 3 ? 1 : 0);
-    p.classification = uint8_t(layers_[kClass].dec.decode_symbol(c.classification[key]));
-  }
+  if (layers_[kClass].changed)
+    p.classification = uint8_t(layers_[kClass].dec.decode_symbol(c.classification[class_key(p, cpr)]));
   if (layers_[kFlags].changed) {
-    const uint32_t key = (p.edge << 5) | (p.scan_dir << 4) | p.class_flags;
-    const uint32_t flags = layers_[kFlags].dec.decode_symbol(c.flags[key]);
+    const uint32_t flags = layers_[kFlags].dec.decode_symbol(c.flags[flags_of(p)]);
     p.edge = (flags >> 5) & 1, p.scan_dir = (flags >> 4) & 1, p.class_flags = flags & 15;
   }
   if (layers_[kIntensity].changed) {
-    uint16_t& last = c.last_intensity[(cpr << 1) | gps_change];
+    uint16_t& last = c.last_intensity[intensity_slot(cpr, gps_change)];
     last = uint16_t(c.ic_intensity.decompress(layers_[kIntensity].dec, last, cpr));
     p.intensity = last;
   }
   if (layers_[kScanAngle].changed && (changed & 8))
     p.scan_angle = int16_t(c.ic_scan_angle.decompress(layers_[kScanAngle].dec, p.scan_angle, gps_change));
   if (layers_[kUserData].changed)
-    p.user_data = uint8_t(layers_[kUserData].dec.decode_symbol(c.user_data[p.user_data / 4]));
+    p.user_data = uint8_t(layers_[kUserData].dec.decode_symbol(c.user_data[user_data_key(p)]));
   if (layers_[kPointSource].changed && (changed & 32))
     p.point_source = uint16_t(c.ic_point_source.decompress(layers_[kPointSource].dec, p.point_source));
   if (layers_[kGps].changed && gps_change) p.gps = c.gps.decode(layers_[kGps].dec);
 }
 
 void Point14Reader::decode(uint8_t* out, uint32_t& context_out) {
-  Context* c = &context(current_);
-  const Point14& prev = c->last;
-  const uint32_t lpr = (prev.ret == 1 ? 1 : 0) + (prev.ret >= prev.nret ? 2 : 0) + (prev.gps_changed ? 4 : 0);
-  const uint32_t changed = layers_[kXY].dec.decode_symbol(c->changed_values[lpr]);
+  Point14Context* c = &contexts_.current();
+  const uint32_t changed = layers_[kXY].dec.decode_symbol(c->changed_values[last_point_context(c->last)]);
   if (changed & 64) c = &switch_channel(context_out);
   const bool gps_change = changed & 16;
   const uint32_t r = decode_returns(*c, changed, gps_change);
   const uint32_t n = c->last.nret;
   decode_xyz(*c, n, r, gps_change);
-  const uint32_t cpr = (r == 1 ? 1 : 0) + (r >= n ? 2 : 0);
+  const uint32_t cpr = return_context(r, n);
   decode_other_layers(*c, changed, cpr, gps_change);
   c->last.to_raw(out);
   c->last.gps_changed = gps_change;

@@ -1,117 +1,72 @@
 // The RGB14 and BYTE14 item encoders (layered, item version 3): the inverses
-// of layered_items.cpp, with the same version-3 rule for a channel switch
-// (a channel used before keeps predicting from the previous channel's value).
+// of layered_items.cpp, following the scanner channel alike (ChannelFollower).
 #include <cstring>
 
-#include "core/io/laz/item_reader.h"
 #include "core/io/laz/item_writer.h"
+#include "core/io/laz/layered.h"
 
 namespace c3d::laz {
 
 namespace {
 
-struct RgbContext {
-  bool unused = true;
-  RgbModels rgb;
-  SymbolModel nir_used{4};
-  SymbolModel nir_diff[2] = {SymbolModel(256), SymbolModel(256)};
-  uint16_t last[4] = {};
-};
-
-uint8_t byte_of(uint16_t v, bool low) { return uint8_t(low ? v & 0xFF : v >> 8); }
+constexpr int kVersion = 3;  // the layered item version the writer writes
 
 class Rgb14Writer : public ItemWriter {
  public:
-  explicit Rgb14Writer(bool nir) : nir_(nir) {}
+  explicit Rgb14Writer(bool nir) : nir_(nir), contexts_(nir ? 8 : 6) {}
   void init(const uint8_t* first, uint32_t& context) override {
-    for (RgbContext& c : contexts_) c.unused = true;
-    layer_.changed = nir_layer_.changed = false;
-    current_ = context;
-    start(contexts_[current_], first);
+    layers_[kRgb].changed = layers_[kNir].changed = false;
+    contexts_.begin_chunk(context, first);
   }
   void encode(const uint8_t* item, uint32_t& context) override {
-    uint16_t* last = contexts_[current_].last;
-    if (current_ != context) {
-      current_ = context;
-      RgbContext& now = contexts_[current_];
-      if (now.unused) {
-        start(now, last);
-        last = now.last;
-      }
-    }
+    uint16_t* last;
+    RgbContext& c = contexts_.follow(context, kVersion, last);
     uint16_t rgb[3];
     std::memcpy(rgb, item, 6);
-    layer_.changed |= std::memcmp(rgb, last, 6) != 0;
-    encode_rgb(layer_.enc, contexts_[current_].rgb, last, rgb);
+    layers_[kRgb].changed |= std::memcmp(rgb, last, 6) != 0;
+    encode_rgb(layers_[kRgb].enc, c.rgb, last, rgb);
     std::memcpy(last, rgb, 6);
     if (nir_) {
       uint16_t nir;
       std::memcpy(&nir, item + 6, 2);
-      encode_nir(contexts_[current_], last[3], nir);
+      encode_nir(c, last[3], nir);
       last[3] = nir;
     }
   }
   void finish_layers() override {
-    layer_.finish();
-    nir_layer_.finish();
+    layers_[kRgb].finish();
+    layers_[kNir].finish();
   }
-  void write_layer_sizes(std::vector<uint8_t>& out) const override {
-    put_u32(out, uint32_t(layer_.bytes.size()));
-    if (nir_) put_u32(out, uint32_t(nir_layer_.bytes.size()));
-  }
-  void write_layers(std::vector<uint8_t>& out) const override {
-    out.insert(out.end(), layer_.bytes.begin(), layer_.bytes.end());
-    if (nir_) out.insert(out.end(), nir_layer_.bytes.begin(), nir_layer_.bytes.end());
-  }
+  // The NIR layer only where the item has NIR.
+  void write_layer_sizes(std::vector<uint8_t>& out) const override { put_layer_sizes(layers_, nir_ ? 2 : 1, out); }
+  void write_layers(std::vector<uint8_t>& out) const override { put_layers(layers_, nir_ ? 2 : 1, out); }
 
  private:
-  void start(RgbContext& c, const void* from) {
-    c.rgb.reset(), c.nir_used.reset(), c.nir_diff[0].reset(), c.nir_diff[1].reset();
-    std::memcpy(c.last, from, nir_ ? 8 : 6);
-    c.unused = false;
-  }
   void encode_nir(RgbContext& c, uint16_t last, uint16_t nir) {
-    Encoder& enc = nir_layer_.enc;
+    Encoder& enc = layers_[kNir].enc;
     const uint32_t sym = uint32_t(byte_of(last, true) != byte_of(nir, true)) |
                          (uint32_t(byte_of(last, false) != byte_of(nir, false)) << 1);
     enc.encode_symbol(c.nir_used, sym);
     if (sym & 1) enc.encode_symbol(c.nir_diff[0], fold_u8(byte_of(nir, true) - byte_of(last, true)));
     if (sym & 2) enc.encode_symbol(c.nir_diff[1], fold_u8(byte_of(nir, false) - byte_of(last, false)));
-    nir_layer_.changed |= sym != 0;
+    layers_[kNir].changed |= sym != 0;
   }
   bool nir_;
-  LayerOut layer_, nir_layer_;
-  RgbContext contexts_[4];
-  uint32_t current_ = 0;
-};
-
-struct ByteContext {
-  bool unused = true;
-  std::vector<SymbolModel> models;
-  std::vector<uint8_t> last;
+  enum { kRgb, kNir };
+  LayerOut layers_[2];
+  ChannelFollower<RgbContext> contexts_;
 };
 
 class Byte14Writer : public ItemWriter {
  public:
-  explicit Byte14Writer(uint32_t count) : layers_(count) {}
+  explicit Byte14Writer(uint32_t count) : layers_(count), contexts_(count) {}
   void init(const uint8_t* first, uint32_t& context) override {
-    for (ByteContext& c : contexts_) c.unused = true;
     for (LayerOut& l : layers_) l.changed = false;
-    current_ = context;
-    start(contexts_[current_], first);
+    contexts_.begin_chunk(context, first);
   }
   void encode(const uint8_t* item, uint32_t& context) override {
-    uint8_t* last = contexts_[current_].last.data();
-    if (current_ != context) {
-      current_ = context;
-      ByteContext& now = contexts_[current_];
-      if (now.unused) {
-        const std::vector<uint8_t> from(last, last + layers_.size());
-        start(now, from.data());
-        last = now.last.data();
-      }
-    }
-    ByteContext& c = contexts_[current_];
+    uint8_t* last;
+    ByteContext& c = contexts_.follow(context, kVersion, last);
     for (size_t i = 0; i < layers_.size(); ++i) {
       layers_[i].enc.encode_symbol(c.models[i], fold_u8(int32_t(item[i]) - last[i]));
       layers_[i].changed |= item[i] != last[i];
@@ -122,22 +77,13 @@ class Byte14Writer : public ItemWriter {
     for (LayerOut& l : layers_) l.finish();
   }
   void write_layer_sizes(std::vector<uint8_t>& out) const override {
-    for (const LayerOut& l : layers_) put_u32(out, uint32_t(l.bytes.size()));
+    put_layer_sizes(layers_.data(), layers_.size(), out);
   }
-  void write_layers(std::vector<uint8_t>& out) const override {
-    for (const LayerOut& l : layers_) out.insert(out.end(), l.bytes.begin(), l.bytes.end());
-  }
+  void write_layers(std::vector<uint8_t>& out) const override { put_layers(layers_.data(), layers_.size(), out); }
 
  private:
-  void start(ByteContext& c, const uint8_t* from) {
-    if (c.models.empty()) c.models.assign(layers_.size(), SymbolModel(256));
-    for (SymbolModel& m : c.models) m.reset();
-    c.last.assign(from, from + layers_.size());
-    c.unused = false;
-  }
   std::vector<LayerOut> layers_;
-  ByteContext contexts_[4];
-  uint32_t current_ = 0;
+  ChannelFollower<ByteContext> contexts_;
 };
 
 }  // namespace

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "core/io/laz/integer_decompressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/layered.h"
 #include "core/io/laz/point10.h"
 
@@ -12,10 +12,6 @@ namespace c3d::laz {
 
 namespace {
 
-enum ItemType : uint16_t {
-  kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kWavePacket13 = 9,
-  kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
-};
 constexpr uint32_t kVariableChunks = 0xFFFFFFFFu;
 // Extra bytes a record may carry: each has its own models (up to 4 sets of
 // 2.3 kB), so a damaged item size must not reach 65535 of them. No survey
@@ -24,24 +20,11 @@ constexpr uint16_t kMaxExtraBytes = 4096;
 // Items of a record: a point, GPS time, colour and extra bytes make four.
 constexpr uint16_t kMaxItems = 16;
 
-template <typename T>
-T load(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
 std::string item_name(const Item& it) {
   return "item type " + std::to_string(it.type) + " version " + std::to_string(it.version);
 }
 
-// The decoders of one record's items, and where each item starts in it.
-struct Items {
-  Decoder dec;  // the chunk's stream (point-wise compressors)
-  std::vector<std::unique_ptr<ItemReader>> readers;
-  std::vector<uint32_t> offsets;
-  bool layered = false;
-};
+using Items = RecordItems<Decoder, ItemReader>;
 
 std::unique_ptr<ItemReader> make_v2(const Item& it, Decoder& dec) {
   if (it.version != 2)
@@ -71,20 +54,13 @@ std::unique_ptr<ItemReader> make_layered(const Item& it) {
 
 std::unique_ptr<Items> make_items(const LaszipVlr& vlr, uint32_t record_length) {
   auto items = std::make_unique<Items>();
-  items->layered = vlr.compressor == 3;
-  uint32_t offset = 0;
-  for (const Item& it : vlr.items) {
+  items->add(vlr, record_length, [&](const Item& it) {
     if ((it.type == kByte || it.type == kByte14) && it.size > kMaxExtraBytes)
       throw FormatError(std::to_string(it.size) + " extra bytes per point (at most " +
                         std::to_string(kMaxExtraBytes) + " are read)");
-    items->readers.push_back(items->layered ? make_layered(it) : make_v2(it, items->dec));
-    items->offsets.push_back(offset);
-    offset += it.size;
-  }
-  if (offset != record_length)
-    throw FormatError("LASzip items make " + std::to_string(offset) + "-byte records, the header says " +
-                      std::to_string(record_length));
-  if (items->readers.empty() || (vlr.items[0].type == kPoint14) != items->layered)
+    return vlr.compressor == kCompressorLayered ? make_layered(it) : make_v2(it, items->stream);
+  });
+  if (items->coders.empty() || (vlr.items[0].type == kPoint14) != items->layered)
     throw FormatError("compressor " + std::to_string(vlr.compressor) + " does not fit the items");
   return items;
 }
@@ -113,7 +89,7 @@ std::vector<Chunk> read_chunk_table(const PointData& in, uint32_t chunk_size) {
     throw FormatError("chunk table lists " + std::to_string(n) + " chunks, more than the data holds");
   Decoder dec;
   dec.start(in.file + table + 8, in.file + in.file_size);
-  IntegerDecompressor ic(32, 2);
+  IntegerCoder ic(32, 2);
   std::vector<Chunk> chunks(n);
   int32_t points = 0, bytes = 0;
   uint64_t pos = chunks_start;
@@ -134,11 +110,11 @@ uint32_t start_chunk(Items& items, ByteCursor& in, const uint8_t* first) {
   uint32_t context = 0;
   if (items.layered) {
     in.u32("point count");
-    for (auto& r : items.readers) r->read_layer_sizes(in);
-    for (auto& r : items.readers) r->load_layers(in);
+    for (auto& r : items.coders) r->read_layer_sizes(in);
+    for (auto& r : items.coders) r->load_layers(in);
   }
-  for (size_t i = 0; i < items.readers.size(); ++i) items.readers[i]->init(first + items.offsets[i], context);
-  if (!items.layered) items.dec.start(in.pos, in.end);
+  for (size_t i = 0; i < items.coders.size(); ++i) items.coders[i]->init(first + items.offsets[i], context);
+  if (!items.layered) items.stream.start(in.pos, in.end);
   return context;
 }
 
@@ -148,10 +124,10 @@ void decode_chunk(Items& items, const PointData& in, const Chunk& chunk, uint64_
   const uint8_t* first = cursor.take(in.record_length, "first point");
   std::memcpy(out, first, in.record_length);
   uint32_t context = start_chunk(items, cursor, first);
-  const size_t n_items = items.readers.size();
+  const size_t n_items = items.coders.size();
   for (uint64_t p = 1; p < points; ++p) {
     uint8_t* record = out + p * in.record_length;
-    for (size_t i = 0; i < n_items; ++i) items.readers[i]->decode(record + items.offsets[i], context);
+    for (size_t i = 0; i < n_items; ++i) items.coders[i]->decode(record + items.offsets[i], context);
   }
 }
 
@@ -171,9 +147,9 @@ LaszipVlr parse_laszip_vlr(const uint8_t* data, size_t size) {
     vlr.items.push_back({load<uint16_t>(p), load<uint16_t>(p + 2), load<uint16_t>(p + 4)});
   }
   if (vlr.coder != 0) throw FormatError("unknown LASzip coder " + std::to_string(vlr.coder));
-  if (vlr.compressor < 1 || vlr.compressor > 3)
+  if (vlr.compressor < kCompressorPointwise || vlr.compressor > kCompressorLayered)
     throw FormatError("unknown LASzip compressor " + std::to_string(vlr.compressor));
-  if (vlr.compressor != 1 && vlr.chunk_size == 0) throw FormatError("LASzip chunk size 0");
+  if (vlr.compressor != kCompressorPointwise && vlr.chunk_size == 0) throw FormatError("LASzip chunk size 0");
   return vlr;
 }
 
@@ -185,7 +161,7 @@ std::vector<Chunk> chunks_of(const PointData& in, const LaszipVlr& vlr) {
     throw FormatError("header claims " + std::to_string(in.count) + " points, more than " +
                       std::to_string(kMaxLazExpansion) + " times the " + std::to_string(compressed) +
                       " compressed bytes can hold");
-  return vlr.compressor == 1 ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
+  return vlr.compressor == kCompressorPointwise ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
                              : read_chunk_table(in, vlr.chunk_size);
 }
 

@@ -16,6 +16,13 @@ namespace c3d::laz {
 constexpr uint16_t kLaszipRecordId = 22204;
 constexpr const char* kLaszipUserId = "laszip encoded";
 
+// LASzip's item types and compressors (what the VLR names), for reader and writer.
+enum ItemType : uint16_t {
+  kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kWavePacket13 = 9,
+  kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
+};
+constexpr uint16_t kCompressorPointwise = 1, kCompressorPointwiseChunked = 2, kCompressorLayered = 3;
+
 struct Item {
   uint16_t type = 0, size = 0, version = 0;
 };

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "core/io/laz/integer_compressor.h"
+#include "core/io/laz/integer_coder.h"
 #include "core/io/laz/item_reader.h"
 #include "core/io/laz/item_writer.h"
 
@@ -13,16 +13,6 @@ namespace c3d::laz {
 
 namespace {
 
-enum ItemType : uint16_t { kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kPoint14 = 10, kRgb14 = 11,
-                           kRgbNir14 = 12, kByte14 = 14 };
-constexpr uint16_t kCompressorPointwiseChunked = 2, kCompressorLayered = 3;
-
-template <typename T>
-T load(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 template <typename T>
 void store(std::vector<uint8_t>& out, size_t at, T v) {
   std::memcpy(out.data() + at, &v, sizeof v);
@@ -33,13 +23,7 @@ void append(std::vector<uint8_t>& out, T v) {
   store(out, out.size() - sizeof v, v);
 }
 
-// The writers of one record's items, and where each item starts in it.
-struct Items {
-  Encoder enc;  // the chunk's stream (point-wise compressor)
-  std::vector<std::unique_ptr<ItemWriter>> writers;
-  std::vector<uint32_t> offsets;
-  bool layered = false;
-};
+using Items = RecordItems<Encoder, ItemWriter>;
 
 std::unique_ptr<ItemWriter> make_writer(const Item& it, Encoder& enc) {
   switch (it.type) {
@@ -57,16 +41,7 @@ std::unique_ptr<ItemWriter> make_writer(const Item& it, Encoder& enc) {
 
 std::unique_ptr<Items> make_items(const LaszipVlr& vlr, uint32_t record_length) {
   auto items = std::make_unique<Items>();
-  items->layered = vlr.compressor == kCompressorLayered;
-  uint32_t offset = 0;
-  for (const Item& it : vlr.items) {
-    items->writers.push_back(make_writer(it, items->enc));
-    items->offsets.push_back(offset);
-    offset += it.size;
-  }
-  if (offset != record_length)
-    throw FormatError("LASzip items make " + std::to_string(offset) + "-byte records, not " +
-                      std::to_string(record_length));
+  items->add(vlr, record_length, [&](const Item& it) { return make_writer(it, items->stream); });
   return items;
 }
 
@@ -75,20 +50,20 @@ void encode_chunk(Items& items, const uint8_t* records, uint64_t points, uint32_
                   std::vector<uint8_t>& out) {
   out.insert(out.end(), records, records + record_length);
   uint32_t context = 0;
-  for (size_t i = 0; i < items.writers.size(); ++i) items.writers[i]->init(records + items.offsets[i], context);
+  for (size_t i = 0; i < items.coders.size(); ++i) items.coders[i]->init(records + items.offsets[i], context);
   for (uint64_t p = 1; p < points; ++p) {
     const uint8_t* record = records + p * record_length;
-    for (size_t i = 0; i < items.writers.size(); ++i) items.writers[i]->encode(record + items.offsets[i], context);
+    for (size_t i = 0; i < items.coders.size(); ++i) items.coders[i]->encode(record + items.offsets[i], context);
   }
   if (!items.layered) {
-    const std::vector<uint8_t> bytes = items.enc.finish();
+    const std::vector<uint8_t> bytes = items.stream.finish();
     out.insert(out.end(), bytes.begin(), bytes.end());
     return;
   }
   put_u32(out, uint32_t(points));
-  for (auto& w : items.writers) w->finish_layers();
-  for (auto& w : items.writers) w->write_layer_sizes(out);
-  for (auto& w : items.writers) w->write_layers(out);
+  for (auto& w : items.coders) w->finish_layers();
+  for (auto& w : items.coders) w->write_layer_sizes(out);
+  for (auto& w : items.coders) w->write_layers(out);
 }
 
 // Version 0, the chunk count, then each chunk's byte count coded against the last.
@@ -97,7 +72,7 @@ void write_chunk_table(const std::vector<uint32_t>& chunk_bytes, std::vector<uin
   put_u32(out, uint32_t(chunk_bytes.size()));
   if (chunk_bytes.empty()) return;
   Encoder enc;
-  IntegerCompressor ic(32, 2);
+  IntegerCoder ic(32, 2);
   int32_t last = 0;
   for (uint32_t bytes : chunk_bytes) {
     ic.compress(enc, last, int32_t(bytes), 1);
