@@ -184,6 +184,12 @@ TEST(PostgisStore, SameAsTheGeoPackage) {
   ASSERT_EQ(test::run_cli("export --store " + db.url() + " --out " + town().dir + "/exp_pg --formats cityjson", &out), 0)
       << out;
   EXPECT_TRUE(fs::exists(town().dir + "/exp_pg/buildings.city.json"));
+  // validate URL judges the same buildings as from the GeoPackage.
+  std::string from_gpkg;
+  const int rc_pg = test::run_cli("validate " + db.url(), &out);
+  EXPECT_EQ(rc_pg, test::run_cli("validate " + town().gpkg, &from_gpkg)) << out;
+  EXPECT_EQ(out, from_gpkg);
+  EXPECT_NE(out.find(" buildings, "), std::string::npos) << out;
 }
 
 TEST(PostgisStore, TwoWritersAtOnce) {
