@@ -94,10 +94,13 @@ void mark_run_finished(const std::string& path, std::int64_t run_id = 0);
 BatchModel load_batch_model(const std::string& path);
 // One valuation per parcel, same order as load_batch_model().parcels.
 std::vector<ParcelValuation> load_valuations(const std::string& path);
-// The same for the parcels of these layer indices only (in layer order): a
-// streaming reader takes the store a chunk at a time.
-BatchModel load_batch_model(const std::string& path, const std::vector<int>& layer_indices);
-std::vector<ParcelValuation> load_valuations(const std::string& path, const std::vector<int>& layer_indices);
+// The same for the parcels of these ids only, in the order given (an id the
+// store lacks is left out): a streaming reader takes the store a page at a
+// time. A parcel's id (la_spatialunit.parcel_id, the layer's identifier) is
+// unique in a store; its layer index is not where writers with different
+// parcel selections (--where) share one. Each call reads one snapshot.
+BatchModel load_batch_model(const std::string& path, const std::vector<std::string>& parcel_ids);
+std::vector<ParcelValuation> load_valuations(const std::string& path, const std::vector<std::string>& parcel_ids);
 std::vector<JobRecord> load_jobs(const std::string& path);
 std::vector<RunRecord> load_runs(const std::string& path);
 

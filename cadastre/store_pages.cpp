@@ -11,28 +11,22 @@ namespace c3d {
 
 StorePages::StorePages(const std::string& loc, size_t page_size)
     : loc_(loc), page_size_(std::max<size_t>(page_size, 1)) {
-  for (const JobRecord& j : load_jobs(loc))
-    if (j.status != "pending") layer_indices_.push_back(j.layer_index), ++parcel_count_;
-  std::sort(layer_indices_.begin(), layer_indices_.end());
-  layer_indices_.erase(std::unique(layer_indices_.begin(), layer_indices_.end()), layer_indices_.end());
-  // The frame and CRS come with any read; one parcel's is the smallest that
-  // needs no empty index list (which not every SQL dialect takes).
-  header_ = layer_indices_.empty() ? load_batch_model(loc) : load_batch_model(loc, {layer_indices_[0]});
-  header_.parcels.clear();
-  header_.results.clear();
+  for (const JobRecord& j : load_jobs(loc))  // in layer order; a parcel id is one job
+    if (j.status != "pending") parcel_ids_.push_back(j.parcel_id);
+  header_ = load_batch_model(loc, std::vector<std::string>());  // the frame and CRS, no parcels
 }
 
-size_t StorePages::page_count() const { return (layer_indices_.size() + page_size_ - 1) / page_size_; }
+size_t StorePages::page_count() const { return (parcel_ids_.size() + page_size_ - 1) / page_size_; }
 
-std::vector<int> StorePages::indices(size_t k) const {
-  const size_t from = std::min(k * page_size_, layer_indices_.size());
-  const size_t to = std::min(from + page_size_, layer_indices_.size());
-  return {layer_indices_.begin() + long(from), layer_indices_.begin() + long(to)};
+std::vector<std::string> StorePages::ids(size_t k) const {
+  const size_t from = std::min(k * page_size_, parcel_ids_.size());
+  const size_t to = std::min(from + page_size_, parcel_ids_.size());
+  return {parcel_ids_.begin() + long(from), parcel_ids_.begin() + long(to)};
 }
 
-BatchModel StorePages::page(size_t k) const { return load_batch_model(loc_, indices(k)); }
+BatchModel StorePages::page(size_t k) const { return load_batch_model(loc_, ids(k)); }
 
-std::vector<ParcelValuation> StorePages::valuations(size_t k) const { return load_valuations(loc_, indices(k)); }
+std::vector<ParcelValuation> StorePages::valuations(size_t k) const { return load_valuations(loc_, ids(k)); }
 
 }  // namespace c3d
 

@@ -20,24 +20,26 @@ class StorePages {
   // loc: the store (a GeoPackage path or whatever load_batch_model takes).
   // A parcel whose job is pending (a run in progress) is left out: its rows,
   // if any, are an earlier run's that the run will replace.
+  // The parcels are fixed here, once, by their ids (unique in a store, where
+  // layer indices are not): the count and the pages agree whatever other
+  // writers add to a shared store meanwhile.
   explicit StorePages(const std::string& loc, size_t page_size = kOutputPageParcels);
   const std::string& location() const { return loc_; }
   // The frame and CRS of the latest run; no parcels.
   const BatchModel& header() const { return header_; }
   size_t page_count() const;
   // Parcels the pages hold: those with a stored result (a job not pending).
-  size_t parcel_count() const { return parcel_count_; }
+  size_t parcel_count() const { return parcel_ids_.size(); }
   // Page k: its parcels and their results, buildings in local coordinates.
   BatchModel page(size_t k) const;
   // The stored valuations of page k's parcels (in the same order).
   std::vector<ParcelValuation> valuations(size_t k) const;
 
  private:
-  std::vector<int> indices(size_t k) const;
+  std::vector<std::string> ids(size_t k) const;
   std::string loc_;
   size_t page_size_;
-  std::vector<int> layer_indices_;  // of every stored parcel, ascending, once each
-  size_t parcel_count_ = 0;
+  std::vector<std::string> parcel_ids_;  // of every stored parcel, in layer order (layer index, then id)
   BatchModel header_;
 };
 

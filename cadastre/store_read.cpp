@@ -1,7 +1,9 @@
 // Reading a store back: the batch model, valuations, jobs and runs.
 #include "cadastre/store.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <unordered_map>
 #include <nlohmann/json.hpp>
 
 #include "cadastre/gpkg_geometry.h"
@@ -149,20 +151,73 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
   return out;
 }
 
-// " WHERE su.layer_index IN (...)" for a subset; "" for all (indices are
-// integers, written as literals).
-std::string layer_filter(const std::vector<int>* indices) {
-  if (!indices) return "";
-  std::string w = " WHERE su.layer_index IN (";
-  for (size_t k = 0; k < indices->size(); ++k) w += (k ? "," : "") + std::to_string((*indices)[k]);
+// At most this many ids bound in one query: well under SQLite's (32766) and
+// libpq's (65535) limits on bound parameters; a page of parcels is one query.
+constexpr size_t kIdsPerQuery = 1000;
+
+// Reads in one snapshot: a parcel's row and its buildings' rows agree while
+// another writer rewrites it (PostgreSQL: REPEATABLE READ; SQLite: a deferred
+// read transaction, which holds no lock a writer waits on in WAL mode).
+class ReadSnapshot {
+ public:
+  explicit ReadSnapshot(sql::Db& db) : db_(db) {
+    db_.exec(db_.postgres() ? "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY" : "BEGIN");
+  }
+  ~ReadSnapshot() {
+    try {
+      db_.exec("COMMIT");
+    } catch (const std::exception&) {  // nothing was written: nothing to lose
+    }
+  }
+  ReadSnapshot(const ReadSnapshot&) = delete;
+  ReadSnapshot& operator=(const ReadSnapshot&) = delete;
+
+ private:
+  sql::Db& db_;
+};
+
+// " WHERE su.parcel_id IN (?,...)" with n placeholders.
+std::string id_filter(size_t n) {
+  std::string w = " WHERE su.parcel_id IN (";
+  for (size_t k = 0; k < n; ++k) w += k ? ",?" : "?";
   return w + ")";
 }
 
-BatchModel read_batch_model(const std::string& path, const std::vector<int>* indices) {
-  sql::Db db = open_store(path);
-  BatchModel m;
-  m.frame = latest_frame(db);
-  read_crs(db, m);
+// Calls read(filter, ids) once for the whole store (ids null: no filter) or
+// once per piece of at most kIdsPerQuery ids.
+template <class Read>
+void by_pieces(const std::vector<std::string>* ids, Read read) {
+  if (!ids) return read(std::string(), std::vector<std::string>());
+  for (size_t at = 0; at < ids->size(); at += kIdsPerQuery) {
+    const auto from = ids->begin() + long(at), to = ids->begin() + long(std::min(at + kIdsPerQuery, ids->size()));
+    read(id_filter(size_t(to - from)), std::vector<std::string>(from, to));
+  }
+}
+
+// Positions in `got` in the order of `ids` (ids the store lacks left out).
+std::vector<size_t> order_of(const std::vector<std::string>& ids, const std::vector<std::string>& got) {
+  std::unordered_map<std::string, std::vector<size_t>> at;
+  for (size_t i = 0; i < got.size(); ++i) at[got[i]].push_back(i);
+  std::vector<size_t> out;
+  for (const std::string& id : ids) {
+    auto it = at.find(id);
+    if (it == at.end()) continue;
+    out.insert(out.end(), it->second.begin(), it->second.end());
+    at.erase(it);  // an id asked twice comes once
+  }
+  return out;
+}
+
+template <class T>
+std::vector<T> permuted(std::vector<T>& v, const std::vector<size_t>& order) {
+  std::vector<T> out;
+  out.reserve(order.size());
+  for (size_t i : order) out.push_back(std::move(v[i]));
+  return out;
+}
+
+// Appends the parcels the query with this filter gives (ids bound in order).
+void read_parcels(const sql::Db& db, const std::string& filter, const std::vector<std::string>& ids, BatchModel& m) {
   // The layer's own name of the right; a store written before kept it in rrr_type.
   const std::string right =
       store_schema::has_column(db, "la_rrr", "local_type") ? "coalesce(r.local_type, r.rrr_type)" : "r.rrr_type";
@@ -171,40 +226,60 @@ BatchModel read_batch_model(const std::string& path, const std::vector<int>* ind
               "su.repair_note, " + right + ", j.status, j.reason, j.roof_points, j.wall_points, "
               "j.timings FROM la_spatialunit su "
               "LEFT JOIN la_rrr r ON r.baunit_id = su.baunit_id "
-              "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id" + layer_filter(indices) +
+              "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id" + filter +
               " ORDER BY su.layer_index, su.parcel_id");
+  for (const std::string& id : ids) q.bind(id);
+  while (q.step()) {
+    Parcel p;
+    std::size_t n;
+    const std::uint8_t* b = q.blob(1, &n);
+    p.shape = gpkg_read_multipolygon(b, n);
+    p.id = q.get_text(2);
+    p.index = int(q.get_int(3));
+    p.official_area = q.get_double(4);
+    p.repair_note = q.get_text(5);
+    p.right_type = q.get_text(6);
+    ParcelResult r;
+    r.parcel_index = p.index;
+    r.parcel_id = p.id;
+    r.status = status_from(q.get_text(7));
+    r.reason = q.get_text(8);
+    r.roof_points = long(q.get_int(9));
+    r.wall_points = long(q.get_int(10));
+    r.timings = parse_timings(q.get_text(11));
+    r.buildings = read_buildings(db, q.get_int(0), m.frame);
+    m.parcels.push_back(std::move(p));
+    m.results.push_back(std::move(r));
+  }
+}
+
+BatchModel read_batch_model(const std::string& path, const std::vector<std::string>* ids) {
+  sql::Db db = open_store(path);
+  const ReadSnapshot snapshot(db);
+  BatchModel m;
+  m.frame = latest_frame(db);
+  read_crs(db, m);
   try {
-    while (q.step()) {
-      Parcel p;
-      std::size_t n;
-      const std::uint8_t* b = q.blob(1, &n);
-      p.shape = gpkg_read_multipolygon(b, n);
-      p.id = q.get_text(2);
-      p.index = int(q.get_int(3));
-      p.official_area = q.get_double(4);
-      p.repair_note = q.get_text(5);
-      p.right_type = q.get_text(6);
-      ParcelResult r;
-      r.parcel_index = p.index;
-      r.parcel_id = p.id;
-      r.status = status_from(q.get_text(7));
-      r.reason = q.get_text(8);
-      r.roof_points = long(q.get_int(9));
-      r.wall_points = long(q.get_int(10));
-      r.timings = parse_timings(q.get_text(11));
-      r.buildings = read_buildings(db, q.get_int(0), m.frame);
-      m.parcels.push_back(std::move(p));
-      m.results.push_back(std::move(r));
-    }
+    by_pieces(ids, [&](const std::string& filter, const std::vector<std::string>& piece) {
+      read_parcels(db, filter, piece, m);
+    });
   } catch (const std::runtime_error& e) {
     if (dynamic_cast<const InputError*>(&e)) throw;
     throw InputError(path, e.what());  // malformed geometry blob
   }
+  if (ids) {
+    std::vector<std::string> got;
+    for (const Parcel& p : m.parcels) got.push_back(p.id);
+    const std::vector<size_t> order = order_of(*ids, got);
+    m.parcels = permuted(m.parcels, order);
+    m.results = permuted(m.results, order);
+  }
   return m;
 }
 
-std::vector<ParcelValuation> read_valuations(const std::string& path, const std::vector<int>* indices) {
-  sql::Db db = open_store(path);
+// Appends the valuations the query with this filter gives (ids bound in order).
+void read_valuation_rows(const sql::Db& db, const std::string& filter, const std::vector<std::string>& ids,
+                         std::vector<ParcelValuation>& out) {
   sql::Stmt q(db,
               "SELECT v.fid, u.parcel_id, v.currency, u.zone, u.quality, v.note, u.land_area, "
               "u.land_area_source, v.land_price_per_m2, v.land_value, v.building_cost, "
@@ -212,13 +287,13 @@ std::vector<ParcelValuation> read_valuations(const std::string& path, const std:
               "v.building_value, v.sigma_building_value, v.njop, v.sigma_njop, v.tax_rate, "
               "v.njoptkp, v.taxable, v.tax, v.sigma_tax "
               "FROM la_spatialunit su JOIN vm_valuationunit u ON u.spatialunit_id = su.fid "
-              "JOIN vm_valuation v ON v.valuationunit_id = u.fid" + layer_filter(indices) +
+              "JOIN vm_valuation v ON v.valuationunit_id = u.fid" + filter +
               " ORDER BY su.layer_index, su.parcel_id");
   sql::Stmt qi(db,
                "SELECT building_id, element_index, element_type, quality, area, sigma_area, "
                "unit_cost, amount, sigma_amount, support_points, rmse FROM vm_cost_item "
                "WHERE valuation_id=? ORDER BY fid");
-  std::vector<ParcelValuation> out;
+  for (const std::string& id : ids) q.bind(id);
   while (q.step()) {
     ParcelValuation v;
     v.parcel_id = q.get_text(1);
@@ -252,7 +327,19 @@ std::vector<ParcelValuation> read_valuations(const std::string& path, const std:
     qi.reset();
     out.push_back(std::move(v));
   }
-  return out;
+}
+
+std::vector<ParcelValuation> read_valuations(const std::string& path, const std::vector<std::string>* ids) {
+  sql::Db db = open_store(path);
+  const ReadSnapshot snapshot(db);
+  std::vector<ParcelValuation> out;
+  by_pieces(ids, [&](const std::string& filter, const std::vector<std::string>& piece) {
+    read_valuation_rows(db, filter, piece, out);
+  });
+  if (!ids) return out;
+  std::vector<std::string> got;
+  for (const ParcelValuation& v : out) got.push_back(v.parcel_id);
+  return permuted(out, order_of(*ids, got));
 }
 
 }  // namespace
@@ -277,14 +364,14 @@ bool store_exists(const std::string& loc) {
 
 BatchModel load_batch_model(const std::string& path) { return read_batch_model(path, nullptr); }
 
-BatchModel load_batch_model(const std::string& path, const std::vector<int>& layer_indices) {
-  return read_batch_model(path, &layer_indices);
+BatchModel load_batch_model(const std::string& path, const std::vector<std::string>& parcel_ids) {
+  return read_batch_model(path, &parcel_ids);
 }
 
 std::vector<ParcelValuation> load_valuations(const std::string& path) { return read_valuations(path, nullptr); }
 
-std::vector<ParcelValuation> load_valuations(const std::string& path, const std::vector<int>& layer_indices) {
-  return read_valuations(path, &layer_indices);
+std::vector<ParcelValuation> load_valuations(const std::string& path, const std::vector<std::string>& parcel_ids) {
+  return read_valuations(path, &parcel_ids);
 }
 
 std::vector<JobRecord> load_jobs(const std::string& path) {

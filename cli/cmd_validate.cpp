@@ -1,6 +1,7 @@
 // cadastre3d validate FILE: geometry validation (val3dity rules and codes) of every
-// building of a CityJSON file or a Cadastre3D store. Exit 0 when all are valid, 1
-// when any issue is found (one line per issue).
+// building of a CityJSON file or a Cadastre3D store (a GeoPackage or a
+// postgresql:// URL). Exit 0 when all are valid, 1 when any issue is found
+// (one line per issue).
 #include <iostream>
 #include <string>
 
@@ -16,9 +17,9 @@ void register_validate(CLI::App& app) {
   auto planarity = std::make_shared<double>(0.01);
   auto* cmd = app.add_subcommand(
       "validate", "Check building solids (closed, manifold, oriented, planar; val3dity codes)");
-  cmd->add_option("file", *file, "CityJSON file (.city.json / .json) or store (.gpkg)")
+  cmd->add_option("file", *file, "CityJSON file (.city.json / .json) or store (.gpkg or postgresql://...)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existing_store);
   cmd->add_option("--planarity", *planarity, "Planarity tolerance in metres (default 0.01)");
   cmd->callback([file, planarity] {
     const std::string& f = *file;

@@ -112,9 +112,23 @@ print_env() {
   if [ "$(id -u)" -eq 0 ] && [ -f "$SLURM_CONF_FILE" ]; then echo "export SLURM_CONF=$SLURM_CONF_FILE"; fi
 }
 
+# Stops the daemon of this pid file and waits (10 s at most) until it is gone:
+# slurmctld writes its state on SIGTERM, and a caller that removes the folder
+# next (tests/slurm_shards_check.sh) must not race it ("Directory not empty").
+stop_daemon() {
+  [ -f "$1" ] || return 0
+  local pid
+  pid=$(cat "$1")
+  kill "$pid" 2>/dev/null || return 0
+  for _ in $(seq 100); do
+    kill -0 "$pid" 2>/dev/null || return 0
+    sleep 0.1
+  done
+}
+
 stop_all() {
-  if [ -f "$SLURM_DIR/slurmd.pid" ]; then kill "$(cat "$SLURM_DIR/slurmd.pid")" 2>/dev/null || true; fi
-  if [ -f "$SLURM_DIR/slurmctld.pid" ]; then kill "$(cat "$SLURM_DIR/slurmctld.pid")" 2>/dev/null || true; fi
+  stop_daemon "$SLURM_DIR/slurmd.pid"
+  stop_daemon "$SLURM_DIR/slurmctld.pid"
   if [ -f "$DIR/pg/PG_VERSION" ]; then as_postgres "$PG_BIN/pg_ctl" -D "$DIR/pg" -m fast stop >/dev/null 2>&1 || true; fi
   echo "services: stopped" >&2
 }

@@ -212,5 +212,37 @@ TEST(InputsE2E, OverlappingParcelsAreReportedWithTheirArea) {
       << log;
 }
 
+// Issue 37: two writers of disjoint --where halves share one store, so their
+// layer indices collide. Each parcel is in the outputs once, and a writer's
+// fit figures are its own layer's, whatever the other half left in the store.
+TEST(InputsE2E, TwoWhereHalvesShareOneStore) {
+  const std::string dir = test::temp_dir("halves"), town = dir + "/town";
+  make_town(town, 12, 3, "--density 10 --wall-density 5");
+  const std::string a = " --where \"NIB<='10280503000006'\"", b = " --where \"NIB>'10280503000006'\"";
+  const std::string shared = batch_args(town, dir + "/shared") + " --formats cityjson --quiet";
+  std::string log;
+  ASSERT_EQ(test::run_cli(shared + a, &log) % 3, 0) << log;
+  ASSERT_EQ(test::run_cli(shared + b + " --resume", &log) % 3, 0) << log;
+  ASSERT_EQ(test::run_cli(batch_args(town, dir + "/alone") + " --formats cityjson --quiet" + b, &log) % 3, 0) << log;
+  const json in_shared = json::parse(read_file(dir + "/shared/summary.json"));
+  const json alone = json::parse(read_file(dir + "/alone/summary.json"));
+  for (const char* fit : {"any_model_roof_deviation", "any_model_wall_deviation", "roof_ruler", "wall_ruler"})
+    for (const char* figure : {"n", "max", "rmse"})
+      EXPECT_NEAR(in_shared[fit][figure].get<double>(), alone[fit][figure].get<double>(), 1e-9) << fit << " " << figure;
+  // The batch's outputs, `report` and `export` from the store: the 12 parcels once each.
+  ASSERT_EQ(test::run_cli("report --store " + dir + "/shared/cadastre.gpkg --out " + dir + "/report", &log), 0) << log;
+  ASSERT_EQ(test::run_cli("export --store " + dir + "/shared/cadastre.gpkg --out " + dir + "/export --formats cityjson",
+                          &log), 0) << log;
+  for (const std::string& csv : {dir + "/shared/report.csv", dir + "/report/report.csv"}) {
+    std::map<std::string, int> parcels;
+    for (const auto& row : test::parse_csv(read_file(csv)))
+      if (row[0] == "parcel") ++parcels[row[1]];
+    EXPECT_EQ(parcels.size(), 12u) << csv;
+    for (const auto& [id, n] : parcels) EXPECT_EQ(n, 1) << id << " in " << csv;
+  }
+  EXPECT_EQ(in_shared["parcels"].size(), 12u);
+  EXPECT_EQ(read_file(dir + "/export/buildings.city.json"), read_file(dir + "/shared/buildings.city.json"));
+}
+
 }  // namespace
 }  // namespace e2e

@@ -16,6 +16,7 @@
 #include "core/config/config.h"
 #include "ifc_citygml/export.h"
 #include "tests/export_fixtures.h"
+#include "tests/shared_store_checks.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
@@ -192,4 +193,11 @@ TEST(OutputsStream, SummaryIsOneJsonDocumentAsDumped) {
   std::stringstream ss;
   ss << f.rdbuf();
   EXPECT_EQ(ss.str(), nlohmann::json::parse(ss.str()).dump(2) + "\n");
+}
+
+// Two writers of different --where selections share one GeoPackage (issue
+// 37): their layer indices collide, the pages go by parcel id.
+TEST(OutputsStream, PagesOfASharedStoreHoldTheCountedParcelsOnce) {
+  const std::string dir = temp_dir("shared");
+  expect_pages_fixed_once(dir + "/cadastre.gpkg", dir + "/report");
 }

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/geometry/geometry.h"
 #include "tests/batch_e2e_support.h"
+#include "tests/shared_store_checks.h"
 #include "tests/store_fixtures.h"
 #include "valuation/valuation.h"
 
@@ -183,6 +184,12 @@ TEST(PostgisStore, SameAsTheGeoPackage) {
   ASSERT_EQ(test::run_cli("export --store " + db.url() + " --out " + town().dir + "/exp_pg --formats cityjson", &out), 0)
       << out;
   EXPECT_TRUE(fs::exists(town().dir + "/exp_pg/buildings.city.json"));
+  // validate URL judges the same buildings as from the GeoPackage.
+  std::string from_gpkg;
+  const int rc_pg = test::run_cli("validate " + db.url(), &out);
+  EXPECT_EQ(rc_pg, test::run_cli("validate " + town().gpkg, &from_gpkg)) << out;
+  EXPECT_EQ(out, from_gpkg);
+  EXPECT_NE(out.find(" buildings, "), std::string::npos) << out;
 }
 
 TEST(PostgisStore, TwoWritersAtOnce) {
@@ -217,6 +224,25 @@ TEST(PostgisStore, TwoWritersAtOnce) {
   ASSERT_TRUE(rc == 0 || rc == 3) << out;
   expect_same_store(d + "/two_gpkg/cadastre.gpkg", db.url());
   expect_same_counts(db, d + "/two_gpkg/cadastre.gpkg");
+  // Each writer's report (what the store held as it ended) and one from the
+  // store: every parcel once, the store's twelve in the last.
+  ASSERT_EQ(test::run_cli("report --store " + db.url() + " --out " + d + "/two_rep", &out), 0) << out;
+  for (const char* dir : {"/two_a", "/two_b", "/two_rep"}) {
+    std::map<std::string, int> parcels;
+    for (const auto& row : test::parse_csv(e2e::read_file(d + dir + "/report.csv")))
+      if (row[0] == "parcel") ++parcels[row[1]];
+    EXPECT_GE(parcels.size(), 6u) << dir;
+    for (const auto& [id, n] : parcels) EXPECT_EQ(n, 1) << id << " in " << dir;
+    if (std::string(dir) == "/two_rep") EXPECT_EQ(parcels.size(), 12u);
+  }
+}
+
+// The pages of a database two writers of different selections share: the
+// parcels counted, each once, whatever the other writer adds meanwhile.
+TEST(PostgisStore, PagesOfASharedStoreHoldTheCountedParcelsOnce) {
+  REQUIRE_POSTGRES();
+  PgDatabase db("c3d_test_pages");
+  test::expect_pages_fixed_once(db.url(), test::temp_dir("pages") + "/report");
 }
 
 TEST(PostgisStore, KilledThenResumed) {

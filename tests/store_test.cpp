@@ -165,23 +165,27 @@ TEST(Store, WritesReadsBackAndKeepsAreas) {
   EXPECT_GT(vals[1].land_value, 0);
 }
 
-// A streaming reader takes a chunk of parcels: the same rows as the full read.
+// A streaming reader takes a page of parcels by their ids: the same rows as
+// the full read, in the order asked; an id the store lacks is left out.
 TEST(Store, ReadsASubsetOfParcelsLikeTheWholeStore) {
   const std::string path = make_store("store_subset", test::sample_batch());
   const BatchModel all = load_batch_model(path);
-  const BatchModel some = load_batch_model(path, {2, 0});
+  const BatchModel some = load_batch_model(path, {all.parcels[2].id, "no such parcel", all.parcels[0].id});
   ASSERT_EQ(some.parcels.size(), 2u);
-  EXPECT_EQ(some.parcels[0].id, all.parcels[0].id);  // layer order, whatever order asked
-  EXPECT_EQ(some.parcels[1].id, all.parcels[2].id);
-  EXPECT_EQ(some.results[1].reason, all.results[2].reason);
-  ASSERT_EQ(some.results[0].buildings.size(), all.results[0].buildings.size());
-  EXPECT_DOUBLE_EQ(some.results[0].buildings[0].elements[0].area, all.results[0].buildings[0].elements[0].area);
+  EXPECT_EQ(some.parcels[0].id, all.parcels[2].id);  // the order asked
+  EXPECT_EQ(some.parcels[1].id, all.parcels[0].id);
+  EXPECT_EQ(some.results[0].reason, all.results[2].reason);
+  ASSERT_EQ(some.results[1].buildings.size(), all.results[0].buildings.size());
+  EXPECT_DOUBLE_EQ(some.results[1].buildings[0].elements[0].area, all.results[0].buildings[0].elements[0].area);
   EXPECT_EQ(some.frame.origin, all.frame.origin);
-  const auto vals = load_valuations(path, {1});
+  const auto vals = load_valuations(path, {all.parcels[1].id});
   ASSERT_EQ(vals.size(), 1u);
   EXPECT_EQ(vals[0].parcel_id, all.parcels[1].id);
   EXPECT_DOUBLE_EQ(vals[0].land_value, load_valuations(path)[1].land_value);
-  EXPECT_TRUE(load_batch_model(path, {}).parcels.empty());
+  const BatchModel none = load_batch_model(path, std::vector<std::string>());
+  EXPECT_TRUE(none.parcels.empty());
+  EXPECT_EQ(none.frame.origin, all.frame.origin);  // the frame and CRS still come
+  EXPECT_EQ(none.epsg, all.epsg);
 }
 
 TEST(Store, GeoPackageTablesHeaderAndForeignKeys) {

@@ -1,5 +1,6 @@
 #include "cadastre/batch/store_sink.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -70,9 +71,16 @@ SinkCounts StoreSink::end() {
   return held;
 }
 
+// Read by the parcels' ids: a store shared with writers of other parcel
+// selections holds their parcels under the same layer indices.
 BatchModel StoreSink::models(const std::vector<int>& layer_indices) {
   if (layer_indices.empty()) return {};
-  return load_batch_model(path_, layer_indices);
+  std::vector<int> sorted = layer_indices;
+  std::sort(sorted.begin(), sorted.end());  // layer order
+  std::vector<std::string> ids;
+  for (int i : sorted)
+    if (i >= 0 && size_t(i) < parcels_->size()) ids.push_back((*parcels_)[size_t(i)].id);
+  return load_batch_model(path_, ids);
 }
 
 }  // namespace c3d
