@@ -8,6 +8,8 @@
 #include <geos/geom/prep/PreparedPolygon.h>
 #include <geos/index/strtree/TemplateSTRtree.h>
 
+#include <stdexcept>
+
 #include "core/geometry/geos_util.h"
 #include "core/error.h"
 
@@ -67,18 +69,31 @@ struct ParcelClipper::Impl {
   }
 };
 
+namespace {
+std::vector<std::size_t> every_parcel(const ParcelLayer& layer) {
+  std::vector<std::size_t> all(layer.parcels.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  return all;
+}
+}  // namespace
+
 ParcelClipper::ParcelClipper(const ParcelLayer& layer, const ClipParams& params)
+    : ParcelClipper(layer, params, every_parcel(layer)) {}
+
+ParcelClipper::ParcelClipper(const ParcelLayer& layer, const ClipParams& params, const std::vector<std::size_t>& only)
     : impl_(std::make_unique<Impl>()) {
   impl_->buffer = params.overhang_buffer_m;
   if (!(impl_->buffer >= 0))
     throw InputError(layer.source, "overhang buffer must be >= 0 m");
-  for (const Parcel& p : layer.parcels) {
-    std::unique_ptr<Geometry> shape = to_geos(p.shape, *impl_->factory);
+  impl_->buffered.resize(layer.parcels.size());
+  impl_->exact.resize(layer.parcels.size());
+  for (std::size_t i : only) {
+    std::unique_ptr<Geometry> shape = to_geos(layer.parcels.at(i).shape, *impl_->factory);
     std::unique_ptr<Geometry> grown = impl_->buffer > 0 ? shape->buffer(impl_->buffer, 8)
                                                         : shape->clone();
-    impl_->tree.insert(*grown->getEnvelopeInternal(), impl_->buffered.size());
-    impl_->buffered.push_back(Impl::make_area(std::move(grown)));
-    impl_->exact.push_back(Impl::make_area(std::move(shape)));
+    impl_->tree.insert(*grown->getEnvelopeInternal(), i);
+    impl_->buffered[i] = Impl::make_area(std::move(grown));
+    impl_->exact[i] = Impl::make_area(std::move(shape));
   }
   impl_->tree.build();
 }
@@ -109,7 +124,9 @@ ParcelClipper::IndexLists ParcelClipper::clip(const std::vector<Vec3>& pts) cons
 }
 
 bool ParcelClipper::inside(std::size_t parcel, double x, double y) const {
-  return impl_->exact.at(parcel).locate(x, y) == Location::INTERIOR;
+  const Impl::Area& a = impl_->exact.at(parcel);
+  if (!a.geometry) throw std::logic_error("ParcelClipper::inside: parcel not among the clipper's");
+  return a.locate(x, y) == Location::INTERIOR;
 }
 
 }  // namespace c3d

@@ -18,6 +18,9 @@ class ParcelClipper {
   using IndexLists = std::vector<std::vector<std::size_t>>;  // per parcel: point indices
 
   explicit ParcelClipper(const ParcelLayer& layer, const ClipParams& params = {});
+  // Only the parcels `only` (layer indices) hold points; the others hold none
+  // and cost nothing: a chunk's clipper, whatever the layer's size.
+  ParcelClipper(const ParcelLayer& layer, const ClipParams& params, const std::vector<std::size_t>& only);
   ~ParcelClipper();
   ParcelClipper(ParcelClipper&&) noexcept;
   ParcelClipper& operator=(ParcelClipper&&) noexcept;

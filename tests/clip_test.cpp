@@ -78,6 +78,26 @@ TEST(Clip, ChunkedFeedingEqualsWholeCloud) {
   EXPECT_GT(whole[0].size(), 1000u);
 }
 
+TEST(Clip, ASubsetOfParcelsClipsItsPointsAsTheWholeLayer) {
+  ParcelLayer layer = two_squares();  // and a third square far east
+  Parcel far = layer.parcels[1];
+  far.index = 2, far.id = "P2";
+  for (auto& v : far.shape[0].outer) v.x() += 100;
+  layer.parcels.push_back(far);
+  const ParcelClipper whole(layer), first_two(layer, {}, {0, 1}), only_far(layer, {}, {2});
+  std::vector<Vec3> near, away;
+  for (int i = 0; i < 3000; ++i) {
+    near.emplace_back(-3 + 26.0 * ((i * 7919) % 3000) / 3000.0, -3 + 16.0 * ((i * 104729) % 3000) / 3000.0, 0);
+    away.emplace_back(near.back().x() + 100, near.back().y(), 0);
+  }
+  EXPECT_EQ(first_two.clip(near), whole.clip(near));  // every parcel a point can be in is in the subset
+  EXPECT_EQ(only_far.clip(away), whole.clip(away));
+  EXPECT_EQ(first_two.parcel_count(), 3u);
+  EXPECT_TRUE(first_two.clip(away)[2].empty()) << "a parcel outside the subset holds no point";
+  EXPECT_TRUE(first_two.inside(1, 15, 5));
+  EXPECT_THROW(first_two.inside(2, 115, 5), std::logic_error);
+}
+
 // Key of a point at millimetre resolution (the LAS stores millimetres).
 struct MmKey {
   long long x, y, z;

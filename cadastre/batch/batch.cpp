@@ -135,7 +135,7 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
     const Region region = chunk_region(in.layer, chunk, geometry.reach_m + kRegionMarginM);
     const RegionPoints points = read_region(in.tiles, region, cfg.classes);
     const Dtm terrain = dtm_window(in, region.box);
-    SceneSource scenes = prepare_scenes(in, points, geometry, frame);
+    SceneSource scenes = prepare_scenes(in, points, region.box, geometry, frame);
     if (in.dtm_source) scenes.terrain = &terrain;
     report.timings.stages["read points"] += seconds_since(t_read);
     model_parcels(chunk, todo.size(), jobs, scenes, cfg, sink, settings, report);

@@ -230,26 +230,26 @@ struct Totals {
 };
 
 // The points this chunk counts, read from the tiles; the region's other
-// points are freed before any model is read.
+// points are freed before any model is read. The clippers hold the parcels
+// within reach of the region only: every parcel a region point can lie in.
 std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs& in, const Config& cfg,
-                                                             const std::vector<size_t>& chunk,
-                                                             const ParcelClipper& inside,
-                                                             const ParcelClipper& reach) {
+                                                             const std::vector<size_t>& chunk) {
   std::vector<char> in_chunk(in.layer.parcels.size(), 0);
   for (size_t i : chunk) in_chunk[i] = 1;
-  const RegionPoints pts =
-      read_region(in.tiles, chunk_region(in.layer, chunk, kWallPointReachM + kRegionMarginM), cfg.classes);
+  const Region region = chunk_region(in.layer, chunk, kWallPointReachM + kRegionMarginM);
+  ClipParams exact = cfg.clip;  // inside() reads the parcels as they are
+  exact.overhang_buffer_m = 0;
+  ClipParams near = cfg.clip;
+  near.overhang_buffer_m = kWallPointReachM;
+  const ParcelClipper inside(in.layer, exact, parcels_touching(in.layer, region.box, 0));
+  const ParcelClipper reach(in.layer, near, parcels_touching(in.layer, region.box, kWallPointReachM));
+  const RegionPoints pts = read_region(in.tiles, region, cfg.classes);
   return {counted_points(pts.roof, inside, true, in_chunk), counted_points(pts.wall, reach, false, in_chunk)};
 }
 
 }  // namespace
 
 void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& sink, BatchReport& report) {
-  ClipParams exact = cfg.clip;  // inside() reads the parcels as they are
-  exact.overhang_buffer_m = 0;
-  ClipParams near = cfg.clip;
-  near.overhang_buffer_m = kWallPointReachM;
-  const ParcelClipper inside(in.layer, exact), reach(in.layer, near);
   const double model_reach = cfg.clip.overhang_buffer_m + kOwnershipContextM + kModelMarginM;
   const Layout layout = layout_of(in.layer, model_reach, size_t(std::max(1, cfg.batch.chunk_parcels)));
   std::vector<size_t> all(in.layer.parcels.size());
@@ -257,7 +257,7 @@ void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& s
   Totals totals;
   Search far;  // the points no ring settled: against every model at the end
   for (const auto& chunk : spatial_chunks(in.layer, all, layout.page)) {
-    auto [roof, wall] = chunk_points(in, cfg, chunk, inside, reach);
+    auto [roof, wall] = chunk_points(in, cfg, chunk);
     Search s = search_rings(sink, layout, chunk_box(in.layer, chunk, kWallPointReachM), std::move(roof),
                             std::move(wall));
     totals.roof_faces = totals.roof_faces || s.roof_faces;

@@ -30,6 +30,13 @@ Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double
   return b.grown(reach);
 }
 
+std::vector<size_t> parcels_touching(const ParcelLayer& layer, const Box& box, double reach) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < layer.parcels.size(); ++i)
+    if (box_of(layer.parcels[i].shape).grown(reach).touches(box)) out.push_back(i);
+  return out;
+}
+
 Region chunk_region(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach) {
   std::vector<Box> parts;
   for (size_t i : chunk) parts.push_back(box_of(layer.parcels[i].shape).grown(reach));

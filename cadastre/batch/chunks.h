@@ -18,6 +18,9 @@ std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const 
 
 // The box of the chunk's parcels grown by `reach`.
 Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach);
+// The parcels whose boxes grown by `reach` touch the box: all that a point
+// in the box can lie within `reach` of (a chunk's clippers hold these only).
+std::vector<size_t> parcels_touching(const ParcelLayer& layer, const Box& box, double reach);
 // Its region: the cells within that box near a parcel's box grown by `reach`.
 Region chunk_region(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach);
 

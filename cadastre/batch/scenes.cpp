@@ -1,5 +1,7 @@
 #include "cadastre/batch/scenes.h"
 
+#include "cadastre/batch/chunks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -76,20 +78,23 @@ SceneGeometry scene_geometry(const ParcelLayer& layer, const ClipParams& clip) {
   wall_reach.overhang_buffer_m = std::max(wall_reach.overhang_buffer_m, kWallPointReachM);
   ClipParams context = clip;
   context.overhang_buffer_m += kOwnershipContextM;
-  return {ParcelClipper(layer, context), ParcelClipper(layer, wall_reach),
+  return {context, wall_reach,
           neighbour_lists(layer, 2.0 * (clip.overhang_buffer_m + kOwnershipContextM) + 0.5), clip.overhang_buffer_m,
           std::max(context.overhang_buffer_m, wall_reach.overhang_buffer_m)};
 }
 
-SceneSource prepare_scenes(const LoadedInputs& in, const RegionPoints& points, const SceneGeometry& geometry,
-                           const LocalFrame& frame) {
+SceneSource prepare_scenes(const LoadedInputs& in, const RegionPoints& points, const Box& box,
+                           const SceneGeometry& geometry, const LocalFrame& frame) {
   SceneSource s;
   s.inputs = &in;
   s.points = &points;
   s.geometry = &geometry;
   s.frame = frame;
-  s.wall_lists = geometry.wall_clipper.clip(points.wall);
-  s.roof_lists = geometry.roof_clipper.clip(points.roof);
+  const auto clipper = [&](const ClipParams& p) {
+    return ParcelClipper(in.layer, p, parcels_touching(in.layer, box, p.overhang_buffer_m));
+  };
+  s.wall_lists = clipper(geometry.wall_reach).clip(points.wall);
+  s.roof_lists = clipper(geometry.roof_context).clip(points.roof);
   return s;
 }
 

@@ -17,7 +17,7 @@ constexpr double kOwnershipContextM = 1.5;
 
 // What the scenes of every chunk share, built once for the layer.
 struct SceneGeometry {
-  ParcelClipper roof_clipper, wall_clipper;  // buffered by the roof context and the wall reach
+  ClipParams roof_context, wall_reach;  // the chunks' clippers' buffers
   std::vector<std::vector<int>> neighbours;  // per parcel: parcels that may share a roof
   double overhang_buffer_m = 0;
   double reach_m = 0;  // how far outside a parcel its scene's points lie, at most
@@ -34,8 +34,10 @@ struct SceneSource {
   ParcelClipper::IndexLists roof_lists, wall_lists;  // per parcel: indices into points
 };
 
-SceneSource prepare_scenes(const LoadedInputs& inputs, const RegionPoints& points, const SceneGeometry& geometry,
-                           const LocalFrame& frame);
+// The region's points to the parcels (of those within reach of `box`, the
+// region's box, which holds every point).
+SceneSource prepare_scenes(const LoadedInputs& inputs, const RegionPoints& points, const Box& box,
+                           const SceneGeometry& geometry, const LocalFrame& frame);
 
 ParcelScene make_scene(const SceneSource& source, size_t parcel);
 
