@@ -33,14 +33,12 @@ void register_merge(CLI::App& app) {
   add_input_options(cmd, a->in, false);
   cmd->callback([a] {
     if (a->stores.empty() == a->store.empty()) throw InputError("merge", "give the shards' stores or one --store");
-    if (a->in.given() && (a->in.inputs.clouds.empty() || a->in.inputs.parcels.empty()))
-      throw InputError("merge", "the batch's inputs need --cloud and --parcels, as the batch had them");
+    if (a->in.given() && (a->in.inputs.clouds.empty() || a->in.inputs.parcels.empty())) throw InputError("merge", "the batch's inputs need --cloud and --parcels");
     std::unique_ptr<RunInputs> inputs;
     if (a->in.given()) inputs.reset(new RunInputs{{}, input_config(a->in)}), inputs->inputs = a->in.inputs;
     Progress progress(a->quiet);
     const OutputProgress shown = [&](size_t done, size_t total) { progress.show("outputs", done, total); };
-    const MergedRun m = a->store.empty() ? merge_run(a->stores, a->out, a->formats, a->overwrite, shown, inputs.get())
-                                         : finish_shared_store(a->store, a->out, a->formats, a->overwrite, shown, inputs.get());
+    const MergedRun m = a->store.empty() ? merge_run(a->stores, a->out, a->formats, a->overwrite, shown, inputs.get()) : finish_shared_store(a->store, a->out, a->formats, a->overwrite, shown, inputs.get());
     progress.done();
     const MergeSummary& s = m.merge;
     for (int k : s.missing_shards)

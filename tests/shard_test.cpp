@@ -287,7 +287,7 @@ TEST(ShardMerge, RefusesInputsThatAreNotTheShards) {
   refused(town_inputs(other), "other parameters: valuation.tax.rate");
   RunInputs fewer = town_inputs();
   fewer.inputs.parcel_selection.where = "fid < 20";
-  refused(fewer, "is not the parcel these inputs select");
+  refused(fewer, "is not one these inputs select");
   RunInputs no_dtm = town_inputs();
   no_dtm.inputs.dtm.clear();
   refused(no_dtm, "which these inputs lack");

@@ -1,6 +1,8 @@
 #include "cadastre/batch/run_fit.h"
 
+#include <algorithm>
 #include <map>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -8,7 +10,6 @@
 #include "cadastre/batch/batch_inputs.h"
 #include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/shard.h"
-#include "cadastre/batch/store_sink.h"
 #include "cadastre/store.h"
 #include "core/error.h"
 
@@ -43,23 +44,25 @@ void check_files(const std::vector<InputFile>& given, const RunRecord& run, cons
   }
 }
 
-// Every parcel the stores hold is the one these inputs select at its layer
-// index, with the same key (parameters, inputs, shape); when they hold every
-// shard's, they hold all the inputs select.
+// Every parcel the stores hold is one these inputs select, with the same key
+// (parameters, inputs, shape); when they hold every shard's, they hold all
+// the inputs select.
 void check_parcels(const LoadedInputs& in, const std::string& run_key_text, const std::vector<std::string>& stores) {
   const std::vector<Parcel>& layer = in.layer.parcels;
-  std::set<int> held, shards;
+  std::map<std::string, size_t> at;  // parcel id -> layer index (ids are unique in a store)
+  for (size_t i = 0; i < layer.size(); ++i) at[layer[i].id] = i;
+  std::set<std::string> held;
+  std::set<int> shards;
   int n = 0;
   for (const std::string& store : stores) {
     for (const RunRecord& r : load_runs(store))
       if (!r.shard.empty()) shards.insert(parse_shard(r.shard).k), n = parse_shard(r.shard).n;
     for (const JobRecord& j : load_jobs(store)) {
-      const size_t i = size_t(j.layer_index);
-      if (j.layer_index < 0 || i >= layer.size() || layer[i].id != j.parcel_id ||
-          parcel_key(run_key_text, layer[i]) != j.inputs_key)
-        throw InputError(store, "parcel " + j.parcel_id + " (layer index " + std::to_string(j.layer_index) +
-                                    ") is not the parcel these inputs select there: other --layer, --where or --bbox?");
-      held.insert(j.layer_index);
+      const auto i = at.find(j.parcel_id);
+      if (i == at.end() || parcel_key(run_key_text, layer[i->second]) != j.inputs_key)
+        throw InputError(store, "parcel " + j.parcel_id +
+                                    " is not one these inputs select, as they select it: other --layer, --where or --bbox?");
+      held.insert(j.parcel_id);
     }
   }
   if (int(shards.size()) == n && held.size() != layer.size())
@@ -67,6 +70,31 @@ void check_parcels(const LoadedInputs& in, const std::string& run_key_text, cons
                                          " parcels, these inputs select " + std::to_string(layer.size()) +
                                          ": other --layer, --where or --bbox?");
 }
+
+// The models a store holds, read back by the ids of the layer's parcels (as
+// StoreSink::models does after a batch); nothing is written.
+class StoreModels : public BatchSink {
+ public:
+  StoreModels(std::string store, const std::vector<Parcel>& layer) : store_(std::move(store)), layer_(layer) {}
+  void begin(const BatchRun&) override {}
+  bool has_parcel(size_t, const std::string&) override { return false; }
+  void write_parcel(size_t, const ParcelResult&, const ParcelValuation&) override {
+    throw std::logic_error("StoreModels: read only");
+  }
+  SinkCounts end() override { return {}; }
+  BatchModel models(const std::vector<int>& layer_indices) override {
+    std::vector<int> sorted = layer_indices;
+    std::sort(sorted.begin(), sorted.end());  // layer order
+    std::vector<std::string> ids;
+    for (int i : sorted)
+      if (i >= 0 && size_t(i) < layer_.size()) ids.push_back(layer_[size_t(i)].id);
+    return ids.empty() ? BatchModel{} : load_batch_model(store_, ids);
+  }
+
+ private:
+  std::string store_;
+  const std::vector<Parcel>& layer_;
+};
 
 }  // namespace
 
@@ -90,8 +118,8 @@ LoadedInputs load_run_inputs(const RunInputs& run, const std::vector<std::string
 }
 
 void store_fit(const LoadedInputs& in, const Config& cfg, const std::string& store, BatchReport& report) {
-  StoreSink sink(store);  // only read: models() loads them back from the store
-  any_model_deviation(in, cfg, sink, report);
+  StoreModels models(store, in.layer.parcels);
+  any_model_deviation(in, cfg, models, report);
 }
 
 }  // namespace c3d

@@ -21,8 +21,8 @@ struct RunInputs {
 // The fit's inputs (load_fit_inputs), refused (InputError, one line naming
 // what differs) unless they are the run's of `stores` (a run's shards'
 // stores, or one store they all wrote): its parameters, its input files
-// (SHA-256), the parcels the layer selects (--layer, --where, --bbox; each
-// stored parcel at its layer index, all of them once every shard is in).
+// (SHA-256), the parcels the layer selects (--layer, --where, --bbox: each
+// stored parcel one they select, all of them once every shard is in).
 // Reads the layer, the tiles' headers and every input file once (SHA-256);
 // no cell of the DTM, no survey pass, no model.
 LoadedInputs load_run_inputs(const RunInputs& run, const std::vector<std::string>& stores);
