@@ -23,30 +23,15 @@ namespace c3d::cli {
 namespace {
 
 struct BatchOptions {
-  BatchInputs inputs;
+  InputOptions in;
   std::string out;
   std::string store;   // --store: a GeoPackage path or postgresql://... (default OUT/cadastre.gpkg)
-  std::string config;  // empty: built-in defaults
   std::vector<std::string> formats{"gml", "cityjson", "ifc", "obj"};
   BatchSettings settings;
-  bool optimize = false;
-  std::string device;  // optimizer device: auto | cpu | vulkan
   bool quiet = false;
   bool overwrite = false;                  // replace what a batch wrote into OUT before
-  bool classify = false;                   // classify the clouds first (core/classify)
-  std::string model = C3D_DEFAULT_MODEL;   // the classifier's model
-  std::string id_field;                    // --id-field: the parcel id field instead of the config's
   std::string shard;                       // --shard K/N; a shard writes its store only
 };
-
-// The configuration the batch runs with: the file's, then the command line's overrides.
-Config effective_config(const BatchOptions& opt) {
-  Config cfg = opt.config.empty() ? default_config() : load_config(opt.config);
-  cfg.reconstruction.optimize = cfg.reconstruction.optimize || opt.optimize;
-  if (!opt.device.empty()) cfg.reconstruction.optimize_device = opt.device;
-  if (!opt.id_field.empty()) cfg.fields.id = opt.id_field, cfg.fields.id_required = true;
-  return cfg;
-}
 
 void print_outputs(const WrittenOutputs& w, const std::string& store_path) {
   std::cout << "summary: " << w.summary << "\n"
@@ -112,8 +97,7 @@ int run(BatchOptions opt) {
   const auto t_start = std::chrono::steady_clock::now();
   if (opt.quiet) log::set_level(log::Level::Warn);
   if (!opt.shard.empty()) opt.settings.shard = parse_shard(opt.shard);
-  const Config cfg = effective_config(opt);
-  if (opt.classify) opt.inputs.classifier_model = opt.model;
+  const Config cfg = input_config(opt.in);
   fs::create_directories(opt.out);
   const OutDirLock lock(opt.out);  // one batch per OUT at a time
   if (opt.overwrite) remove_batch_outputs(opt.out);
@@ -125,7 +109,7 @@ int run(BatchOptions opt) {
     progress.show(stage, done, total);
     if (pause && done == pause && std::string(stage) == "reconstruct") std::this_thread::sleep_for(std::chrono::minutes(1));
   };
-  const BatchReport report = run_batch(opt.inputs, cfg, sink, opt.settings);
+  const BatchReport report = run_batch(opt.in.inputs, cfg, sink, opt.settings);
   if (opt.settings.shard.active()) return finish_shard(report, sink, opt, progress);
   const WrittenOutputs written = write_outputs(report, store_path, opt.out, cfg, opt.formats,
                                                [&](size_t done, size_t total) { progress.show("outputs", done, total); });
@@ -140,38 +124,60 @@ int run(BatchOptions opt) {
 
 }  // namespace
 
+Config input_config(InputOptions& o) {
+  Config cfg = o.config.empty() ? default_config() : load_config(o.config);
+  cfg.reconstruction.optimize = cfg.reconstruction.optimize || o.optimize;
+  if (!o.device.empty()) cfg.reconstruction.optimize_device = o.device;
+  if (!o.id_field.empty()) cfg.fields.id = o.id_field, cfg.fields.id_required = true;
+  if (o.classify) o.inputs.classifier_model = o.model;
+  return cfg;
+}
+
+void add_input_options(CLI::App* cmd, InputOptions& o, bool required) {
+  const size_t before = cmd->get_options().size();
+  cmd->add_option("--cloud", o.inputs.clouds,
+                  "Classified point cloud(s): LAS, LAZ, PLY, PCD, XYZ/CSV files, folders of them or globs "
+                  "('tiles/*.laz'): the tiles of one cloud")
+      ->required(required);
+  cmd->add_option("--walls", o.inputs.walls,
+                  "Wall-only point cloud(s) from a terrestrial scanner: files, folders or globs");
+  cmd->add_option("--parcels", o.inputs.parcels,
+                  "Parcel layer: any OGR vector source, a file, folder or connection string (PG:..., /vsizip/...)")
+      ->required(required);
+  cmd->add_option("--layer", o.inputs.parcel_selection.layer, "The parcels' layer in a source with several");
+  cmd->add_option("--where", o.inputs.parcel_selection.where, "Only parcels matching this OGR SQL filter");
+  cmd->add_option("--bbox", o.inputs.parcel_selection.bbox,
+                  "Only parcels meeting xmin,ymin,xmax,ymax, in the parcel layer's own CRS")
+      ->delimiter(',')
+      ->expected(4);
+  cmd->add_option("--id-field", o.id_field, "Parcel id field (default: the config's [parcel_fields] id)");
+  cmd->add_option("--crs", o.inputs.crs,
+                  "Working CRS for areas, e.g. EPSG:32748 (default: chosen as docs/inputs.md says)");
+  cmd->add_option("--dtm", o.inputs.dtm, "Terrain model (any GDAL raster); default: from ground points")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--config", o.config, "TOML config (default: built-in, see config/)")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--optimize", o.optimize, "Refine element geometry with the GPU optimizer");
+  cmd->add_option("--device", o.device, "Optimizer device: auto, cpu or vulkan")
+      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  cmd->add_flag("--classify", o.classify,
+                "Classify the clouds first (ground/roof/wall/other, Random Forest), replacing their classes");
+  cmd->add_option("--model", o.model, "Classifier model for --classify")->capture_default_str();
+  const std::vector<CLI::Option*> all = cmd->get_options();
+  for (size_t k = before; k < all.size(); ++k) all[k]->group(kInputGroup);
+}
+
 void register_batch(CLI::App& app, bool parse_only) {
   auto opt = std::make_shared<BatchOptions>();
   auto* cmd = app.add_subcommand(
       "batch",
       "Parcel batch: point clouds + parcels + DTM -> LoD2 element models, cadastre.gpkg, "
       "summary.json, report.html/.csv, CityGML/CityJSON/IFC/OBJ");
-  cmd->add_option("--cloud", opt->inputs.clouds,
-                  "Classified point cloud(s): LAS, LAZ, PLY, PCD, XYZ/CSV files, folders of them or globs "
-                  "('tiles/*.laz'): the tiles of one cloud")
-      ->required();
-  cmd->add_option("--walls", opt->inputs.walls,
-                  "Wall-only point cloud(s) from a terrestrial scanner: files, folders or globs");
-  cmd->add_option("--parcels", opt->inputs.parcels,
-                  "Parcel layer: any OGR vector source, a file, folder or connection string (PG:..., /vsizip/...)")
-      ->required();
-  cmd->add_option("--layer", opt->inputs.parcel_selection.layer, "The parcels' layer in a source with several");
-  cmd->add_option("--where", opt->inputs.parcel_selection.where, "Only parcels matching this OGR SQL filter");
-  cmd->add_option("--bbox", opt->inputs.parcel_selection.bbox,
-                  "Only parcels meeting xmin,ymin,xmax,ymax, in the parcel layer's own CRS")
-      ->delimiter(',')
-      ->expected(4);
-  cmd->add_option("--id-field", opt->id_field, "Parcel id field (default: the config's [parcel_fields] id)");
-  cmd->add_option("--crs", opt->inputs.crs,
-                  "Working CRS for areas, e.g. EPSG:32748 (default: chosen as docs/inputs.md says)");
-  cmd->add_option("--dtm", opt->inputs.dtm, "Terrain model (any GDAL raster); default: from ground points")
-      ->check(CLI::ExistingFile);
+  add_input_options(cmd, opt->in, true);
   cmd->add_option("--out", opt->out, "Output directory")->required();
   cmd->add_option("--store", opt->store,
                   "Store: a GeoPackage path or a PostGIS database, postgresql://user@host:port/db "
                   "(default OUT/cadastre.gpkg; docs/postgis.md)");
-  cmd->add_option("--config", opt->config, "TOML config (default: built-in, see config/)")
-      ->check(CLI::ExistingFile);
   cmd->add_option("--jobs", opt->settings.jobs, "Parallel parcels (default: all cores; at most 4 per core)")
       ->check(CLI::Range(1, 1 << 20));  // 0 and negatives are errors; many: clamped with a warning
   cmd->add_option("--formats", opt->formats, "Exports: gml (CityGML 2.0) gml3 (CityGML 3.0) cityjson cityjsonseq ifc obj step")
@@ -186,12 +192,6 @@ void register_batch(CLI::App& app, bool parse_only) {
   cmd->add_option("--shard", opt->shard,
                   "Model and store only shard K of N (K/N, spatial parts of the whole layer); "
                   "writes the store only, `merge` joins the shards (docs/scale.md)");
-  cmd->add_flag("--optimize", opt->optimize, "Refine element geometry with the GPU optimizer");
-  cmd->add_option("--device", opt->device, "Optimizer device: auto, cpu or vulkan")
-      ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
-  cmd->add_flag("--classify", opt->classify,
-                "Classify the clouds first (ground/roof/wall/other, Random Forest), replacing their classes");
-  cmd->add_option("--model", opt->model, "Classifier model for --classify")->capture_default_str();
   cmd->add_flag("--quiet", opt->quiet, "Print nothing but warnings and errors");
   cmd->callback([opt, parse_only] {
     if (!parse_only) exit_code() = run(*opt);

@@ -15,8 +15,9 @@ namespace c3d::cli {
 namespace {
 
 // Parses the batch options without running a batch, so a wrong one fails
-// here, not in N tasks; returns its --formats (a comma list) for the finish step.
-std::string check_batch_options(const std::vector<std::string>& args, const std::string& out) {
+// here, not in N tasks; sets the finish step's --formats (a comma list) and
+// the batch's input options, as --name=value, for its whole-run fit.
+void check_batch_options(const std::vector<std::string>& args, const std::string& out, SlurmPlan& plan) {
   for (const auto& a : args)
     for (const std::string owned : {"--out", "--shard", "--resume", "--overwrite", "--store"})
       if (a == owned || a.rfind(owned + "=", 0) == 0) throw InputError(a, "the Slurm runner sets it for each task");
@@ -27,10 +28,17 @@ std::string check_batch_options(const std::vector<std::string>& args, const std:
   argv.insert(argv.end(), {"--out", out});
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());  // CLI11 takes them last first
   app.parse(reversed);
-  std::string formats;
-  for (const auto& f : app.get_subcommand("batch")->get_option("--formats")->results())
-    formats += (formats.empty() ? "" : ",") + f;
-  return formats;
+  const CLI::App* batch = app.get_subcommand("batch");
+  for (const auto& f : batch->get_option("--formats")->results())
+    plan.formats += (plan.formats.empty() ? "" : ",") + f;
+  for (const CLI::Option* o : batch->get_options()) {
+    if (o->get_group() != kInputGroup || o->count() == 0) continue;
+    std::string joined;  // a flag: its name; --bbox: its four values in one, by its delimiter
+    for (const auto& v : o->results())
+      if (o->get_type_size() == 0 || o->get_delimiter() == '\0') plan.input_args.push_back(o->get_name() + (o->get_type_size() ? "=" + v : ""));
+      else joined += (joined.empty() ? "" : std::string(1, o->get_delimiter())) + v;
+    if (!joined.empty()) plan.input_args.push_back(o->get_name() + "=" + joined);
+  }
 }
 
 }  // namespace
@@ -40,7 +48,7 @@ void register_slurm(CLI::App& app) {
   auto submit = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand("slurm",
                                  "Run a batch as N shards on Slurm: OUT/slurm/shards.sbatch (a job array of `batch "
-                                 "--shard K/N --resume`) and finish.sbatch (merge); the batch's options follow");
+                                 "--shard K/N --resume`) and finish.sbatch (merge, with the whole-run fit); the batch's options follow");
   cmd->allow_extras();
   cmd->add_option("--shards", plan->shards, "Number of shards N (array tasks)")->required()->check(CLI::Range(1, 100000));
   cmd->add_option("--out", plan->out, "Output directory: OUT/slurm, OUT/shards/K, the merged outputs")->required();
@@ -56,7 +64,7 @@ void register_slurm(CLI::App& app) {
   cmd->callback([plan, submit, cmd] {
     plan->out = fs::absolute(plan->out).lexically_normal().string();
     plan->batch_args = cmd->remaining();
-    plan->formats = check_batch_options(plan->batch_args, plan->out + "/shards/1");
+    check_batch_options(plan->batch_args, plan->out + "/shards/1", *plan);
     std::error_code ec;
     plan->exe = fs::read_symlink("/proc/self/exe", ec).string();  // the tasks run this very build
     if (ec) plan->exe = "cadastre3d";

@@ -4,6 +4,8 @@
 // 2 usage error, 3 batch finished but some parcels failed or are suspect.
 #include <CLI/CLI.hpp>
 
+#include "cadastre/batch/batch.h"
+
 namespace c3d::cli {
 
 constexpr int kExitOk = 0;
@@ -32,6 +34,19 @@ inline const CLI::Validator existing_store(
       return CLI::ExistingFile(s);
     },
     "FILE or postgresql://URL");
+
+// The batch's input options (cmd_batch.cpp): one parser for `batch` and for
+// `merge`'s whole-run fit; `slurm` passes them on to merge by their group.
+struct InputOptions {
+  BatchInputs inputs;
+  std::string config, device, id_field, model = C3D_DEFAULT_MODEL;  // device: the optimizer's
+  bool optimize = false, classify = false;
+  bool given() const { return !inputs.clouds.empty() || !inputs.parcels.empty(); }
+};
+inline const char* const kInputGroup = "Inputs";
+void add_input_options(CLI::App* cmd, InputOptions& o, bool required);  // required: --cloud, --parcels
+// The configuration the batch runs with (the file's, then the options'); sets inputs.classifier_model.
+Config input_config(InputOptions& o);
 
 // Set by a command's callback; returned by main.
 int& exit_code();

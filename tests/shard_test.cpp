@@ -1,10 +1,13 @@
 // Shards of a batch (--shard K/N) and their merge (issue 37): the shards
 // cover the layer once, a shard stores only its own parcels, and the merged
-// shards equal one unsharded run: parcels, statuses, element areas, NJOP, tax.
+// shards equal one unsharded run: parcels, statuses, element areas, NJOP, tax,
+// and, given the batch's inputs, the summary's whole-run fit.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "cadastre/batch/merge.h"
@@ -60,14 +63,16 @@ namespace {
 
 const test::SampleTown& sample_town() { return test::sample_town("--parcels 24 --seed 3"); }
 
-// Runs the sample town (one shard of it, or all) into a fresh store.
-std::string run_town(const std::string& name, Shard shard = {}) {
-  const std::string store = test::temp_dir(name) + "/cadastre.gpkg";
+// Runs the sample town (one shard of it, or all) into a fresh store (or `store`).
+std::string run_town(const std::string& name, Shard shard = {}, BatchReport* report = nullptr,
+                     std::string store = "") {
+  if (store.empty()) store = test::temp_dir(name) + "/cadastre.gpkg";
   StoreSink sink(store);
   BatchSettings settings;
   settings.jobs = 2;
   settings.shard = shard;
-  run_batch(sample_town().inputs, default_config(), sink, settings);
+  const BatchReport r = run_batch(sample_town().inputs, default_config(), sink, settings);
+  if (report) *report = r;
   return store;
 }
 
@@ -105,11 +110,13 @@ void expect_equal_stores(const std::string& want_store, const std::string& got_s
 struct Shards {
   std::string full;
   std::vector<std::string> stores;  // shard 1..3 of 3
+  BatchReport whole;                // the unsharded run's
 };
 
 const Shards& three_shards() {
   static const Shards s = [] {
-    Shards r{run_town("full"), {}};
+    Shards r;
+    r.full = run_town("full", {}, &r.whole);
     for (int k = 1; k <= 3; ++k) r.stores.push_back(run_town("shard" + std::to_string(k), {k, 3}));
     return r;
   }();
@@ -200,4 +207,101 @@ TEST(ShardMerge, SaysWhichShardsAndParcelsAreMissing) {
   EXPECT_EQ(sum.pending.size(), 3u);
   EXPECT_EQ(sum.parcels, 13u);
   EXPECT_FALSE(sum.complete());
+}
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+// summary.json's whole-run fit equals the unsharded run's: counts and ruler
+// bins exactly, pooled figures to rounding.
+void expect_whole_run_fit(const std::string& summary_path, const BatchReport& want) {
+  const nlohmann::json j = nlohmann::json::parse(read_text(summary_path));
+  ASSERT_EQ(j["any_model_fit"], "computed");
+  ASSERT_GT(want.any_model_roof.n, 1000);
+  ASSERT_GT(want.any_model_wall.n, 100);
+  for (const auto& [key, d] : {std::pair<std::string, Deviation>{"any_model_roof_deviation", want.any_model_roof},
+                               {"any_model_wall_deviation", want.any_model_wall}}) {
+    EXPECT_EQ(j[key]["n"].get<int>(), d.n) << key;
+    EXPECT_NEAR(j[key]["rmse"].get<double>(), d.rmse, 1e-12) << key;
+    EXPECT_NEAR(j[key]["mean"].get<double>(), d.mean, 1e-12) << key;
+    EXPECT_NEAR(j[key]["max"].get<double>(), d.max, 1e-9) << key;
+  }
+  for (const auto& [key, r] : {std::pair<std::string, RulerFigures>{"roof_ruler", want.roof_ruler},
+                               {"wall_ruler", want.wall_ruler}}) {
+    EXPECT_EQ(j[key]["n"].get<size_t>(), size_t(r.n)) << key;
+    EXPECT_EQ(j[key]["median"].get<double>(), r.median) << key;  // 0.1 mm bins: exact across chunkings
+    EXPECT_EQ(j[key]["p95"].get<double>(), r.p95) << key;
+    EXPECT_NEAR(j[key]["rmse"].get<double>(), r.rmse, 1e-12) << key;
+  }
+  EXPECT_EQ(j["wall_points_measured_share"].get<double>(), want.wall_points_measured);
+}
+
+RunInputs town_inputs(Config cfg = default_config()) { return {sample_town().inputs, std::move(cfg)}; }
+
+}  // namespace
+
+TEST(ShardMerge, MergedWithTheInputsHasTheUnshardedRunsFit) {
+  const Shards& s = three_shards();
+  const std::string out = test::temp_dir("merged_fit");
+  const RunInputs inputs = town_inputs();
+  const MergedRun m = merge_run(s.stores, out, {}, false, {}, &inputs);
+  EXPECT_EQ(m.fit_missing, "");
+  expect_whole_run_fit(out + "/summary.json", s.whole);
+}
+
+TEST(ShardMerge, MergedWithoutTheInputsSaysTheFitIsMissing) {
+  const Shards& s = three_shards();
+  const std::string out = test::temp_dir("merged_nofit");
+  const MergedRun m = merge_run(s.stores, out, {}, false);
+  EXPECT_NE(m.fit_missing.find("without the batch's inputs"), std::string::npos) << m.fit_missing;
+  const nlohmann::json j = nlohmann::json::parse(read_text(out + "/summary.json"));
+  EXPECT_EQ(j["any_model_fit"].get<std::string>().rfind("not computed: ", 0), 0u) << j["any_model_fit"];
+  for (const char* k : {"any_model_roof_deviation", "any_model_wall_deviation", "roof_ruler", "wall_ruler",
+                        "wall_points_measured_share"})
+    EXPECT_TRUE(j[k].is_null()) << k << " is " << j[k] << ", not absent";  // no silent zero
+  EXPECT_NE(read_text(out + "/report.html").find("whole-run fit of the models not computed"), std::string::npos);
+  // A shard missing: no fit either, and why.
+  const RunInputs inputs = town_inputs();
+  const MergedRun part = merge_run({s.stores[0], s.stores[2]}, test::temp_dir("merged_part"), {}, false, {}, &inputs);
+  EXPECT_NE(part.fit_missing.find("missing"), std::string::npos) << part.fit_missing;
+}
+
+TEST(ShardMerge, RefusesInputsThatAreNotTheShards) {
+  const Shards& s = three_shards();
+  auto refused = [&](const RunInputs& inputs, const std::string& says) {
+    const std::string out = test::temp_dir("merge_refused");
+    try {
+      merge_run(s.stores, out, {}, false, {}, &inputs);
+      ADD_FAILURE() << "merged, expected a refusal saying " << says;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out + "/cadastre.gpkg"));  // refused before anything is written
+  };
+  Config other = default_config();
+  other.valuation.tax_rate *= 2;
+  refused(town_inputs(other), "other parameters: valuation.tax.rate");
+  RunInputs fewer = town_inputs();
+  fewer.inputs.parcel_selection.where = "fid < 20";
+  refused(fewer, "is not one these inputs select");
+  RunInputs no_dtm = town_inputs();
+  no_dtm.inputs.dtm.clear();
+  refused(no_dtm, "which these inputs lack");
+}
+
+TEST(ShardMerge, AStoreEveryShardWroteGivesTheUnshardedRunsFit) {
+  const Shards& s = three_shards();
+  // The shards into one store (as into one PostgreSQL store): nothing to merge.
+  const std::string store = test::temp_dir("shared") + "/cadastre.gpkg";
+  for (int k = 1; k <= 3; ++k) run_town("", {k, 3}, nullptr, store);
+  const std::string out = test::temp_dir("shared_out");
+  const RunInputs inputs = town_inputs();
+  const MergedRun m = finish_shared_store(store, out, {}, false, {}, &inputs);
+  EXPECT_TRUE(m.merge.complete());
+  EXPECT_EQ(m.merge.parcels, 24u);
+  expect_whole_run_fit(out + "/summary.json", s.whole);
 }

@@ -6,7 +6,9 @@
 # scripts/compare_stores.py: same parcels, statuses, element areas, NJOP and
 # tax, no row twice. Then the same through one PostGIS store that every
 # task writes at once (--store postgresql://): no merge, the finish job
-# writes the report and exports from the database. Exit 77 (skipped) without root, Slurm or GDAL's Python.
+# (`merge --store`) writes the summary, report and exports from the database.
+# Both finish jobs get the batch's inputs: the summaries' whole-run fit
+# equals the unsharded run's. Exit 77 (skipped) without root, Slurm or GDAL's Python.
 #   tests/slurm_shards_check.sh path/to/cadastre3d
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,6 +32,20 @@ wait_jobs() {  # until no job of ours is queued or running (a finish whose depen
     sleep 1
   done
   fail "jobs still queued after $1 s: $(jobs_left)"
+}
+# The whole-run fit of summary $2 equals the unsharded summary $1's: counts,
+# ruler medians and p95 (0.1 mm bins) exactly, pooled figures to 1e-9.
+same_fit() {
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert b["any_model_fit"] == "computed", b["any_model_fit"]
+for k in ("any_model_roof_deviation", "any_model_wall_deviation", "roof_ruler", "wall_ruler"):
+    for f, v in a[k].items():
+        exact = f in ("n", "median", "p95")
+        assert (b[k][f] == v) if exact else abs(b[k][f] - v) <= 1e-9, (k, f, v, b[k][f])
+assert a["roof_ruler"]["n"] > 1000 and b["wall_points_measured_share"] == a["wall_points_measured_share"]
+PY
 }
 done_parcels() { sqlite3 "$1" "SELECT count(*) FROM parcel_job WHERE status <> 'pending'" 2>/dev/null || echo 0; }
 
@@ -56,7 +72,11 @@ wait_jobs 90
 [ "$(sqlite3 $store2 "SELECT count(*) FROM parcel_job WHERE status = 'pending'")" -eq 0 ] || fail "shard 2 not complete"
 [ -n "$(sqlite3 out/cadastre.gpkg "SELECT finished FROM run")" ] || fail "the merged run is not finished"
 /usr/bin/python3 "$here/scripts/compare_stores.py" whole/cadastre.gpkg out/cadastre.gpkg || fail "the stores differ"
-echo "3 shards on Slurm, one killed and rerun, equal the unsharded run"
+grep -q -- "--cloud=town/cloud.las" out/slurm/finish.sbatch || fail "the finish job lacks the batch's inputs"
+same_fit whole/summary.json out/summary.json || fail "the merged whole-run fit differs from the unsharded run's"
+"$c3d" merge --out nofit --quiet out/shards/*/cadastre.gpkg
+grep -q '"any_model_fit": "not computed: ' nofit/summary.json || fail "a merge without inputs does not say the fit is missing"
+echo "3 shards on Slurm, one killed and rerun, equal the unsharded run, whole-run fit included"
 
 # The same on one shared PostGIS store: the shards write it at once; shard 2
 # is killed midway and rerun; no merge, and no parcel twice.
@@ -77,6 +97,7 @@ echo "PostGIS: shard 2 killed with $pending parcels pending"
 pg/slurm/rerun.sh 2
 wait_jobs 90
 [ -f pg/report.html ] || fail "the finish step wrote no report from PostGIS"
+same_fit whole/summary.json pg/summary.json || fail "the PostGIS whole-run fit differs from the unsharded run's"
 [ "$(pg_count "SELECT count(*) FROM parcel_job WHERE status = 'pending'")" -eq 0 ] || fail "PostGIS store not complete"
 [ "$(pg_count "SELECT count(*) - count(DISTINCT parcel_id) FROM la_spatialunit")" -eq 0 ] || fail "a parcel stored twice"
 /usr/bin/python3 "$here/scripts/compare_stores.py" whole/cadastre.gpkg "$url" || fail "the PostGIS store differs"

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
-#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -25,31 +24,13 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-// A parcel source that is no file (a database, a folder, a /vsizip/ path) is
-// known by what was read from it.
-InputFile describe_parcel_source(const std::string& source, const ParcelLayer& layer) {
-  std::error_code ec;
-  if (std::filesystem::is_regular_file(source, ec)) return describe_input_file(source);
-  std::string s = source;
-  for (const Parcel& p : layer.parcels) {
-    s += "|" + p.id + "|" + p.right_type + "|" + std::to_string(p.official_area);
-    for (const auto& poly : p.shape)
-      for (const auto& v : poly.outer) s += "|" + std::to_string(v.x()) + "," + std::to_string(v.y());
-  }
-  return {source, sha256_hex(s), -1};
-}
-
 BatchRun describe_run(const LoadedInputs& in, const BatchInputs& inputs, const Config& cfg,
                       const LocalFrame& frame) {
   BatchRun run;
   run.crs_wkt = in.crs_wkt;
   run.frame = frame;
   run.parameters = run_parameters(cfg);
-  BatchInputs files = inputs;  // every file the folders and globs name, each hashed
-  files.clouds = in.cloud_files;
-  files.walls = in.wall_files;
-  for (const auto& f : files.files())
-    run.inputs.push_back(f == inputs.parcels ? describe_parcel_source(f, in.layer) : describe_input_file(f));
+  run.inputs = describe_inputs(in, inputs);
   run.parcels = &in.layer.parcels;
   const std::string key = run_key(cfg, run.inputs);
   for (const auto& p : in.layer.parcels) run.parcel_keys.push_back(parcel_key(key, p));

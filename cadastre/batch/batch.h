@@ -109,6 +109,9 @@ struct BatchReport {
   // (within kFootprintReachM of a footprint edge), with their share.
   RulerFigures roof_ruler, wall_ruler;
   double wall_points_measured = 0;  // share of the wall points near the parcels the wall ruler measures
+  // Why the whole-run fit above was not computed (a merge without the batch's
+  // inputs: cadastre/batch/run_fit.h); "" when it was.
+  std::string fit_missing;
   // The parcels the sink holds after the run (SinkCounts), by status (index: ParcelStatus).
   size_t held = 0;
   std::array<size_t, 4> held_by_status{};

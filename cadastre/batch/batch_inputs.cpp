@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "core/classify/classify.h"
 #include "cadastre/parcel_checks.h"
@@ -178,6 +179,51 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
   } catch (const InputError& e) {
     throw gdal.fold(e);
   }
+}
+
+LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg) {
+  GdalMessages gdal;
+  try {
+    LoadedInputs in;
+    in.layer = read_parcels(inputs.parcels, inputs.parcel_selection, cfg.fields, &in.warnings);
+    if (!inputs.dtm.empty()) in.dtm = read_dtm_header(inputs.dtm);  // its CRS may choose the working CRS
+    index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), !inputs.dtm.empty(), in);
+    if (!inputs.classifier_model.empty()) {  // the classes the batch modelled from (reads the DTM under the clouds)
+      if (!inputs.dtm.empty()) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
+      classify_tiles(inputs, cfg, in);
+    }
+    return in;
+  } catch (const InputError& e) {
+    throw gdal.fold(e);
+  }
+}
+
+namespace {
+
+// A parcel source that is no file (a database, a folder, a /vsizip/ path) is
+// known by what was read from it.
+InputFile describe_parcel_source(const std::string& source, const ParcelLayer& layer) {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(source, ec)) return describe_input_file(source);
+  std::string s = source;
+  for (const Parcel& p : layer.parcels) {
+    s += "|" + p.id + "|" + p.right_type + "|" + std::to_string(p.official_area);
+    for (const auto& poly : p.shape)
+      for (const auto& v : poly.outer) s += "|" + std::to_string(v.x()) + "," + std::to_string(v.y());
+  }
+  return {source, sha256_hex(s), -1};
+}
+
+}  // namespace
+
+std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs& inputs) {
+  BatchInputs files = inputs;  // every file the folders and globs name, each hashed
+  files.clouds = in.cloud_files;
+  files.walls = in.wall_files;
+  std::vector<InputFile> out;
+  for (const auto& f : files.files())
+    out.push_back(f == inputs.parcels ? describe_parcel_source(f, in.layer) : describe_input_file(f));
+  return out;
 }
 
 Dtm dtm_window(const LoadedInputs& in, const Box& box) {

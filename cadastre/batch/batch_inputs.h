@@ -30,6 +30,17 @@ struct LoadedInputs {
 // Throws InputError naming the file when an input is unusable.
 LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg);
 
+// What the whole-run fit (any_model_deviation) reads, and no more: the layer
+// and the tiles' index (file headers) in the batch's working CRS (the DTM's
+// header only). No cell of the DTM, no survey pass, no model; with --classify
+// the clouds are classified again as the batch did. coverage, dtm cells and
+// roof_points_per_cell stay empty.
+LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg);
+
+// Every input file the run reads (folders and globs expanded) with its
+// SHA-256 (each file read once), in BatchInputs::files() order: the run record.
+std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs& inputs);
+
 // Why parcel i cannot be modelled from these inputs (no point of the clouds
 // near it, no DTM under it), or "".
 std::string unreachable(const LoadedInputs& in, size_t i);

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-#include <nlohmann/json.hpp>
+#include <memory>
 #include <set>
 
 #include "cadastre/batch/out_dir.h"
+#include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/shard.h"
 #include "cadastre/gpkg_rtree.h"
 #include "cadastre/sqlite_util.h"
@@ -38,15 +39,6 @@ ShardStore read_shard_store(const std::string& path) {
   return s;
 }
 
-// The parameters without the config file's name: the same settings from a
-// file named otherwise are the same run (as run_key has it).
-bool same_parameters(const std::string& a, const std::string& b) {
-  auto ja = nlohmann::json::parse(a, nullptr, false), jb = nlohmann::json::parse(b, nullptr, false);
-  if (ja.is_object()) ja.erase("config_file");
-  if (jb.is_object()) jb.erase("config_file");
-  return ja == jb;
-}
-
 std::vector<std::string> input_hashes(const RunRecord& r) {
   std::vector<std::string> h;
   for (const auto& f : r.inputs) h.push_back(f.sha256);
@@ -61,7 +53,7 @@ void check_same_run(const std::vector<ShardStore>& stores) {
     if (s.shard.n != a.shard.n)
       throw InputError(s.path, "is shard " + to_string(s.shard) + ", " + a.path + " is of " +
                                    std::to_string(a.shard.n) + " shards");
-    if (!same_parameters(s.run.parameters, a.run.parameters))
+    if (!parameters_difference(s.run.parameters, a.run.parameters).empty())
       throw InputError(s.path, "was run with other parameters than " + a.path);
     if (input_hashes(s.run) != input_hashes(a.run))
       throw InputError(s.path, "was run on other inputs than " + a.path);
@@ -223,16 +215,13 @@ MergeSummary merge_stores(const std::vector<std::string>& shards, const std::str
   return sum;
 }
 
-MergedRun merge_run(const std::vector<std::string>& shards, const std::string& out_dir,
-                    const std::vector<std::string>& formats, bool overwrite, const OutputProgress& progress) {
-  std::filesystem::create_directories(out_dir);
-  const OutDirLock lock(out_dir);
-  if (overwrite) remove_batch_outputs(out_dir);
-  MergedRun m;
-  m.store = (std::filesystem::path(out_dir) / "cadastre.gpkg").string();
-  if (std::filesystem::exists(m.store)) throw InputError(m.store, "exists already; --overwrite replaces it");
-  m.merge = merge_stores(shards, m.store);
-  BatchReport report;  // the counts as the merged store holds them
+namespace {
+
+// The outputs a batch writes, from the store as it holds the shards' parcels;
+// the whole-run fit from the batch's inputs when given and every shard is in.
+void write_merged_outputs(MergedRun& m, const std::string& out_dir, const std::vector<std::string>& formats,
+                          const OutputProgress& progress, const RunInputs* inputs, const LoadedInputs* in) {
+  BatchReport report;  // the counts as the store holds them
   for (const JobRecord& j : load_jobs(m.store))
     for (size_t k = 0; k < 4; ++k)
       if (j.status == to_string(ParcelStatus(k))) ++m.status_counts[k];
@@ -240,8 +229,53 @@ MergedRun merge_run(const std::vector<std::string>& shards, const std::string& o
   report.reconstructed = report.held = report.parcels;
   report.failed = m.status_counts[size_t(ParcelStatus::Failed)];
   report.suspect = m.status_counts[size_t(ParcelStatus::Suspect)];
-  m.written = write_outputs(report, m.store, out_dir, default_config(), formats, progress);
+  if (!inputs)
+    report.fit_missing = "merged without the batch's inputs (give merge the batch's --cloud, --parcels, ... options)";
+  else if (!m.merge.complete())
+    report.fit_missing = "shards or parcels are missing";
+  else
+    store_fit(*in, inputs->cfg, m.store, report);
+  m.fit_missing = report.fit_missing;
+  m.written = write_outputs(report, m.store, out_dir, inputs ? inputs->cfg : default_config(), formats, progress);
+}
+
+}  // namespace
+
+MergedRun merge_run(const std::vector<std::string>& shards, const std::string& out_dir,
+                    const std::vector<std::string>& formats, bool overwrite, const OutputProgress& progress,
+                    const RunInputs* inputs) {
+  std::filesystem::create_directories(out_dir);
+  const OutDirLock lock(out_dir);
+  // The inputs checked before anything is written.
+  const std::unique_ptr<LoadedInputs> in(inputs ? new LoadedInputs(load_run_inputs(*inputs, shards)) : nullptr);
+  if (overwrite) remove_batch_outputs(out_dir);
+  MergedRun m;
+  m.store = (std::filesystem::path(out_dir) / "cadastre.gpkg").string();
+  if (std::filesystem::exists(m.store)) throw InputError(m.store, "exists already; --overwrite replaces it");
+  m.merge = merge_stores(shards, m.store);
+  write_merged_outputs(m, out_dir, formats, progress, inputs, in.get());
   if (m.merge.complete()) mark_run_finished(m.store);  // a finished run: every parcel and output in place
+  return m;
+}
+
+MergedRun finish_shared_store(const std::string& store, const std::string& out_dir,
+                              const std::vector<std::string>& formats, bool overwrite,
+                              const OutputProgress& progress, const RunInputs* inputs) {
+  std::filesystem::create_directories(out_dir);
+  const OutDirLock lock(out_dir);
+  if (overwrite) remove_batch_outputs(out_dir);
+  MergedRun m;
+  m.store = store;
+  std::set<int> ran;  // the shards that began a run
+  for (const RunRecord& r : load_runs(store))
+    if (!r.shard.empty()) ran.insert(parse_shard(r.shard).k), m.merge.shard_count = parse_shard(r.shard).n;
+  for (int k = 1; k <= m.merge.shard_count; ++k)
+    if (!ran.count(k)) m.merge.missing_shards.push_back(k);
+  for (const JobRecord& j : load_jobs(store))
+    if (j.status == "pending") m.merge.pending.push_back(j.parcel_id);
+    else ++m.merge.parcels;
+  const std::unique_ptr<LoadedInputs> in(inputs ? new LoadedInputs(load_run_inputs(*inputs, {store})) : nullptr);
+  write_merged_outputs(m, out_dir, formats, progress, inputs, in.get());
   return m;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cadastre/batch/outputs.h"
+#include "cadastre/batch/run_fit.h"
 
 namespace c3d {
 
@@ -31,13 +32,24 @@ struct MergedRun {
   WrittenOutputs written;
   std::string store;
   size_t status_counts[4] = {0, 0, 0, 0};  // by ParcelStatus
+  std::string fit_missing;  // why the whole-run fit is not in the summary; "" when it is
 };
 
 // `cadastre3d merge`: merge_stores into OUT/cadastre.gpkg, then the outputs a
 // batch writes (write_outputs), under OUT's lock; --overwrite replaces what a
 // batch or merge wrote into OUT before. The run is marked finished only when
-// every shard and parcel is in.
+// every shard and parcel is in. With the batch's inputs (and every shard in),
+// the summary holds the whole-run fit (store_fit), as an unsharded run's;
+// without, it says why it has none.
 MergedRun merge_run(const std::vector<std::string>& shards, const std::string& out_dir,
-                    const std::vector<std::string>& formats, bool overwrite, const OutputProgress& progress = {});
+                    const std::vector<std::string>& formats, bool overwrite, const OutputProgress& progress = {},
+                    const RunInputs* inputs = nullptr);
+
+// `cadastre3d merge --store URL`: a store every shard wrote (PostgreSQL)
+// needs no merge; its outputs as merge_run writes them. Missing shards are
+// those that never began a run in it.
+MergedRun finish_shared_store(const std::string& store, const std::string& out_dir,
+                              const std::vector<std::string>& formats, bool overwrite,
+                              const OutputProgress& progress = {}, const RunInputs* inputs = nullptr);
 
 }  // namespace c3d

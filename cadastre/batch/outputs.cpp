@@ -63,6 +63,12 @@ json building_json(const Building& b) {
           {"wall_deviation", to_json(b.wall_deviation)}};
 }
 
+// Whether the whole-run fit was computed: a merge without the batch's inputs
+// has none, and says so rather than give zeros.
+std::string fit_text(const BatchReport& r) {
+  return r.fit_missing.empty() ? "computed" : "not computed: " + r.fit_missing;
+}
+
 // summary.json as the pages come: the parcels' entries go to a spool (the
 // counts and pooled deviations before them in the file need every parcel),
 // so only two deviations per building stay in memory.
@@ -89,11 +95,12 @@ class SummaryWriter {
               {"parcels_suspect", suspect_},
               {"pooled_roof_deviation", to_json(pool(roof_devs_))},
               {"pooled_wall_deviation", to_json(pool(wall_devs_))},
-              {"any_model_roof_deviation", to_json(report_.any_model_roof)},
-              {"any_model_wall_deviation", to_json(report_.any_model_wall)},
-              {"roof_ruler", to_json(report_.roof_ruler)},
-              {"wall_ruler", to_json(report_.wall_ruler)},
-              {"wall_points_measured_share", report_.wall_points_measured},
+              {"any_model_fit", fit_text(report_)},
+              {"any_model_roof_deviation", fit_ ? to_json(report_.any_model_roof) : json()},
+              {"any_model_wall_deviation", fit_ ? to_json(report_.any_model_wall) : json()},
+              {"roof_ruler", fit_ ? to_json(report_.roof_ruler) : json()},
+              {"wall_ruler", fit_ ? to_json(report_.wall_ruler) : json()},
+              {"wall_points_measured_share", fit_ ? json(report_.wall_points_measured) : json()},
               {"timings_s",
                {{"ingest_and_clip", report_.timings.ingest_s},
                 {"reconstruct_and_store", report_.timings.reconstruct_s},
@@ -141,6 +148,7 @@ class SummaryWriter {
   }
 
   const BatchReport& report_;
+  const bool fit_ = report_.fit_missing.empty();  // the whole-run fit figures, else null
   const int epsg_;
   const std::string crs_wkt_, path_;
   exp::Spool parcels_;
@@ -187,8 +195,9 @@ std::vector<std::string> write_staged(const BatchReport& report, const StorePage
                                       const std::vector<std::string>& formats, const OutputProgress& progress) {
   const BatchModel& header = pages.header();
   SummaryWriter summary(report, header, (fs::path(stage) / "summary.json").string());
-  ReportWriter report_pages(stage, pages.parcel_count(), header,
-                            store_report_info(pages.location(), cfg, false, true));
+  ReportInfo info = store_report_info(pages.location(), cfg, false, true);
+  if (!report.fit_missing.empty()) info.run_note += "; whole-run fit of the models " + fit_text(report);
+  ReportWriter report_pages(stage, pages.parcel_count(), header, std::move(info));
   std::vector<std::unique_ptr<ExportWriter>> exports;
   for (const auto& f : formats) exports.push_back(export_writer(f, header, stage));
   const std::string previews = (fs::path(stage) / "preview").string();

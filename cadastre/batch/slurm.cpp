@@ -58,15 +58,11 @@ std::string shards_script(const SlurmPlan& p) {
 std::string finish_script(const SlurmPlan& p) {
   std::string s = header(p, "c3d-finish", "finish.log") + "# Written by `cadastre3d slurm`: runs after every shard task.\nset -e\n";
   const std::string formats = p.formats.empty() ? "" : " --formats " + shell_quote(p.formats);
-  const std::string exe = run_exe(p), out = shell_quote(p.out);
-  if (p.store.empty()) {
-    s += "exec " + exe + " merge --out " + out + " --overwrite" + formats;
-    for (int k = 1; k <= p.shards; ++k) s += " " + shard_out(p, std::to_string(k)) + "/cadastre.gpkg";
-    return s + "\n";
-  }
-  const std::string store = shell_quote(p.store);
-  return s + exe + " report --store " + store + " --out " + out + "\n" + exe + " export --store " + store +
-         " --out " + out + formats + "\n";
+  s += "exec " + run_exe(p) + " merge --out " + shell_quote(p.out) + " --overwrite" + formats;
+  for (const auto& a : p.input_args) s += " " + shell_quote(a);  // the whole-run fit's inputs
+  if (!p.store.empty()) return s + " --store " + shell_quote(p.store) + "\n";  // one store: nothing to merge
+  for (int k = 1; k <= p.shards; ++k) s += " " + shard_out(p, std::to_string(k)) + "/cadastre.gpkg";
+  return s + "\n";
 }
 
 std::string rerun_script(const SlurmPlan& p) {

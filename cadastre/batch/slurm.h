@@ -1,8 +1,9 @@
 #pragma once
 // The Slurm runner of a sharded batch (docs/scale.md, "Sharding and Slurm"):
 // a job array of N tasks, task K running `cadastre3d batch ... --shard K/N
-// --resume`, and a finish job after it (`merge` of the shards' GeoPackages,
-// or report + export from one shared --store). Slurm schedules, reruns and
+// --resume`, and a finish job after it: `merge` of the shards' GeoPackages,
+// or `merge --store` of one shared store, with the batch's inputs for the
+// whole-run fit. Slurm schedules, reruns and
 // accounts; this file writes the scripts and calls sbatch.
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ struct SlurmPlan {
   std::vector<std::string> batch_args;  // the batch's input options, as given
   std::string store;                    // --store LOC shared by all shards; "": a GeoPackage per shard + merge
   std::string formats;                  // the finish step's exports (comma list); "": the batch's default
+  std::vector<std::string> input_args;  // the batch's input options (--cloud=..., ...): the finish step's fit
   int cpus_per_task = 0;                // 0: Slurm's default; each task runs --jobs of its CPUs
   std::vector<std::string> sbatch_options;  // more #SBATCH lines, e.g. --partition=cpu
   std::string launcher;  // shell words every cadastre3d of the scripts runs under (srun, /usr/bin/time ...); "": none

@@ -152,6 +152,12 @@ bool has_valid(const std::vector<float>& z) {
 
 }  // namespace
 
+Dtm read_dtm_header(const std::string& path) {
+  Dtm dtm;
+  open_dtm(path, dtm);
+  return dtm;
+}
+
 DtmSource::DtmSource(const std::string& path, size_t max_cells) : max_cells_(max_cells) {
   ds_ = open_dtm(path, header_);
   for_each_strip(*ds_, path, [&](const std::vector<float>& z) {

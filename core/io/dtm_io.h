@@ -25,6 +25,8 @@ size_t dtm_cell_budget();
 // rotated or all-NoData rasters, and on a raster of more than max_cells cells
 // (checked before anything is allocated).
 Dtm read_dtm(const std::string& path, size_t max_cells = dtm_cell_budget());
+// read_dtm's header checks alone: extent, cells and CRS, no cell read (z empty).
+Dtm read_dtm_header(const std::string& path);
 
 // A GDAL raster DTM opened once (read_dtm's checks) and read a window at a
 // time, so that no more than a window and a few filled tiles are held however
