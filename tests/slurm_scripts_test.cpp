@@ -68,12 +68,11 @@ TEST(SlurmScripts, WithoutLauncherTheTasksRunCadastre3dItself) {
 TEST(SlurmScripts, EveryCadastre3dRunsUnderTheLauncher) {
   const fs::path dir = temp_dir("slurm_scripts_launcher");
   SlurmPlan p = stand_in_plan(dir, 0);
-  p.store = "postgresql://u@h/db";  // finish: report, then export
+  p.store = "postgresql://u@h/db";  // finish: `merge --store`, the shared store's outputs and fit
   const SlurmScripts s = write_slurm_scripts(p);
   ASSERT_EQ(run_bash(s.shards, "SLURM_ARRAY_TASK_ID=2"), 0);
   ASSERT_EQ(run_bash(s.finish, "unset SLURM_ARRAY_TASK_ID;"), 0);
-  EXPECT_EQ(read(dir / "calls"), "launch task-2\nc3d batch\nlaunch task-finish\nc3d report\n"
-                                 "launch task-finish\nc3d export\n");
+  EXPECT_EQ(read(dir / "calls"), "launch task-2\nc3d batch\nlaunch task-finish\nc3d merge\n");
 }
 
 TEST(SlurmScripts, TheMergeRunsUnderTheLauncherAndTheExitStatusPassesThrough) {
