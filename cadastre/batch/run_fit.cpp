@@ -10,6 +10,7 @@
 #include "cadastre/batch/batch_inputs.h"
 #include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/shard.h"
+#include "cadastre/batch/store_sink.h"
 #include "cadastre/store.h"
 #include "core/error.h"
 
@@ -71,8 +72,8 @@ void check_parcels(const LoadedInputs& in, const std::string& run_key_text, cons
                                          ": other --layer, --where or --bbox?");
 }
 
-// The models a store holds, read back by the ids of the layer's parcels (as
-// StoreSink::models does after a batch); nothing is written.
+// The models a store holds (store_models, as StoreSink::models after a
+// batch); nothing is written.
 class StoreModels : public BatchSink {
  public:
   StoreModels(std::string store, const std::vector<Parcel>& layer) : store_(std::move(store)), layer_(layer) {}
@@ -83,12 +84,7 @@ class StoreModels : public BatchSink {
   }
   SinkCounts end() override { return {}; }
   BatchModel models(const std::vector<int>& layer_indices) override {
-    std::vector<int> sorted = layer_indices;
-    std::sort(sorted.begin(), sorted.end());  // layer order
-    std::vector<std::string> ids;
-    for (int i : sorted)
-      if (i >= 0 && size_t(i) < layer_.size()) ids.push_back(layer_[size_t(i)].id);
-    return ids.empty() ? BatchModel{} : load_batch_model(store_, ids);
+    return store_models(store_, layer_, layer_indices);
   }
 
  private:

@@ -74,13 +74,17 @@ SinkCounts StoreSink::end() {
 // Read by the parcels' ids: a store shared with writers of other parcel
 // selections holds their parcels under the same layer indices.
 BatchModel StoreSink::models(const std::vector<int>& layer_indices) {
-  if (layer_indices.empty()) return {};
+  return store_models(path_, *parcels_, layer_indices);
+}
+
+BatchModel store_models(const std::string& store, const std::vector<Parcel>& layer,
+                        const std::vector<int>& layer_indices) {
   std::vector<int> sorted = layer_indices;
   std::sort(sorted.begin(), sorted.end());  // layer order
   std::vector<std::string> ids;
   for (int i : sorted)
-    if (i >= 0 && size_t(i) < parcels_->size()) ids.push_back((*parcels_)[size_t(i)].id);
-  return load_batch_model(path_, ids);
+    if (i >= 0 && size_t(i) < layer.size()) ids.push_back(layer[size_t(i)].id);
+  return ids.empty() ? BatchModel{} : load_batch_model(store, ids);
 }
 
 }  // namespace c3d

@@ -35,4 +35,9 @@ class StoreSink : public BatchSink {
   std::int64_t run_id_ = 0;
 };
 
+// The models `store` holds for these parcels of `layer` (layer indices),
+// read by the parcels' ids, in layer order; BatchSink::models of a store.
+BatchModel store_models(const std::string& store, const std::vector<Parcel>& layer,
+                        const std::vector<int>& layer_indices);
+
 }  // namespace c3d
