@@ -74,21 +74,25 @@ Measured unmeasured(std::vector<Vec3> pts) {
 }
 
 // What every chunk's search reads: the parcels' boxes grown by how far their
-// models may reach, and their places in the layer's Hilbert order.
+// models may reach, and the layer's Hilbert order (the chunks are runs of it).
 struct Layout {
   std::vector<Box> reach;
-  std::vector<size_t> rank;
-  size_t page;  // parcels whose models are held at once
+  std::vector<size_t> order;  // the layer's parcels in Hilbert order
+  std::vector<size_t> rank;   // each parcel's place in `order`
+  size_t page;                // parcels whose models are held at once
+
+  std::vector<size_t> page_at(size_t at) const {
+    return {order.begin() + long(at), order.begin() + long(std::min(order.size(), at + page))};
+  }
 };
 
 Layout layout_of(const ParcelLayer& layer, double model_reach, size_t page) {
-  Layout l{{}, std::vector<size_t>(layer.parcels.size()), page};
+  Layout l{{}, {}, std::vector<size_t>(layer.parcels.size()), page};
   for (const Parcel& p : layer.parcels) l.reach.push_back(box_of(p.shape).grown(model_reach));
   std::vector<size_t> all(layer.parcels.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  size_t at = 0;
-  for (const auto& run : spatial_chunks(layer, all, all.size()))
-    for (size_t i : run) l.rank[i] = at++;
+  for (const auto& run : spatial_chunks(layer, all, all.size())) l.order = run;
+  for (size_t k = 0; k < l.order.size(); ++k) l.rank[l.order[k]] = k;
   return l;
 }
 
@@ -252,11 +256,10 @@ std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs&
 void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& sink, BatchReport& report) {
   const double model_reach = cfg.clip.overhang_buffer_m + kOwnershipContextM + kModelMarginM;
   const Layout layout = layout_of(in.layer, model_reach, size_t(std::max(1, cfg.batch.chunk_parcels)));
-  std::vector<size_t> all(in.layer.parcels.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   Totals totals;
   Search far;  // the points no ring settled: against every model at the end
-  for (const auto& chunk : spatial_chunks(in.layer, all, layout.page)) {
+  for (size_t at = 0; at < layout.order.size(); at += layout.page) {
+    const std::vector<size_t> chunk = layout.page_at(at);
     auto [roof, wall] = chunk_points(in, cfg, chunk);
     Search s = search_rings(sink, layout, chunk_box(in.layer, chunk, kWallPointReachM), std::move(roof),
                             std::move(wall));
@@ -268,7 +271,7 @@ void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& s
   }
   if (!far.roof.pts.empty() || !far.wall.pts.empty()) {
     far.roof_open.assign(far.roof.pts.size(), 1), far.wall_open.assign(far.wall.pts.size(), 1);
-    lower_by_pages(sink, layout, all, far, false);
+    lower_by_pages(sink, layout, layout.order, far, false);
     totals.add(far.roof, far.wall);
   }
   if (totals.roof_faces) report.any_model_roof = pool(totals.roof_parts), report.roof_ruler = totals.roof_ruler.figures();
