@@ -136,6 +136,29 @@ TEST(StreamBatch, FolderOrGlobOfTilesIsTheFile) {
   }
 }
 
+// A tile beyond the parcels' reach (5 km off, past the roof-density block
+// around them) is neither read nor hashed: a --bbox or a shard of a national
+// cloud reads its own area. The store is the one the town alone gives.
+TEST(StreamBatch, ATileOutOfTheParcelsReachIsNotRead) {
+  const std::string dir = test::temp_dir("far");
+  for (int k = 0; k < 4; ++k) {
+    const std::string name = "/tile_" + std::to_string(k) + ".las";
+    fs::copy_file(four_tiles() + name, dir + name);
+  }
+  PointCloud far = read_point_cloud(four_tiles() + "/tile_0.las");
+  for (Vec3& p : far.points) p.x() += 5000;
+  write_las(dir + "/far.las", far);
+  BatchInputs in = town().inputs;
+  in.clouds = {dir};
+  const std::string store = test::temp_dir("far_out") + "/cadastre.gpkg";
+  const BatchReport r = run_into(in, store, 5);
+  expect_same_store(whole_file_run().store, store);
+  expect_same_figures(whole_file_run().report, r);
+  const auto inputs = load_runs(store).back().inputs;
+  EXPECT_EQ(inputs.size(), 4u + 2u);
+  for (const InputFile& f : inputs) EXPECT_EQ(f.path.find("far.las"), std::string::npos) << f.path;
+}
+
 TEST(StreamBatch, FolderWithoutCloudsAndUnmatchedGlobAreErrors) {
   const std::string empty = test::temp_dir("empty");
   EXPECT_THROW(expand_point_files({empty}), InputError);

@@ -111,6 +111,7 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
                   const Config& cfg, BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
   const SceneGeometry geometry = scene_geometry(in.layer, cfg.clip);
   const int jobs = job_count(settings.jobs, todo.size());
+  DensityBlocks density(in.tiles, cfg.classes);
   for (const auto& chunk : spatial_chunks(in.layer, todo, size_t(cfg.batch.chunk_parcels))) {
     const auto t_read = Clock::now();
     const Region region = chunk_region(in.layer, chunk, geometry.reach_m + kRegionMarginM);
@@ -118,6 +119,7 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
     const Dtm terrain = dtm_window(in, region.box);
     SceneSource scenes = prepare_scenes(in, points, region.box, geometry, frame);
     if (in.dtm_source) scenes.terrain = &terrain;
+    scenes.density = density.around(region.box);
     report.timings.stages["read points"] += seconds_since(t_read);
     model_parcels(chunk, todo.size(), jobs, scenes, cfg, sink, settings, report);
   }
@@ -133,7 +135,7 @@ BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& s
     if (settings.progress) settings.progress(stage, done, total);
   };
   progress("ingest", 0, 3);
-  const LoadedInputs in = load_inputs(inputs, cfg);
+  const LoadedInputs in = load_inputs(inputs, cfg, settings.shard);
   progress("ingest", 1, 3);
   report.warnings = in.warnings;
   for (const auto& w : in.warnings) log::warn(w);

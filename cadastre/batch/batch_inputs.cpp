@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <set>
 
+#include "cadastre/batch/scenes.h"
 #include "core/classify/classify.h"
+#include "core/evaluate/evaluate.h"
 #include "cadastre/parcel_checks.h"
 #include "core/error.h"
 #include "core/gdal_messages.h"
@@ -31,15 +35,20 @@ void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, 
   }
 }
 
+// A cloud that reaches no parcel: a wrong CRS or a wrong tile.
+InputError far_from_parcels(const std::string& file, const ParcelLayer& layer, const std::string& extent) {
+  return InputError(file, "no point lies within " + std::to_string(int(kCoverageReachM)) + " m of any parcel of " +
+                              layer.source + " (points " + extent + "): check the CRS and the files");
+}
+
 // Parcels the clouds or the DTM do not reach fail one by one; reaching none
 // is an error naming the file (a wrong CRS, a wrong tile).
 void check_reach(const BatchInputs& inputs, const LoadedInputs& in) {
   const auto& parcels = in.layer.parcels;
   if (!parcels.empty() && std::none_of(parcels.begin(), parcels.end(),
                                        [&](const Parcel& p) { return in.coverage.near(p.shape); }))
-    throw InputError(inputs.clouds.empty() ? inputs.walls.front() : inputs.clouds.front(),
-                     "no point lies within " + std::to_string(int(kCoverageReachM)) + " m of any parcel of " +
-                         in.layer.source + " (points " + in.coverage.extent() + "): check the CRS and the files");
+    throw far_from_parcels(inputs.clouds.empty() ? inputs.walls.front() : inputs.clouds.front(), in.layer,
+                           in.coverage.extent());
   if (std::all_of(parcels.begin(), parcels.end(),
                   [&](const Parcel& p) { return !dtm_gap(in.dtm, p, in.layer.source).empty(); }))
     check_dtm_covers(in.dtm, in.layer);
@@ -139,8 +148,57 @@ void classify_tiles(const BatchInputs& inputs, const Config& cfg, LoadedInputs& 
   }
 }
 
+// How far from a parcel the run reads points: its scene, its wall points for
+// the deviation, and the coverage check's reach.
+double work_reach(const Config& cfg) {
+  return std::max({kCoverageReachM, cfg.clip.overhang_buffer_m + kOwnershipContextM, kWallPointReachM}) +
+         kRegionMarginM;
+}
+
+// With --dtm, keeps the tiles a run on the parcels `work` picks can read:
+// those touching the roof-density blocks within reach of them (the blocks
+// are read whole), so a shard or a --bbox reads its own area of a national
+// cloud, not all of it. The file lists follow (the run record hashes them).
+void keep_tiles_in_reach(const Shard& work, const Config& cfg, LoadedInputs& in) {
+  std::vector<Box> reach;
+  for (size_t i : shard_parcels(in.layer.parcels, work)) reach.push_back(box_of(in.layer.parcels[i].shape).grown(work_reach(cfg)));
+  const std::set<CellIndex> blocks = cells_touched(reach, kDensityBlockM);
+  std::set<std::string> dropped;
+  std::vector<Tile> kept;
+  for (Tile& t : in.tiles)
+    if (touches_any(t.extent, blocks, kDensityBlockM)) kept.push_back(std::move(t));
+    else dropped.insert(t.path);
+  if (kept.empty() && !in.tiles.empty() && !work.active()) {  // a shard off the survey: its parcels fail
+    Box all;
+    for (const Tile& t : in.tiles) all.add(t.extent);
+    char extent[160];
+    std::snprintf(extent, sizeof extent, "x %.1f..%.1f, y %.1f..%.1f", all.min_x, all.max_x, all.min_y, all.max_y);
+    throw far_from_parcels(in.tiles.front().path, in.layer, extent);
+  }
+  in.tiles = std::move(kept);
+  const auto drop = [&](std::vector<std::string>& files) {
+    files.erase(std::remove_if(files.begin(), files.end(), [&](const std::string& f) { return dropped.count(f) > 0; }),
+                files.end());
+  };
+  drop(in.cloud_files);
+  drop(in.wall_files);
+  if (!dropped.empty()) log::info(std::to_string(dropped.size()) + " point file(s) out of the parcels' reach, not read");
+}
+
+// The coverage, the warnings and the counts of the tiles near the parcels in work.
+TileSurvey survey_near(const Shard& work, const Config& cfg, const LoadedInputs& in, bool all) {
+  if (all) return survey_tiles(in.tiles, cfg.classes);
+  std::vector<Box> near;
+  for (size_t i : shard_parcels(in.layer.parcels, work)) near.push_back(box_of(in.layer.parcels[i].shape).grown(work_reach(cfg)));
+  const std::set<CellIndex> cells = cells_touched(near, kCoverageReachM);
+  std::vector<Tile> tiles;
+  for (const Tile& t : in.tiles)
+    if (touches_any(t.extent, cells, kCoverageReachM)) tiles.push_back(t);
+  return survey_tiles(tiles, cfg.classes);
+}
+
 // load_inputs without the GDAL message capture.
-LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
+LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg, const Shard& work) {
   LoadedInputs in;
   in.layer = read_parcels(inputs.parcels, inputs.parcel_selection, cfg.fields, &in.warnings);
   const ParcelSelection& sel = inputs.parcel_selection;
@@ -150,11 +208,12 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
   if (have_dtm) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
   if (have_dtm) in.dtm = in.dtm_source->header();
   index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), have_dtm, in);
+  if (have_dtm) keep_tiles_in_reach(work, cfg, in);
   for (std::string& w : overlap_warnings(in.layer)) in.warnings.push_back(std::move(w));
   log::info("areas in " + areas_crs_text(in.crs_wkt));
   log::info(std::to_string(in.tiles.size()) + " point file(s) with points");
   if (!inputs.classifier_model.empty()) classify_tiles(inputs, cfg, in);
-  TileSurvey survey = survey_tiles(in.tiles, cfg.classes);
+  TileSurvey survey = survey_near(work, cfg, in, !have_dtm);
   in.warnings.insert(in.warnings.end(), survey.warnings.begin(), survey.warnings.end());
   in.coverage = std::move(survey.coverage);
   if (!have_dtm) in.dtm = ground_dtm(in.tiles, survey, cfg.classes, in.crs_wkt);
@@ -162,20 +221,20 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg) {
     check_dtm_elevations(*in.dtm_source, in.warnings);
   else
     check_dtm_elevations(in.dtm, in.warnings);
-  if (survey.roof == 0 && survey.wall == 0)
+  // A shard whose area holds no points is no sign of a wrong input: its parcels fail one by one.
+  if (survey.roof == 0 && survey.wall == 0 && !(work.active() && in.coverage.empty()))
     throw InputError(inputs.clouds.empty() ? inputs.parcels : inputs.clouds.front(),
                      "no roof or wall points (check the class mapping)");
-  in.roof_points_per_cell = typical_roof_density(in.tiles, cfg.classes, survey.roof);
-  check_reach(inputs, in);
+  if (!work.active()) check_reach(inputs, in);
   return in;
 }
 
 }  // namespace
 
-LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg) {
+LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg, const Shard& work) {
   GdalMessages gdal;  // GDAL prints nothing; its last word joins the error
   try {
-    return load_all(inputs, cfg);
+    return load_all(inputs, cfg, work);
   } catch (const InputError& e) {
     throw gdal.fold(e);
   }

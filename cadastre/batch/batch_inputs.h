@@ -9,6 +9,7 @@
 
 #include "cadastre/batch/batch.h"
 #include "cadastre/batch/plausibility.h"
+#include "cadastre/batch/shard.h"
 #include "cadastre/batch/tiles.h"
 #include "cadastre/parcels.h"
 #include "core/io/dtm_io.h"
@@ -22,19 +23,21 @@ struct LoadedInputs {
   std::vector<Tile> tiles;       // the --cloud files, then the --walls files
   std::vector<std::string> cloud_files, wall_files;  // the files --cloud and --walls name
   PointCoverage coverage;        // where the clouds have points of any class
-  int roof_points_per_cell = 0;  // typical_roof_points_per_cell of every roof point
   std::string crs_wkt;
   std::vector<std::string> warnings;
 };
 
-// Throws InputError naming the file when an input is unusable.
-LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg);
+// The inputs for modelling the parcels `work` picks of the layer (a shard's,
+// or all): only the tiles within reach of them are kept and surveyed (with
+// --dtm; a DTM built from ground points takes every tile). Throws InputError
+// naming the file when an input is unusable.
+LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg, const Shard& work = {});
 
 // What the whole-run fit (any_model_deviation) reads, and no more: the layer
 // and the tiles' index (file headers) in the batch's working CRS (the DTM's
 // header only). No cell of the DTM, no survey pass, no model; with --classify
-// the clouds are classified again as the batch did. coverage, dtm cells and
-// roof_points_per_cell stay empty.
+// the clouds are classified again as the batch did. coverage and dtm cells
+// stay empty.
 LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg);
 
 // Every input file the run reads (folders and globs expanded) with its

@@ -113,7 +113,7 @@ ParcelScene make_scene(const SceneSource& src, size_t i) {
   for (size_t k : in_one_order(src.wall_lists[i], pts.wall)) s.wall_points.push_back(frame.to_local(pts.wall[k]));
   s.overhang_buffer_m = g.overhang_buffer_m;
   s.context_m = g.overhang_buffer_m + kOwnershipContextM;
-  s.roof_points_per_cell = in.roof_points_per_cell;
+  s.roof_density = {roof_cell(Vec2(frame.origin.x(), frame.origin.y())), src.density};
   const Dtm* dtm = src.terrain ? src.terrain : &in.dtm;
   Vec3 o = frame.origin;
   s.terrain = [dtm, o](double x, double y) { return dtm->height_at(x + o.x(), y + o.y()) - o.z(); };

@@ -3,6 +3,7 @@
 // with a wider context than the overhang buffer, so a roof across a boundary is
 // seen well enough to tell an overhang from a shared roof), the neighbours each
 // parcel must agree with, all in the batch's local frame.
+#include <map>
 #include <vector>
 
 #include "cadastre/batch/batch_inputs.h"
@@ -31,6 +32,7 @@ struct SceneSource {
   const SceneGeometry* geometry = nullptr;
   LocalFrame frame;
   const Dtm* terrain = nullptr;  // the region's DTM window; nullptr: inputs->dtm
+  std::map<CellIndex, int> density;  // the roof density of the blocks the region touches (DensityBlocks)
   ParcelClipper::IndexLists roof_lists, wall_lists;  // per parcel: indices into points
 };
 

@@ -2,9 +2,9 @@
 // Shard K of N of a batch (docs/scale.md, "Sharding and Slurm"): the parcels
 // at positions part_range(n, K, N) of the Hilbert order of the WHOLE layer's
 // bounding-box centres, so every shard is a compact area and the N shards
-// cover the layer once. A shard run still loads the whole layer and cloud
-// (neighbours and roof ownership see everything); it models and stores only
-// its own parcels.
+// cover the layer once. A shard run loads the whole layer (neighbours and
+// roof ownership see everything) and, with --dtm, only the tiles within reach
+// of its parcels; it models and stores only its own parcels.
 #include <cstddef>
 #include <string>
 #include <vector>

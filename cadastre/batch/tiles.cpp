@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
-#include <unordered_map>
 
 #include "core/error.h"
 #include "core/geometry/unique_points.h"
@@ -20,11 +19,6 @@ namespace c3d {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The density is counted a block at a time; a block holds about this many
-// roof points (25 bytes each, and as much again to fold copies), so larger
-// clouds take more blocks, not more memory.
-constexpr double kDensityBlockPoints = 1.5e6;
 
 bool is_point_file(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -96,8 +90,6 @@ std::string six_digits(double v) {
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
 }
-
-long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 }  // namespace
 
@@ -229,30 +221,57 @@ Dtm ground_dtm(const std::vector<Tile>& tiles, const TileSurvey& survey, const C
   return grid.finish();
 }
 
-int typical_roof_density(const std::vector<Tile>& tiles, const ClassMapping& m, size_t roof_points) {
-  Box all;
-  for (const Tile& t : tiles) all.add(t.extent);
-  if (all.empty() || roof_points == 0) return 0;
-  // Blocks of whole roof cells, as many as keep a block near kDensityBlockPoints.
-  const double area = std::max(1.0, (all.max_x - all.min_x) * (all.max_y - all.min_y));
-  const double side = std::sqrt(area * kDensityBlockPoints / double(roof_points));
-  const long cells = std::max(64L, long(side / ownership::kRoofCellM));  // per block side
-  const auto lo = roof_cell(Vec2(all.min_x, all.min_y)), hi = roof_cell(Vec2(all.max_x, all.max_y));
-  std::map<int, size_t> histogram;  // points in a cell -> cells
-  std::unordered_map<uint64_t, int> count;
-  for (long bx = floor_div(lo.first, cells); bx <= floor_div(hi.first, cells); ++bx)
-    for (long by = floor_div(lo.second, cells); by <= floor_div(hi.second, cells); ++by) {
-      const Box core{bx * cells * ownership::kRoofCellM, by * cells * ownership::kRoofCellM, (bx + 1) * cells * ownership::kRoofCellM,
-                     (by + 1) * cells * ownership::kRoofCellM};
-      count.clear();
-      for (const Vec3& p : read_region(tiles, core.grown(kRegionMarginM), m).roof) {
-        const auto c = roof_cell(Vec2(p.x(), p.y()));
-        if (floor_div(c.first, cells) == bx && floor_div(c.second, cells) == by)
-          ++count[uint64_t(uint32_t(c.first)) << 32 | uint32_t(c.second)];
+std::map<CellIndex, int> DensityBlocks::around(const Box& box) {
+  std::map<CellIndex, int> out;
+  for (const CellIndex& b : cells_touched({box}, kDensityBlockM)) {
+    auto it = known_.find(b);
+    if (it == known_.end()) it = known_.emplace(b, count_block(b)).first;
+    if (it->second > 0) out.emplace(b, it->second);
+  }
+  return out;
+}
+
+int DensityBlocks::count_block(const CellIndex& block) const {
+  const long cells = std::lround(kDensityBlockM / ownership::kRoofCellM);
+  const long x0 = block.first * cells, y0 = block.second * cells;
+  const Box box{block.first * kDensityBlockM, block.second * kDensityBlockM, (block.first + 1) * kDensityBlockM,
+                (block.second + 1) * kDensityBlockM};
+  std::vector<uint16_t> count(size_t(cells * cells), 0);
+  for (const Tile& t : tiles_) {
+    if (t.walls || !t.extent.touches(box)) continue;
+    for_each_block(t, [&](const std::vector<Vec3>& pts, const std::vector<uint8_t>& cls) {
+      for (size_t i = 0; i < pts.size(); ++i) {
+        if (!cls.empty() && !classes_.is_roof(cls[i])) continue;  // unclassified: roof
+        const CellIndex c = roof_cell(Vec2(pts[i].x(), pts[i].y()));
+        const long cx = c.first - x0, cy = c.second - y0;
+        if (cx < 0 || cy < 0 || cx >= cells || cy >= cells) continue;
+        uint16_t& n = count[size_t(cy * cells + cx)];
+        if (n < UINT16_MAX) ++n;
       }
-      for (const auto& [cell, n] : count) ++histogram[n];
-    }
+    });
+  }
+  std::map<int, size_t> histogram;  // points in a cell -> cells
+  for (uint16_t n : count)
+    if (n > 0) ++histogram[n];
   return typical_roof_points_per_cell(histogram);
+}
+
+std::set<CellIndex> cells_touched(const std::vector<Box>& boxes, double side) {
+  std::set<CellIndex> out;
+  for (const Box& b : boxes) {
+    if (b.empty()) continue;
+    const long x0 = long(std::floor(b.min_x / side)), x1 = long(std::floor(b.max_x / side));
+    const long y0 = long(std::floor(b.min_y / side)), y1 = long(std::floor(b.max_y / side));
+    for (long x = x0; x <= x1; ++x)
+      for (long y = y0; y <= y1; ++y) out.emplace(x, y);
+  }
+  return out;
+}
+
+bool touches_any(const Box& box, const std::set<CellIndex>& cells, double side) {
+  for (const CellIndex& c : cells_touched({box}, side))
+    if (cells.count(c)) return true;
+  return false;
 }
 
 }  // namespace c3d

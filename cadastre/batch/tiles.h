@@ -6,11 +6,13 @@
 // inside: no tile is ever held whole (docs/inputs.md, "Tiles").
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "cadastre/batch/plausibility.h"
 #include "core/io/dtm_io.h"
+#include "core/reconstruct/roof_density.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -92,9 +94,28 @@ TileSurvey survey_tiles(const std::vector<Tile>& tiles, const ClassMapping& clas
 Dtm ground_dtm(const std::vector<Tile>& tiles, const TileSurvey& survey, const ClassMapping& classes,
                const std::string& crs_wkt);
 
-// typical_roof_points_per_cell over every roof point (one per place), counted
-// in blocks of the tiles' area read one at a time (roof_points: the survey's
-// count, which sizes the blocks).
-int typical_roof_density(const std::vector<Tile>& tiles, const ClassMapping& classes, size_t roof_points);
+// The scan's roof density by block (core/reconstruct/roof_density.h). A
+// block is counted once, when a chunk first needs it: one pass over the
+// tiles that touch it, each roof point counted in its cell (a count per cell
+// for the block, 8 MB whatever the scan's density). Copies of a point count
+// as points here, unlike a region's one per place: a count, not a model.
+class DensityBlocks {
+ public:
+  DensityBlocks(const std::vector<Tile>& tiles, const ClassMapping& classes) : tiles_(tiles), classes_(classes) {}
+  // The typical counts of the blocks the box (world coordinates) touches.
+  std::map<CellIndex, int> around(const Box& box);
+
+ private:
+  int count_block(const CellIndex& block) const;
+  const std::vector<Tile>& tiles_;
+  ClassMapping classes_;
+  std::map<CellIndex, int> known_;
+};
+
+// The cells of a grid of `side` metres (world coordinates, from 0) that the
+// boxes touch, and whether a box touches one of them: which tiles and blocks
+// a run's parcels can need, without a pass over every tile per parcel.
+std::set<CellIndex> cells_touched(const std::vector<Box>& boxes, double side);
+bool touches_any(const Box& box, const std::set<CellIndex>& cells, double side);
 
 }  // namespace c3d

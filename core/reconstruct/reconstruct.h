@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/config/config.h"
+#include "core/reconstruct/roof_density.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -23,7 +24,7 @@ struct ParcelScene {
   std::function<double(double, double)> terrain;  // local terrain z, NaN outside
   double overhang_buffer_m = 1.6;          // how far an overhang may reach across the boundary
   double context_m = 3.1;                  // how far beyond the parcel roof_points reach
-  int roof_points_per_cell = 0;            // the whole scan's typical_roof_points_per_cell; 0: this scene's
+  RoofDensity roof_density;                // the scan's, by block; none known: this scene's own typical
 };
 
 // Never throws: a parcel that cannot be modelled comes back `failed` with a reason.

@@ -57,26 +57,40 @@ void add_runs_across(const ParcelScene& s, const RoofComponent& c, const std::ve
 // more. Cells, not points, so that the answer does not hang on the scan's
 // density, and a share of the typical count, not a fixed one, so that a
 // sparse scan's cells count as a dense one's do.
+// What a roof cell must hold to count as roof: a fifth of the typical count
+// where it lies (3 of Cimahi's 15), so stray points in a cell do not make it
+// roof. Without the scan's density (a scene alone), the scene's own typical.
+class CellNeed {
+ public:
+  explicit CellNeed(const ParcelScene& s) : s_(s) {}
+  int operator()(const CellIndex& cell) const {
+    int typical = s_.roof_density.at(cell);
+    if (typical <= 0) {
+      if (own_ < 0) own_ = typical_roof_points_per_cell(s_.roof_points);
+      typical = own_;
+    }
+    return std::max(1, (typical + kTypicalShareOfCell - 1) / kTypicalShareOfCell);
+  }
+
+ private:
+  const ParcelScene& s_;
+  mutable int own_ = -1;
+};
+
 class RoofCells {
  public:
-  explicit RoofCells(int points_per_cell) : needed_(points_per_cell) {}
+  explicit RoofCells(const CellNeed& need) : need_(need) {}
   void add(const Vec2& q) {
-    if (++count_[roof_cell(q)] == needed_) ++covered_;
+    const CellIndex cell = roof_cell(q);
+    if (++count_[cell] == need_(cell)) ++covered_;
   }
   bool enough() const { return covered_ >= kMinRoofCells; }
 
  private:
-  int needed_;
-  std::map<std::pair<long, long>, int> count_;
+  const CellNeed& need_;
+  std::map<CellIndex, int> count_;
   size_t covered_ = 0;
 };
-
-// What a cell must hold to count as roof: a fifth of the scan's typical
-// count (3 of Cimahi's 15), so stray points in a cell do not make it roof.
-int points_needed_per_cell(const ParcelScene& s) {
-  const int typical = s.roof_points_per_cell > 0 ? s.roof_points_per_cell : typical_roof_points_per_cell(s.roof_points);
-  return std::max(1, (typical + kTypicalShareOfCell - 1) / kTypicalShareOfCell);
-}
 
 // Neighbours whose buildings meet this parcel's at their boundary: roof
 // deeper into their parcel than an overhang reaches (the overhang buffer plus
@@ -88,7 +102,7 @@ int points_needed_per_cell(const ParcelScene& s) {
 std::set<int> meeting_neighbours(const ParcelScene& s, const ReconstructionParams& p) {
   const double shared_depth = s.overhang_buffer_m + p.shared_roof_depth_m;
   const auto in_band = [&](double d) { return d > shared_depth && d <= s.context_m - kClipRoundingM; };
-  const int needed = points_needed_per_cell(s);
+  const CellNeed needed(s);
   std::vector<RoofCells> there(s.neighbours.size(), RoofCells(needed));
   std::vector<Vec2> own;
   for (const auto& point : s.roof_points) {
@@ -231,6 +245,18 @@ MultiPolygon2 split_cut(const ParcelScene& s, const std::set<int>& split_with) {
 
 std::pair<long, long> roof_cell(const Vec2& q) {
   return {std::lround(std::floor(q.x() / kRoofCellM)), std::lround(std::floor(q.y() / kRoofCellM))};
+}
+
+CellIndex density_block(const CellIndex& world_cell) {
+  const long cells = std::lround(kDensityBlockM / kRoofCellM);  // whole cells: a block's edge is a cell's
+  const auto floor_div = [cells](long v) { return v >= 0 ? v / cells : -((-v + cells - 1) / cells); };
+  return {floor_div(world_cell.first), floor_div(world_cell.second)};
+}
+
+int RoofDensity::at(const CellIndex& local_cell) const {
+  if (typical.empty()) return 0;
+  const auto it = typical.find(density_block({local_cell.first + offset.first, local_cell.second + offset.second}));
+  return it == typical.end() ? 0 : it->second;
 }
 
 int typical_roof_points_per_cell(const std::map<int, size_t>& cells_by_count) {
