@@ -109,10 +109,26 @@ geos::operation::buffer::BufferParameters mitre_parameters() {
 }
 }  // namespace
 
-MultiPolygon2 buffer(const MultiPolygon2& a, double distance) {
+namespace {
+MultiPolygon2 buffer_together(const MultiPolygon2& a, double distance) {
   auto params = mitre_parameters();  // BufferOp takes it by non-const reference
   auto g = to_geos(a);
   return from_geos(geos::operation::buffer::BufferOp::bufferOp(g.get(), distance, params).get());
+}
+}  // namespace
+
+// GEOS (3.11) buffers the parts of a multipolygon in one graph, and the raw
+// offset curves of a wide part and of a sliver wedge near it can leave that
+// graph unable to place a hole ("unable to assign hole to a shell") though
+// the input is valid. Shrinking needs no such graph: a disc inside a valid
+// multipolygon lies inside one part (parts meet at points at most), so its
+// erosion is its parts' erosions side by side, each done alone.
+MultiPolygon2 buffer(const MultiPolygon2& a, double distance) {
+  if (distance >= 0 || a.size() < 2 || !is_valid(a)) return buffer_together(a, distance);
+  MultiPolygon2 out;
+  for (const auto& p : a)
+    for (auto& q : buffer_together({p}, distance)) out.push_back(std::move(q));
+  return out;
 }
 
 namespace {

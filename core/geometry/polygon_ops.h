@@ -13,7 +13,8 @@ MultiPolygon2 unite(const MultiPolygon2& a, const MultiPolygon2& b);
 MultiPolygon2 unite_all(const std::vector<MultiPolygon2>& parts);
 MultiPolygon2 intersect(const MultiPolygon2& a, const MultiPolygon2& b);
 MultiPolygon2 subtract(const MultiPolygon2& a, const MultiPolygon2& b);
-// Buffer with mitred corners (keeps right angles square); negative shrinks.
+// Buffer with mitred corners (keeps right angles square); negative shrinks
+// (a valid multipolygon part by part: see polygon_ops.cpp).
 MultiPolygon2 buffer(const MultiPolygon2& a, double distance);
 // Buffer of a polyline (round ends) - corridors around boundaries.
 MultiPolygon2 buffer_line(const std::vector<Vec2>& line, double distance);
