@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "cadastre/batch/batch.h"
+#include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/store_sink.h"
 #include "cadastre/batch/tiles.h"
 #include "cadastre/store.h"
@@ -157,6 +158,27 @@ TEST(StreamBatch, ATileOutOfTheParcelsReachIsNotRead) {
   const auto inputs = load_runs(store).back().inputs;
   EXPECT_EQ(inputs.size(), 4u + 2u);
   for (const InputFile& f : inputs) EXPECT_EQ(f.path.find("far.las"), std::string::npos) << f.path;
+
+  // No parcel's resume key changed: the far file is in none's reach.
+  BatchInputs four = town().inputs;
+  four.clouds = {four_tiles()};
+  const std::string four_store = test::temp_dir("four_out") + "/cadastre.gpkg";
+  run_into(four, four_store, 5);
+  const auto jobs = load_jobs(store), four_jobs = load_jobs(four_store);
+  ASSERT_EQ(jobs.size(), four_jobs.size());
+  for (size_t i = 0; i < jobs.size(); ++i) EXPECT_EQ(jobs[i].inputs_key, four_jobs[i].inputs_key) << jobs[i].parcel_id;
+  // The whole-run fit takes every file given, the far one too: the store's
+  // run read only files among them, and every parcel's key is theirs.
+  Config cfg = default_config();
+  cfg.batch.chunk_parcels = 5;  // as run_into ran it
+  try {
+    load_run_inputs(RunInputs{in, cfg}, {store});
+  } catch (const InputError& e) {
+    ADD_FAILURE() << e.what();
+  }
+  BatchInputs other = in;
+  other.clouds = {four_tiles() + "/tile_0.las", four_tiles() + "/tile_1.las", four_tiles() + "/tile_2.las"};
+  EXPECT_THROW(load_run_inputs(RunInputs{other, cfg}, {store}), InputError);  // tile_3 missing
 }
 
 TEST(StreamBatch, FolderWithoutCloudsAndUnmatchedGlobAreErrors) {

@@ -32,8 +32,7 @@ BatchRun describe_run(const LoadedInputs& in, const BatchInputs& inputs, const C
   run.parameters = run_parameters(cfg);
   run.inputs = describe_inputs(in, inputs);
   run.parcels = &in.layer.parcels;
-  const std::string key = run_key(cfg, run.inputs);
-  for (const auto& p : in.layer.parcels) run.parcel_keys.push_back(parcel_key(key, p));
+  run.parcel_keys = parcel_keys(in, inputs, cfg, run.inputs);
   return run;
 }
 

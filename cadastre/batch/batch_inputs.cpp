@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <set>
 
+#include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/scenes.h"
 #include "core/classify/classify.h"
 #include "core/evaluate/evaluate.h"
@@ -161,7 +163,7 @@ double work_reach(const Config& cfg) {
 // cloud, not all of it. The file lists follow (the run record hashes them).
 void keep_tiles_in_reach(const Shard& work, const Config& cfg, LoadedInputs& in) {
   std::vector<Box> reach;
-  for (size_t i : shard_parcels(in.layer.parcels, work)) reach.push_back(box_of(in.layer.parcels[i].shape).grown(work_reach(cfg)));
+  for (size_t i : shard_parcels(in.layer.parcels, work)) reach.push_back(in.boxes[i].grown(work_reach(cfg)));
   const std::set<CellIndex> blocks = cells_touched(reach, kDensityBlockM);
   std::set<std::string> dropped;
   std::vector<Tile> kept;
@@ -189,7 +191,7 @@ void keep_tiles_in_reach(const Shard& work, const Config& cfg, LoadedInputs& in)
 TileSurvey survey_near(const Shard& work, const Config& cfg, const LoadedInputs& in, bool all) {
   if (all) return survey_tiles(in.tiles, cfg.classes);
   std::vector<Box> near;
-  for (size_t i : shard_parcels(in.layer.parcels, work)) near.push_back(box_of(in.layer.parcels[i].shape).grown(work_reach(cfg)));
+  for (size_t i : shard_parcels(in.layer.parcels, work)) near.push_back(in.boxes[i].grown(work_reach(cfg)));
   const std::set<CellIndex> cells = cells_touched(near, kCoverageReachM);
   std::vector<Tile> tiles;
   for (const Tile& t : in.tiles)
@@ -208,6 +210,7 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg, const Shard&
   if (have_dtm) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
   if (have_dtm) in.dtm = in.dtm_source->header();
   index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), have_dtm, in);
+  in.boxes = ParcelBoxes(in.layer);  // the layer is in the working CRS now
   if (have_dtm) keep_tiles_in_reach(work, cfg, in);
   for (std::string& w : overlap_warnings(in.layer)) in.warnings.push_back(std::move(w));
   log::info("areas in " + areas_crs_text(in.crs_wkt));
@@ -247,6 +250,7 @@ LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg) {
     in.layer = read_parcels(inputs.parcels, inputs.parcel_selection, cfg.fields, &in.warnings);
     if (!inputs.dtm.empty()) in.dtm = read_dtm_header(inputs.dtm);  // its CRS may choose the working CRS
     index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), !inputs.dtm.empty(), in);
+    in.boxes = ParcelBoxes(in.layer);
     if (!inputs.classifier_model.empty()) {  // the classes the batch modelled from (reads the DTM under the clouds)
       if (!inputs.dtm.empty()) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
       classify_tiles(inputs, cfg, in);
@@ -283,6 +287,33 @@ std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs
   for (const auto& f : files.files())
     out.push_back(f == inputs.parcels ? describe_parcel_source(f, in.layer) : describe_input_file(f));
   return out;
+}
+
+std::vector<std::string> parcel_keys(const LoadedInputs& in, const BatchInputs& inputs, const Config& cfg,
+                                     const std::vector<InputFile>& files) {
+  std::map<std::string, std::string> tile_sha;  // tile path -> SHA-256
+  for (const Tile& t : in.tiles) tile_sha[t.path];
+  std::vector<InputFile> shared;  // what every parcel reads: the layer, the DTM, a classifier
+  for (const InputFile& f : files)
+    if (tile_sha.count(f.path)) tile_sha[f.path] = f.sha256;
+    else shared.push_back(f);
+  const std::string key = run_key(cfg, shared);
+  std::map<CellIndex, std::vector<size_t>> by_block;  // density block -> the tiles touching it
+  for (size_t t = 0; t < in.tiles.size(); ++t)
+    for (const CellIndex& b : cells_touched({in.tiles[t].extent}, kDensityBlockM)) by_block[b].push_back(t);
+  std::vector<std::string> keys;
+  for (size_t i = 0; i < in.layer.parcels.size(); ++i) {
+    std::set<size_t> read;
+    if (inputs.dtm.empty())
+      for (size_t t = 0; t < in.tiles.size(); ++t) read.insert(t);
+    else
+      for (const CellIndex& b : cells_touched({in.boxes[i].grown(work_reach(cfg))}, kDensityBlockM))
+        if (by_block.count(b)) read.insert(by_block[b].begin(), by_block[b].end());
+    std::vector<std::string> sha;
+    for (size_t t : read) sha.push_back(tile_sha[in.tiles[t].path]);
+    keys.push_back(parcel_key(key, in.layer.parcels[i], sha));
+  }
+  return keys;
 }
 
 Dtm dtm_window(const LoadedInputs& in, const Box& box) {

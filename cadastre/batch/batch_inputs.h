@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cadastre/batch/batch.h"
+#include "cadastre/batch/parcel_boxes.h"
 #include "cadastre/batch/plausibility.h"
 #include "cadastre/batch/shard.h"
 #include "cadastre/batch/tiles.h"
@@ -18,6 +19,7 @@ namespace c3d {
 
 struct LoadedInputs {
   ParcelLayer layer;
+  ParcelBoxes boxes;  // the layer's parcel boxes (working CRS), with their grid
   Dtm dtm;  // with --dtm its header only (extent, CRS): cells come from dtm_source
   std::shared_ptr<const DtmSource> dtm_source;  // --dtm, read a window at a time
   std::vector<Tile> tiles;       // the --cloud files, then the --walls files
@@ -43,6 +45,14 @@ LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg);
 // Every input file the run reads (folders and globs expanded) with its
 // SHA-256 (each file read once), in BatchInputs::files() order: the run record.
 std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs& inputs);
+
+// Per parcel of the layer, its resume key (resume_key.h): the parameters,
+// the layer and DTM files, and the point files it can read: with --dtm the
+// tiles touching the roof-density blocks within its reach, so a shard's key
+// is the unsharded run's and a file added far away changes no key; without,
+// every tile (the ground DTM is built from all).
+std::vector<std::string> parcel_keys(const LoadedInputs& in, const BatchInputs& inputs, const Config& cfg,
+                                     const std::vector<InputFile>& files);
 
 // Why parcel i cannot be modelled from these inputs (no point of the clouds
 // near it, no DTM under it), or "".

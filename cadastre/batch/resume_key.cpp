@@ -18,10 +18,11 @@ std::string run_key(const Config& cfg, const std::vector<InputFile>& inputs) {
   return sha256_hex(s);
 }
 
-std::string parcel_key(const std::string& run_key, const Parcel& p) {
+std::string parcel_key(const std::string& run_key, const Parcel& p, const std::vector<std::string>& tiles) {
   std::string s = run_key + "|" + p.id;
   for (const auto& poly : p.shape)
     for (const auto& v : poly.outer) s += "|" + std::to_string(v.x()) + "," + std::to_string(v.y());
+  for (const auto& t : tiles) s += "|t" + t;
   return sha256_hex(s);
 }
 

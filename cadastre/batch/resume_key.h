@@ -18,7 +18,8 @@ std::string run_parameters(const Config& cfg);
 // name) and the SHA-256 of every input file's content (not its name).
 std::string run_key(const Config& cfg, const std::vector<InputFile>& inputs);
 
-// A parcel's key: the run key, its id and its own shape.
-std::string parcel_key(const std::string& run_key, const Parcel& p);
+// A parcel's key: the run key, its id and its own shape, and the SHA-256 of
+// each point file it can read (cadastre/batch/batch_inputs.h, parcel_keys).
+std::string parcel_key(const std::string& run_key, const Parcel& p, const std::vector<std::string>& tiles = {});
 
 }  // namespace c3d

@@ -33,22 +33,21 @@ std::string first_difference(const json& a, const json& b, const std::string& at
 }
 
 // The files given against the store's run's, by SHA-256 in run order.
+// Every file the store's run read is among the given ones, by content (its
+// path may be spelt otherwise). The given ones may hold more: tiles out of
+// the reach of the run's parcels, which it did not read.
 void check_files(const std::vector<InputFile>& given, const RunRecord& run, const std::string& store) {
-  for (size_t i = 0; i < std::max(given.size(), run.inputs.size()); ++i) {
-    if (i >= given.size())
-      throw InputError(store, "its run read " + run.inputs[i].path + ", which these inputs lack");
-    if (i >= run.inputs.size())
-      throw InputError(given[i].path, "is not among the inputs of the run of " + store);
-    if (given[i].sha256 != run.inputs[i].sha256)
-      throw InputError(given[i].path, "differs from " + run.inputs[i].path + " that the run of " + store +
-                                          " read (SHA-256)");
-  }
+  std::set<std::string> have;
+  for (const InputFile& f : given) have.insert(f.sha256);
+  for (const InputFile& f : run.inputs)
+    if (!have.count(f.sha256))
+      throw InputError(store, "its run read " + f.path + ", which these inputs lack or hold changed (SHA-256)");
 }
 
 // Every parcel the stores hold is one these inputs select, with the same key
 // (parameters, inputs, shape); when they hold every shard's, they hold all
 // the inputs select.
-void check_parcels(const LoadedInputs& in, const std::string& run_key_text, const std::vector<std::string>& stores) {
+void check_parcels(const LoadedInputs& in, const std::vector<std::string>& keys, const std::vector<std::string>& stores) {
   const std::vector<Parcel>& layer = in.layer.parcels;
   std::map<std::string, size_t> at;  // parcel id -> layer index (ids are unique in a store)
   for (size_t i = 0; i < layer.size(); ++i) at[layer[i].id] = i;
@@ -60,7 +59,7 @@ void check_parcels(const LoadedInputs& in, const std::string& run_key_text, cons
       if (!r.shard.empty()) shards.insert(parse_shard(r.shard).k), n = parse_shard(r.shard).n;
     for (const JobRecord& j : load_jobs(store)) {
       const auto i = at.find(j.parcel_id);
-      if (i == at.end() || parcel_key(run_key_text, layer[i->second]) != j.inputs_key)
+      if (i == at.end() || keys[i->second] != j.inputs_key)
         throw InputError(store, "parcel " + j.parcel_id +
                                     " is not one these inputs select, as they select it: other --layer, --where or --bbox?");
       held.insert(j.parcel_id);
@@ -109,7 +108,7 @@ LoadedInputs load_run_inputs(const RunInputs& run, const std::vector<std::string
   LoadedInputs in = load_fit_inputs(run.inputs, run.cfg);
   const std::vector<InputFile> files = describe_inputs(in, run.inputs);
   check_files(files, runs.back(), stores.front());
-  check_parcels(in, run_key(run.cfg, files), stores);
+  check_parcels(in, parcel_keys(in, run.inputs, run.cfg, files), stores);
   return in;
 }
 
