@@ -91,7 +91,7 @@ SceneSource prepare_scenes(const LoadedInputs& in, const RegionPoints& points, c
   s.geometry = &geometry;
   s.frame = frame;
   const auto clipper = [&](const ClipParams& p) {
-    return ParcelClipper(in.layer, p, parcels_touching(in.layer, box, p.overhang_buffer_m));
+    return ParcelClipper(in.layer, p, in.boxes.touching(box, p.overhang_buffer_m));
   };
   s.wall_lists = clipper(geometry.wall_reach).clip(points.wall);
   s.roof_lists = clipper(geometry.roof_context).clip(points.roof);
