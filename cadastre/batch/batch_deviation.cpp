@@ -106,19 +106,26 @@ std::vector<char> nearer_than_found(const Measured& m, const std::vector<char>& 
   return ask;
 }
 
+// Points asked of a face index at once: their copies and hits (72 bytes a
+// point) stay a few MB, however many points a chunk holds.
+constexpr size_t kAskedAtOnce = size_t(1) << 16;
+
 // Lowers d (the nearest face so far) of the points `ask` picks to their
-// distance to the faces of `index`.
+// distance to the faces of `index`, kAskedAtOnce at a time.
 void lower(const FaceIndex& index, Measured& m, const std::vector<char>& ask) {
   if (index.empty()) return;
   std::vector<Vec3> pts;
   std::vector<size_t> at;
-  for (size_t k = 0; k < m.pts.size(); ++k)
-    if (ask[k]) pts.push_back(m.pts[k]), at.push_back(k);
-  if (pts.empty()) return;
-  const std::vector<SurfaceHit> hits = index.nearest(pts);
-  for (size_t j = 0; j < at.size(); ++j) {
-    double& best = m.d[at[j]];
-    if (!(best <= hits[j].distance)) best = hits[j].distance;  // NaN: none yet
+  for (size_t from = 0; from < m.pts.size();) {
+    pts.clear(), at.clear();
+    for (; from < m.pts.size() && pts.size() < kAskedAtOnce; ++from)
+      if (ask[from]) pts.push_back(m.pts[from]), at.push_back(from);
+    if (pts.empty()) continue;
+    const std::vector<SurfaceHit> hits = index.nearest(pts);
+    for (size_t j = 0; j < at.size(); ++j) {
+      double& best = m.d[at[j]];
+      if (!(best <= hits[j].distance)) best = hits[j].distance;  // NaN: none yet
+    }
   }
 }
 
