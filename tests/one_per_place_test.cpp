@@ -60,3 +60,40 @@ TEST(OnePerPlace, CopiesAndSpacedPoints) {
   const std::vector<Vec3> spaced{{0, 0, 0}, {0.01, 0, 0}, {0.02, 0, 0}};
   EXPECT_EQ(one_per_place(spaced), spaced);  // nothing folds: the same points back
 }
+
+// The folder a point at a time keeps what one_per_place keeps of the whole:
+// random points with many exact and near copies, and points on and beside
+// the folder's cell edges and middles (multiples of 5 mm, a hair either side).
+TEST(PlaceFolder, SameAsUniquePointsPointByPoint) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 3), jitter(-0.006, 0.006);
+  std::uniform_int_distribution<int> step(-40, 40), hair(-1, 1);
+  for (const Vec3& o : {Vec3(0, 0, 0), Vec3(-1.5, -0.25, -3.0), Vec3(500123.45, 9312345.67, 41.2)}) {
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 30000; ++i) {
+      if (i % 2 == 0) {  // on the 5 mm lattice: cell edges (10 mm) and middles, +-1e-9
+        const Vec3 e(step(rng) * 0.005 + hair(rng) * 1e-9, step(rng) * 0.005 + hair(rng) * 1e-9,
+                     step(rng) * 0.005 + hair(rng) * 1e-9);
+        pts.push_back(o + e);
+        continue;
+      }
+      const Vec3 p = o + Vec3(u(rng), u(rng), u(rng) / 10);
+      pts.push_back(p);
+      for (int k = 0; k < i % 4; ++k) pts.push_back(p + Vec3(jitter(rng), jitter(rng), jitter(rng) / 2));
+      if (i % 7 == 0) pts.push_back(p);
+    }
+    std::shuffle(pts.begin() + long(pts.size() / 2), pts.end(), rng);  // copies far from their originals too
+    PlaceFolder f;
+    for (const Vec3& p : pts) f.add(p);
+    const auto want = reference(pts);
+    ASSERT_EQ(f.size(), want.size()) << o.transpose();
+    const auto got = f.take();
+    ASSERT_EQ(got, want) << o.transpose();
+    EXPECT_LT(got.size(), pts.size() * 3 / 4);  // the copies did fold
+    EXPECT_EQ(f.size(), 0u);                    // taken: empty, and usable again
+    f.add(pts[0]);
+    f.add(pts[0]);
+    EXPECT_EQ(f.take(), std::vector<Vec3>{pts[0]});
+    EXPECT_EQ(one_per_place(pts), want);
+  }
+}

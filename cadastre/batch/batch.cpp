@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <malloc.h>
 #include <mutex>
 #include <thread>
 
@@ -111,9 +112,11 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
   const SceneGeometry geometry = scene_geometry(in.layer, cfg.clip);
   const int jobs = job_count(settings.jobs, todo.size());
   DensityBlocks density(in.tiles, cfg.classes);
-  for (const auto& chunk : spatial_chunks(in.layer, todo, size_t(cfg.batch.chunk_parcels))) {
+  const double reach = geometry.reach_m + kRegionMarginM;
+  const ChunkLimits limits{size_t(cfg.batch.chunk_parcels), double(cfg.batch.chunk_points), reach};
+  for (const auto& chunk : spatial_chunks(in.layer, in.tiles, todo, limits)) {
     const auto t_read = Clock::now();
-    const Region region = chunk_region(in.layer, chunk, geometry.reach_m + kRegionMarginM);
+    const Region region = chunk_region(in.layer, chunk, reach);
     const RegionPoints points = read_region(in.tiles, region, cfg.classes);
     const Dtm terrain = dtm_window(in, region.box);
     SceneSource scenes = prepare_scenes(in, points, region.box, geometry, frame);
@@ -121,6 +124,7 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
     scenes.density = density.around(region.box);
     report.timings.stages["read points"] += seconds_since(t_read);
     model_parcels(chunk, todo.size(), jobs, scenes, cfg, sink, settings, report);
+    malloc_trim(0);  // the chunk's freed pages back to the system: the next chunk starts from the base
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <malloc.h>
 
 #include "cadastre/batch/chunks.h"
 #include "cadastre/batch/scenes.h"
@@ -80,10 +81,6 @@ struct Layout {
   std::vector<size_t> order;  // the layer's parcels in Hilbert order
   std::vector<size_t> rank;   // each parcel's place in `order`
   size_t page;                // parcels whose models are held at once
-
-  std::vector<size_t> page_at(size_t at) const {
-    return {order.begin() + long(at), order.begin() + long(std::min(order.size(), at + page))};
-  }
 };
 
 Layout layout_of(const ParcelLayer& layer, double model_reach, size_t page) {
@@ -91,7 +88,7 @@ Layout layout_of(const ParcelLayer& layer, double model_reach, size_t page) {
   for (const Parcel& p : layer.parcels) l.reach.push_back(box_of(p.shape).grown(model_reach));
   std::vector<size_t> all(layer.parcels.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  for (const auto& run : spatial_chunks(layer, all, all.size())) l.order = run;
+  l.order = hilbert_sorted(layer, all);
   for (size_t k = 0; k < l.order.size(); ++k) l.rank[l.order[k]] = k;
   return l;
 }
@@ -109,19 +106,26 @@ std::vector<char> nearer_than_found(const Measured& m, const std::vector<char>& 
   return ask;
 }
 
+// Points asked of a face index at once: their copies and hits (72 bytes a
+// point) stay a few MB, however many points a chunk holds.
+constexpr size_t kAskedAtOnce = size_t(1) << 16;
+
 // Lowers d (the nearest face so far) of the points `ask` picks to their
-// distance to the faces of `index`.
+// distance to the faces of `index`, kAskedAtOnce at a time.
 void lower(const FaceIndex& index, Measured& m, const std::vector<char>& ask) {
   if (index.empty()) return;
   std::vector<Vec3> pts;
   std::vector<size_t> at;
-  for (size_t k = 0; k < m.pts.size(); ++k)
-    if (ask[k]) pts.push_back(m.pts[k]), at.push_back(k);
-  if (pts.empty()) return;
-  const std::vector<SurfaceHit> hits = index.nearest(pts);
-  for (size_t j = 0; j < at.size(); ++j) {
-    double& best = m.d[at[j]];
-    if (!(best <= hits[j].distance)) best = hits[j].distance;  // NaN: none yet
+  for (size_t from = 0; from < m.pts.size();) {
+    pts.clear(), at.clear();
+    for (; from < m.pts.size() && pts.size() < kAskedAtOnce; ++from)
+      if (ask[from]) pts.push_back(m.pts[from]), at.push_back(from);
+    if (pts.empty()) continue;
+    const std::vector<SurfaceHit> hits = index.nearest(pts);
+    for (size_t j = 0; j < at.size(); ++j) {
+      double& best = m.d[at[j]];
+      if (!(best <= hits[j].distance)) best = hits[j].distance;  // NaN: none yet
+    }
   }
 }
 
@@ -233,6 +237,9 @@ struct Totals {
   }
 };
 
+// How far around its parcels a chunk's points are read.
+constexpr double kChunkReachM = kWallPointReachM + kRegionMarginM;
+
 // The points this chunk counts, read from the tiles; the region's other
 // points are freed before any model is read. The clippers hold the parcels
 // within reach of the region only: every parcel a region point can lie in.
@@ -240,7 +247,7 @@ std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs&
                                                              const std::vector<size_t>& chunk) {
   std::vector<char> in_chunk(in.layer.parcels.size(), 0);
   for (size_t i : chunk) in_chunk[i] = 1;
-  const Region region = chunk_region(in.layer, chunk, kWallPointReachM + kRegionMarginM);
+  const Region region = chunk_region(in.layer, chunk, kChunkReachM);
   ClipParams exact = cfg.clip;  // inside() reads the parcels as they are
   exact.overhang_buffer_m = 0;
   ClipParams near = cfg.clip;
@@ -258,8 +265,8 @@ void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& s
   const Layout layout = layout_of(in.layer, model_reach, size_t(std::max(1, cfg.batch.chunk_parcels)));
   Totals totals;
   Search far;  // the points no ring settled: against every model at the end
-  for (size_t at = 0; at < layout.order.size(); at += layout.page) {
-    const std::vector<size_t> chunk = layout.page_at(at);
+  const ChunkLimits limits{layout.page, double(cfg.batch.chunk_points), kChunkReachM};
+  for (const std::vector<size_t>& chunk : cut_runs(in.layer, in.tiles, layout.order, limits)) {
     auto [roof, wall] = chunk_points(in, cfg, chunk);
     Search s = search_rings(sink, layout, chunk_box(in.layer, chunk, kWallPointReachM), std::move(roof),
                             std::move(wall));
@@ -268,6 +275,7 @@ void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& s
     move_open(s.roof, s.roof_open, far.roof);
     move_open(s.wall, s.wall_open, far.wall);
     totals.add(s.roof, s.wall);
+    malloc_trim(0);  // the chunk's freed pages back to the system
   }
   if (!far.roof.pts.empty() || !far.wall.pts.empty()) {
     far.roof_open.assign(far.roof.pts.size(), 1), far.wall_open.assign(far.wall.pts.size(), 1);

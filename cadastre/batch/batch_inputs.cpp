@@ -123,6 +123,7 @@ void index_tiles(const BatchInputs& inputs, const std::string& wanted, bool have
     t.crs_wkt = points_crs(extents[i].crs_wkt, layer_crs, extents, in.crs_wkt);
     t.working = in.crs_wkt;
     t.extent = working_extent(extents[i], t.crs_wkt, t.working, t.path);
+    t.points = extents[i].points;
     if (extents[i].points > 0) in.tiles.push_back(std::move(t));
   }
 }

@@ -1,13 +1,13 @@
 #include "cadastre/batch/chunks.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/geometry/hilbert.h"
 
 namespace c3d {
 
-std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const std::vector<size_t>& parcels,
-                                                size_t size) {
+std::vector<size_t> hilbert_sorted(const ParcelLayer& layer, const std::vector<size_t>& parcels) {
   std::vector<Vec2> places;
   for (const Parcel& p : layer.parcels) {
     const Box b = box_of(p.shape);
@@ -15,13 +15,66 @@ std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const 
   }
   std::vector<char> wanted(layer.parcels.size(), 0);
   for (size_t i : parcels) wanted[i] = 1;
-  std::vector<std::vector<size_t>> chunks;
-  for (size_t i : hilbert_order(places)) {
-    if (!wanted[i]) continue;
-    if (chunks.empty() || chunks.back().size() >= std::max<size_t>(1, size)) chunks.emplace_back();
-    chunks.back().push_back(i);
+  std::vector<size_t> out;
+  for (size_t i : hilbert_order(places))
+    if (wanted[i]) out.push_back(i);
+  return out;
+}
+
+RegionPointsEstimate::RegionPointsEstimate(const std::vector<Tile>& tiles) {
+  for (const Tile& t : tiles) {
+    if (t.extent.empty()) continue;
+    const double area = std::max(1.0, (t.extent.max_x - t.extent.min_x) * (t.extent.max_y - t.extent.min_y));
+    extents_.push_back(t.extent);
+    density_.push_back(double(t.points) / area);
   }
-  return chunks;
+}
+
+void RegionPointsEstimate::clear() {
+  cells_.clear();
+  total_ = 0;
+}
+
+double RegionPointsEstimate::add(const Box& part) {
+  if (part.empty()) return total_;
+  std::vector<size_t> over;  // the tiles under the part
+  for (size_t k = 0; k < extents_.size(); ++k)
+    if (extents_[k].touches(part)) over.push_back(k);
+  const double c = kRegionCellM;
+  const long x0 = long(std::floor(part.min_x / c)), x1 = long(std::floor(part.max_x / c));
+  const long y0 = long(std::floor(part.min_y / c)), y1 = long(std::floor(part.max_y / c));
+  for (long x = x0; x <= x1; ++x)
+    for (long y = y0; y <= y1; ++y) {
+      if (!cells_.insert(uint64_t(uint32_t(x)) << 32 | uint32_t(y)).second) continue;
+      const Box cell{x * c, y * c, (x + 1) * c, (y + 1) * c};
+      for (size_t k : over)
+        if (extents_[k].touches(cell)) {
+          const Box& e = extents_[k];  // the share of the cell the tile covers
+          const double w = std::min(e.max_x, cell.max_x) - std::max(e.min_x, cell.min_x);
+          const double h = std::min(e.max_y, cell.max_y) - std::max(e.min_y, cell.min_y);
+          total_ += density_[k] * std::max(0.0, w) * std::max(0.0, h);
+        }
+    }
+  return total_;
+}
+
+std::vector<std::vector<size_t>> cut_runs(const ParcelLayer& layer, const std::vector<Tile>& tiles,
+                                          const std::vector<size_t>& order, const ChunkLimits& limits) {
+  RegionPointsEstimate expected(tiles);
+  std::vector<std::vector<size_t>> runs;
+  bool full = true;
+  for (size_t i : order) {
+    if (full) runs.emplace_back(), expected.clear();
+    runs.back().push_back(i);
+    const double points = expected.add(box_of(layer.parcels[i].shape).grown(limits.reach));
+    full = runs.back().size() >= std::max<size_t>(1, limits.parcels) || (limits.points > 0 && points >= limits.points);
+  }
+  return runs;
+}
+
+std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const std::vector<Tile>& tiles,
+                                                const std::vector<size_t>& parcels, const ChunkLimits& limits) {
+  return cut_runs(layer, tiles, hilbert_sorted(layer, parcels), limits);
 }
 
 Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach) {

@@ -153,21 +153,19 @@ Region region_of(const std::vector<Box>& parts) {
 }
 
 RegionPoints read_region(const std::vector<Tile>& tiles, const Region& region, const ClassMapping& m) {
-  RegionPoints r;
+  PlaceFolder roof, wall;  // folded as read: the region is never held unfolded
   for (const Tile& t : tiles) {
     if (!t.extent.touches(region.box)) continue;
     for_each_block(t, [&](const std::vector<Vec3>& pts, const std::vector<uint8_t>& cls) {
       for (size_t i = 0; i < pts.size(); ++i) {
         if (!region.holds(pts[i])) continue;
-        if (t.walls) r.wall.push_back(pts[i]);
-        else if (cls.empty() || m.is_roof(cls[i])) r.roof.push_back(pts[i]);  // unclassified: roof
-        else if (m.is_wall(cls[i])) r.wall.push_back(pts[i]);
+        if (t.walls) wall.add(pts[i]);
+        else if (cls.empty() || m.is_roof(cls[i])) roof.add(pts[i]);  // unclassified: roof
+        else if (m.is_wall(cls[i])) wall.add(pts[i]);
       }
     });
   }
-  r.roof = one_per_place(r.roof);
-  r.wall = one_per_place(r.wall);
-  return r;
+  return {roof.take(), wall.take()};
 }
 
 TileSurvey survey_tiles(const std::vector<Tile>& tiles, const ClassMapping& m) {

@@ -46,6 +46,7 @@ struct Tile {
   Box extent;            // in the working CRS
   // --classify: the cloud classified in memory (working CRS), read from here, not from the file.
   std::shared_ptr<const PointCloud> held;
+  uint64_t points = 0;  // in the file (its header's count): with the extent, the tile's density
 };
 
 // A region is read this much wider than its points are needed: copies within

@@ -31,6 +31,7 @@ struct ClipParams {
 // How the batch goes through the data; changes no result (left out of the resume key).
 struct BatchParams {
   int chunk_parcels = 250;
+  int chunk_points = 1500000;
 };
 
 struct ReconstructionParams {

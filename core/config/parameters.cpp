@@ -80,6 +80,10 @@ std::vector<Parameter> input_parameters() {
        "Parcels modelled per chunk: only a chunk's points are in memory at a time (more: fewer "
        "reads of each tile, more memory); changes no result",
        between(1, 1e6), "clip", Need::Optional, field([](auto& c) -> auto& { return c.batch.chunk_parcels; })},
+      {"batch.chunk_points", Kind::Integer, "points",
+       "A chunk also ends where its region is expected to read this many points (of every class, "
+       "from the tiles' header counts): dense areas get smaller chunks; changes no result",
+       between(1e4, 1e9), "clip", Need::Optional, field([](auto& c) -> auto& { return c.batch.chunk_points; })},
   };
 }
 

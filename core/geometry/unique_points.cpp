@@ -1,5 +1,6 @@
 #include "core/geometry/unique_points.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
@@ -57,53 +58,28 @@ UniquePoints unique_points(const std::vector<Vec3>& points, double tol) {
 
 namespace {
 
-// one_per_place's grid: cells of twice the tolerance, so that a point's
+// PlaceFolder's grid: cells of twice the tolerance, so that a point's
 // neighbours within tol lie in its own cell or the one beside it on each
 // axis towards the nearer edge (8 cells, where unique_points looks in 27).
 // A point this near a cell's middle looks both ways (rounding of p / side).
 constexpr double kMiddleSlack = 1e-3;
+constexpr double kSide = 2 * kSamePlaceM;
 
-struct MixHash {
-  size_t operator()(const Cell& c) const {
-    uint64_t h = uint64_t(c.x) * 0x9E3779B97F4A7C15ULL;
-    h ^= uint64_t(c.y) * 0xC2B2AE3D27D4EB4FULL + (h << 6) + (h >> 2);
-    h ^= uint64_t(c.z) * 0x165667B19E3779F9ULL + (h << 6) + (h >> 2);
-    return size_t(h ^ (h >> 29));
-  }
-};
+size_t cell_hash(const Cell& c) {
+  uint64_t h = uint64_t(c.x) * 0x9E3779B97F4A7C15ULL;
+  h ^= uint64_t(c.y) * 0xC2B2AE3D27D4EB4FULL + (h << 6) + (h >> 2);
+  h ^= uint64_t(c.z) * 0x165667B19E3779F9ULL + (h << 6) + (h >> 2);
+  return size_t(h ^ (h >> 29));
+}
 
-// Cell -> the last point kept in it, open addressing (no node per cell):
-// a table at least twice the points, so probes stay short.
-class CellTable {
- public:
-  explicit CellTable(size_t points) {
-    size_t n = 16;
-    while (n < 2 * points) n *= 2;
-    keys_.resize(n);
-    heads_.assign(n, -1);
-    mask_ = n - 1;
-  }
-  // The head slot of cell c; -1 when the cell holds no point yet.
-  int& slot(const Cell& c, bool insert) {
-    for (size_t at = MixHash()(c) & mask_;; at = (at + 1) & mask_) {
-      if (heads_[at] < 0) {
-        if (insert) keys_[at] = c;
-        return insert ? heads_[at] : missing_ = -1;
-      }
-      if (keys_[at] == c) return heads_[at];
-    }
-  }
-
- private:
-  std::vector<Cell> keys_;
-  std::vector<int> heads_;
-  size_t mask_ = 0;
-  int missing_ = -1;
-};
+Cell cell_of(const Vec3& p) {
+  return {std::int64_t(std::floor(p.x() / kSide)), std::int64_t(std::floor(p.y() / kSide)),
+          std::int64_t(std::floor(p.z() / kSide))};
+}
 
 // The cells on one axis that may hold a point within tol of coordinate v.
-int axis_cells(double v, double side, std::int64_t out[2]) {
-  const double f = v / side, base = std::floor(f), frac = f - base;
+int axis_cells(double v, std::int64_t out[2]) {
+  const double f = v / kSide, base = std::floor(f), frac = f - base;
   int n = 0;
   out[n++] = std::int64_t(base);
   if (frac < 0.5 + kMiddleSlack) out[n++] = std::int64_t(base) - 1;
@@ -113,34 +89,69 @@ int axis_cells(double v, double side, std::int64_t out[2]) {
 
 }  // namespace
 
+// A kept point is found from the cells p's neighbours may lie in: each
+// cell's probe run (open addressing, linear) holds every kept point of that
+// cell, among others; a point near p counts only where its own cell is the
+// one searched, so exactly the kept points of the searched cells are asked.
+bool PlaceFolder::near_kept(const Vec3& p) const {
+  if (slots_.empty()) return false;
+  const double tol2 = kSamePlaceM * kSamePlaceM;
+  const size_t mask = slots_.size() - 1;
+  std::int64_t xs[3], ys[3], zs[3];
+  const int nx = axis_cells(p.x(), xs), ny = axis_cells(p.y(), ys), nz = axis_cells(p.z(), zs);
+  for (int a = 0; a < nx; ++a)
+    for (int b = 0; b < ny; ++b)
+      for (int c = 0; c < nz; ++c) {
+        const Cell cell{xs[a], ys[b], zs[c]};
+        for (size_t s = cell_hash(cell) & mask; slots_[s] >= 0; s = (s + 1) & mask) {
+          const Vec3& q = at(size_t(slots_[s]));
+          if ((q - p).squaredNorm() <= tol2 && cell_of(q) == cell) return true;
+        }
+      }
+  return false;
+}
+
+void PlaceFolder::insert(int i) {
+  const size_t mask = slots_.size() - 1;
+  size_t s = cell_hash(cell_of(at(size_t(i)))) & mask;
+  while (slots_[s] >= 0) s = (s + 1) & mask;
+  slots_[s] = i;
+}
+
+// Twice the slots at half load, so probe runs stay short.
+void PlaceFolder::grow() {
+  slots_.assign(std::max<size_t>(64, 2 * slots_.size()), -1);
+  for (size_t i = 0; i < size_; ++i) insert(int(i));
+}
+
+void PlaceFolder::add(const Vec3& p) {
+  if (near_kept(p)) return;
+  if (2 * (size_ + 1) > slots_.size()) grow();
+  if ((size_ & (kBlock - 1)) == 0) blocks_.emplace_back();
+  blocks_.back().push_back(p);
+  insert(int(size_++));
+}
+
+std::vector<Vec3> PlaceFolder::take() {
+  std::vector<int>().swap(slots_);
+  std::vector<Vec3> out;
+  out.reserve(size_);
+  for (auto& b : blocks_) {
+    out.insert(out.end(), b.begin(), b.end());
+    std::vector<Vec3>().swap(b);  // freed as copied: the points are held once, plus a block
+  }
+  blocks_.clear();
+  size_ = 0;
+  return out;
+}
+
 // The points unique_points keeps (each kept unless an earlier kept point lies
 // within tol: the same set whatever cells are searched), found faster.
 std::vector<Vec3> one_per_place(const std::vector<Vec3>& points) {
-  const double tol = kSamePlaceM, tol2 = tol * tol, side = 2 * tol;
-  CellTable head(points.size());
-  std::vector<int> kept, before;  // kept points; per kept point, the one kept earlier in its cell
-  kept.reserve(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Vec3& p = points[i];
-    std::int64_t xs[3], ys[3], zs[3];
-    const int nx = axis_cells(p.x(), side, xs), ny = axis_cells(p.y(), side, ys), nz = axis_cells(p.z(), side, zs);
-    bool near = false;
-    for (int a = 0; a < nx && !near; ++a)
-      for (int b = 0; b < ny && !near; ++b)
-        for (int c = 0; c < nz && !near; ++c)
-          for (int k = head.slot(Cell{xs[a], ys[b], zs[c]}, false); k >= 0 && !near; k = before[size_t(k)])
-            near = (points[size_t(kept[size_t(k)])] - p).squaredNorm() <= tol2;
-    if (near) continue;
-    int& h = head.slot(Cell{xs[0], ys[0], zs[0]}, true);
-    before.push_back(h);
-    h = int(kept.size());
-    kept.push_back(int(i));
-  }
-  if (kept.size() == points.size()) return points;
-  std::vector<Vec3> out;
-  out.reserve(kept.size());
-  for (int i : kept) out.push_back(points[size_t(i)]);
-  return out;
+  PlaceFolder f;
+  for (const Vec3& p : points) f.add(p);
+  if (f.size() == points.size()) return points;
+  return f.take();
 }
 
 }  // namespace c3d

@@ -138,9 +138,9 @@ Dtm read_dtm(const std::string& path, size_t max_cells) {
 
 namespace {
 
-// Neighbouring chunks (Hilbert order) share tiles: a tile and its eight
-// neighbours stay filled (36 MB at most).
-constexpr size_t kCachedTiles = 9;
+// A chunk's window (a few hundred metres) touches at most 2 x 2 tiles, and
+// the next chunk (Hilbert order) lies beside it: four stay filled (16 MB).
+constexpr size_t kCachedTiles = 4;
 // A tile with no valid cell within its margin looks farther (doubling the
 // margin) while its grown tile holds at most this many cells (~2900 x 2900,
 // some 200 MB while filled); beyond, its cells have no terrain: an InputError.
