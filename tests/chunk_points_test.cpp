@@ -43,8 +43,8 @@ TEST(ChunkPoints, DenseAreaGetsSmallerChunks) {
   std::vector<size_t> all(layer.parcels.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   // A parcel's grown box (30 x 30 m) reads ~9,000 points in the west, ~90,000 in the east.
-  const auto chunks = spatial_chunks(layer, tiles, all, ChunkLimits{1000, 400000, 5});
-  const auto by_parcels = spatial_chunks(layer, tiles, all, ChunkLimits{1000, 0, 5});
+  const auto chunks = spatial_chunks(ParcelBoxes(layer), tiles, all, ChunkLimits{1000, 400000, 5});
+  const auto by_parcels = spatial_chunks(ParcelBoxes(layer), tiles, all, ChunkLimits{1000, 0, 5});
   ASSERT_EQ(by_parcels.size(), 1u);  // no point bound: one chunk of all
   std::vector<size_t> flat;
   size_t west_most = 0, east_most = 0, west_chunks = 0, east_chunks = 0;
@@ -67,5 +67,5 @@ TEST(ChunkPoints, DenseAreaGetsSmallerChunks) {
   EXPECT_NEAR(one, 10 * 25 * 25, 1.0);  // cells from 500000 to 500020 inclusive: 5 x 5 of 25 m2
   EXPECT_EQ(e.add(west), one);           // the same part again adds nothing
   // The parcel-count bound still holds.
-  for (const auto& c : spatial_chunks(layer, tiles, all, ChunkLimits{7, 1e12, 5})) EXPECT_LE(c.size(), 7u);
+  for (const auto& c : spatial_chunks(ParcelBoxes(layer), tiles, all, ChunkLimits{7, 1e12, 5})) EXPECT_LE(c.size(), 7u);
 }

@@ -114,9 +114,9 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
   DensityBlocks density(in.tiles, cfg.classes);
   const double reach = geometry.reach_m + kRegionMarginM;
   const ChunkLimits limits{size_t(cfg.batch.chunk_parcels), double(cfg.batch.chunk_points), reach};
-  for (const auto& chunk : spatial_chunks(in.layer, in.tiles, todo, limits)) {
+  for (const auto& chunk : spatial_chunks(in.boxes, in.tiles, todo, limits)) {
     const auto t_read = Clock::now();
-    const Region region = chunk_region(in.layer, chunk, reach);
+    const Region region = chunk_region(in.boxes, chunk, reach);
     const RegionPoints points = read_region(in.tiles, region, cfg.classes);
     const Dtm terrain = dtm_window(in, region.box);
     SceneSource scenes = prepare_scenes(in, points, region.box, geometry, frame);

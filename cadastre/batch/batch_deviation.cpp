@@ -83,12 +83,12 @@ struct Layout {
   size_t page;                // parcels whose models are held at once
 };
 
-Layout layout_of(const ParcelLayer& layer, double model_reach, size_t page) {
-  Layout l{{}, {}, std::vector<size_t>(layer.parcels.size()), page};
-  for (const Parcel& p : layer.parcels) l.reach.push_back(box_of(p.shape).grown(model_reach));
-  std::vector<size_t> all(layer.parcels.size());
+Layout layout_of(const ParcelBoxes& boxes, double model_reach, size_t page) {
+  Layout l{{}, {}, std::vector<size_t>(boxes.size()), page};
+  for (size_t i = 0; i < boxes.size(); ++i) l.reach.push_back(boxes[i].grown(model_reach));
+  std::vector<size_t> all(boxes.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  l.order = hilbert_sorted(layer, all);
+  l.order = hilbert_sorted(boxes, all);
   for (size_t k = 0; k < l.order.size(); ++k) l.rank[l.order[k]] = k;
   return l;
 }
@@ -247,13 +247,13 @@ std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs&
                                                              const std::vector<size_t>& chunk) {
   std::vector<char> in_chunk(in.layer.parcels.size(), 0);
   for (size_t i : chunk) in_chunk[i] = 1;
-  const Region region = chunk_region(in.layer, chunk, kChunkReachM);
+  const Region region = chunk_region(in.boxes, chunk, kChunkReachM);
   ClipParams exact = cfg.clip;  // inside() reads the parcels as they are
   exact.overhang_buffer_m = 0;
   ClipParams near = cfg.clip;
   near.overhang_buffer_m = kWallPointReachM;
-  const ParcelClipper inside(in.layer, exact, parcels_touching(in.layer, region.box, 0));
-  const ParcelClipper reach(in.layer, near, parcels_touching(in.layer, region.box, kWallPointReachM));
+  const ParcelClipper inside(in.layer, exact, in.boxes.touching(region.box, 0));
+  const ParcelClipper reach(in.layer, near, in.boxes.touching(region.box, kWallPointReachM));
   const RegionPoints pts = read_region(in.tiles, region, cfg.classes);
   return {counted_points(pts.roof, inside, true, in_chunk), counted_points(pts.wall, reach, false, in_chunk)};
 }
@@ -262,13 +262,13 @@ std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs&
 
 void any_model_deviation(const LoadedInputs& in, const Config& cfg, BatchSink& sink, BatchReport& report) {
   const double model_reach = cfg.clip.overhang_buffer_m + kOwnershipContextM + kModelMarginM;
-  const Layout layout = layout_of(in.layer, model_reach, size_t(std::max(1, cfg.batch.chunk_parcels)));
+  const Layout layout = layout_of(in.boxes, model_reach, size_t(std::max(1, cfg.batch.chunk_parcels)));
   Totals totals;
   Search far;  // the points no ring settled: against every model at the end
   const ChunkLimits limits{layout.page, double(cfg.batch.chunk_points), kChunkReachM};
-  for (const std::vector<size_t>& chunk : cut_runs(in.layer, in.tiles, layout.order, limits)) {
+  for (const std::vector<size_t>& chunk : cut_runs(in.boxes, in.tiles, layout.order, limits)) {
     auto [roof, wall] = chunk_points(in, cfg, chunk);
-    Search s = search_rings(sink, layout, chunk_box(in.layer, chunk, kWallPointReachM), std::move(roof),
+    Search s = search_rings(sink, layout, chunk_box(in.boxes, chunk, kWallPointReachM), std::move(roof),
                             std::move(wall));
     totals.roof_faces = totals.roof_faces || s.roof_faces;
     totals.wall_faces = totals.wall_faces || s.wall_faces;

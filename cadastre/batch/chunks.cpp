@@ -7,13 +7,13 @@
 
 namespace c3d {
 
-std::vector<size_t> hilbert_sorted(const ParcelLayer& layer, const std::vector<size_t>& parcels) {
+std::vector<size_t> hilbert_sorted(const ParcelBoxes& boxes, const std::vector<size_t>& parcels) {
   std::vector<Vec2> places;
-  for (const Parcel& p : layer.parcels) {
-    const Box b = box_of(p.shape);
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& b = boxes[i];
     places.emplace_back(b.empty() ? Vec2(0, 0) : Vec2((b.min_x + b.max_x) / 2, (b.min_y + b.max_y) / 2));
   }
-  std::vector<char> wanted(layer.parcels.size(), 0);
+  std::vector<char> wanted(boxes.size(), 0);
   for (size_t i : parcels) wanted[i] = 1;
   std::vector<size_t> out;
   for (size_t i : hilbert_order(places))
@@ -58,7 +58,7 @@ double RegionPointsEstimate::add(const Box& part) {
   return total_;
 }
 
-std::vector<std::vector<size_t>> cut_runs(const ParcelLayer& layer, const std::vector<Tile>& tiles,
+std::vector<std::vector<size_t>> cut_runs(const ParcelBoxes& boxes, const std::vector<Tile>& tiles,
                                           const std::vector<size_t>& order, const ChunkLimits& limits) {
   RegionPointsEstimate expected(tiles);
   std::vector<std::vector<size_t>> runs;
@@ -66,33 +66,26 @@ std::vector<std::vector<size_t>> cut_runs(const ParcelLayer& layer, const std::v
   for (size_t i : order) {
     if (full) runs.emplace_back(), expected.clear();
     runs.back().push_back(i);
-    const double points = expected.add(box_of(layer.parcels[i].shape).grown(limits.reach));
+    const double points = expected.add(boxes[i].grown(limits.reach));
     full = runs.back().size() >= std::max<size_t>(1, limits.parcels) || (limits.points > 0 && points >= limits.points);
   }
   return runs;
 }
 
-std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const std::vector<Tile>& tiles,
+std::vector<std::vector<size_t>> spatial_chunks(const ParcelBoxes& boxes, const std::vector<Tile>& tiles,
                                                 const std::vector<size_t>& parcels, const ChunkLimits& limits) {
-  return cut_runs(layer, tiles, hilbert_sorted(layer, parcels), limits);
+  return cut_runs(boxes, tiles, hilbert_sorted(boxes, parcels), limits);
 }
 
-Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach) {
+Box chunk_box(const ParcelBoxes& boxes, const std::vector<size_t>& chunk, double reach) {
   Box b;
-  for (size_t i : chunk) b.add(box_of(layer.parcels[i].shape));
+  for (size_t i : chunk) b.add(boxes[i]);
   return b.grown(reach);
 }
 
-std::vector<size_t> parcels_touching(const ParcelLayer& layer, const Box& box, double reach) {
-  std::vector<size_t> out;
-  for (size_t i = 0; i < layer.parcels.size(); ++i)
-    if (box_of(layer.parcels[i].shape).grown(reach).touches(box)) out.push_back(i);
-  return out;
-}
-
-Region chunk_region(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach) {
+Region chunk_region(const ParcelBoxes& boxes, const std::vector<size_t>& chunk, double reach) {
   std::vector<Box> parts;
-  for (size_t i : chunk) parts.push_back(box_of(layer.parcels[i].shape).grown(reach));
+  for (size_t i : chunk) parts.push_back(boxes[i].grown(reach));
   return region_of(parts);
 }
 

@@ -9,13 +9,14 @@
 #include <unordered_set>
 #include <vector>
 
+#include "cadastre/batch/parcel_boxes.h"
 #include "cadastre/batch/tiles.h"
 #include "core/types.h"
 
 namespace c3d {
 
 // `parcels` (layer indices) in the layer's Hilbert order.
-std::vector<size_t> hilbert_sorted(const ParcelLayer& layer, const std::vector<size_t>& parcels);
+std::vector<size_t> hilbert_sorted(const ParcelBoxes& boxes, const std::vector<size_t>& parcels);
 
 // How large a chunk grows: `parcels` at most, and it ends at the parcel that
 // takes the points its region is expected to read past `points` (0: no such
@@ -45,19 +46,18 @@ class RegionPointsEstimate {
 };
 
 // `order` (parcels in the order chunks follow) cut into runs within `limits`.
-std::vector<std::vector<size_t>> cut_runs(const ParcelLayer& layer, const std::vector<Tile>& tiles,
+std::vector<std::vector<size_t>> cut_runs(const ParcelBoxes& boxes, const std::vector<Tile>& tiles,
                                           const std::vector<size_t>& order, const ChunkLimits& limits);
 
 // `parcels` in the layer's Hilbert order, cut into runs within `limits`.
-std::vector<std::vector<size_t>> spatial_chunks(const ParcelLayer& layer, const std::vector<Tile>& tiles,
+std::vector<std::vector<size_t>> spatial_chunks(const ParcelBoxes& boxes, const std::vector<Tile>& tiles,
                                                 const std::vector<size_t>& parcels, const ChunkLimits& limits);
 
 // The box of the chunk's parcels grown by `reach`.
-Box chunk_box(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach);
-// The parcels whose boxes grown by `reach` touch the box: all that a point
-// in the box can lie within `reach` of (a chunk's clippers hold these only).
-std::vector<size_t> parcels_touching(const ParcelLayer& layer, const Box& box, double reach);
+Box chunk_box(const ParcelBoxes& boxes, const std::vector<size_t>& chunk, double reach);
 // Its region: the cells within that box near a parcel's box grown by `reach`.
-Region chunk_region(const ParcelLayer& layer, const std::vector<size_t>& chunk, double reach);
+// (The parcels a point in the box can lie within `reach` of, which a chunk's
+// clippers hold: boxes.touching(box, reach).)
+Region chunk_region(const ParcelBoxes& boxes, const std::vector<size_t>& chunk, double reach);
 
 }  // namespace c3d

@@ -9,6 +9,7 @@
 #include "cadastre/batch/out_dir.h"
 #include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/shard.h"
+#include "cadastre/batch/tiles.h"
 #include "cadastre/gpkg_rtree.h"
 #include "cadastre/sqlite_util.h"
 #include "cadastre/store.h"
@@ -39,10 +40,27 @@ ShardStore read_shard_store(const std::string& path) {
   return s;
 }
 
-std::vector<std::string> input_hashes(const RunRecord& r) {
+// The files every shard reads alike (layer, DTM, classifier): a shard reads
+// only the point files within reach of its parcels, so those differ; each
+// parcel's key holds its own (checked when merge is given the inputs).
+std::vector<std::string> shared_input_hashes(const RunRecord& r) {
   std::vector<std::string> h;
-  for (const auto& f : r.inputs) h.push_back(f.sha256);
+  for (const auto& f : r.inputs)
+    if (!is_point_file(f.path)) h.push_back(f.sha256);
   return h;
+}
+
+// The merged run's inputs: every shard's point files, once each, in the order
+// met, then the shared files.
+std::vector<InputFile> merged_inputs(const std::vector<ShardStore>& stores) {
+  std::vector<InputFile> out;
+  std::set<std::string> seen;
+  for (const ShardStore& s : stores)
+    for (const InputFile& f : s.run.inputs)
+      if (is_point_file(f.path) && seen.insert(f.sha256).second) out.push_back(f);
+  for (const InputFile& f : stores.front().run.inputs)
+    if (!is_point_file(f.path)) out.push_back(f);
+  return out;
 }
 
 // Refuses stores that are not shards of the same run, or a shard given twice.
@@ -55,7 +73,7 @@ void check_same_run(const std::vector<ShardStore>& stores) {
                                    std::to_string(a.shard.n) + " shards");
     if (!parameters_difference(s.run.parameters, a.run.parameters).empty())
       throw InputError(s.path, "was run with other parameters than " + a.path);
-    if (input_hashes(s.run) != input_hashes(a.run))
+    if (shared_input_hashes(s.run) != shared_input_hashes(a.run))
       throw InputError(s.path, "was run on other inputs than " + a.path);
     if (s.srs_id != a.srs_id || s.srs_definition != a.srs_definition)
       throw InputError(s.path, "has another CRS than " + a.path);
@@ -198,7 +216,7 @@ MergeSummary merge_stores(const std::vector<std::string>& shards, const std::str
   store.open(out_store, wkt, epsg ? first.srs_id : 0);
   LocalFrame frame;
   frame.origin = first.run.origin;
-  const std::int64_t run_id = store.begin_run(first.run.parameters, first.run.inputs, frame);
+  const std::int64_t run_id = store.begin_run(first.run.parameters, merged_inputs(stores), frame);
   {
     sql::Db db(out_store, false);
     gpkg_rtree::register_functions(db);  // the spatial index triggers call them

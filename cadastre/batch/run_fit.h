@@ -33,7 +33,8 @@ LoadedInputs load_run_inputs(const RunInputs& run, const std::vector<std::string
 void store_fit(const LoadedInputs& in, const Config& cfg, const std::string& store, BatchReport& report);
 
 // What differs first between two run parameters (JSON text), the config
-// file's name aside ("key: A here, B there"); "" when they are the same run's.
+// file's name and [batch] aside ("key: A here, B there"); "" when they are
+// the same run's.
 std::string parameters_difference(const std::string& a, const std::string& b);
 
 }  // namespace c3d

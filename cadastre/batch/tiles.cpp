@@ -20,18 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool is_point_file(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  for (const char* known : {".las", ".laz", ".ply", ".pcd", ".xyz", ".txt", ".csv", ".pts"})
-    if (ext == known) return true;
-  return false;
-}
-
 std::vector<std::string> folder_files(const std::string& dir) {
   std::vector<std::string> out;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_regular_file() && is_point_file(e.path())) out.push_back(e.path().string());
+    if (e.is_regular_file() && is_point_file(e.path().string())) out.push_back(e.path().string());
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -109,6 +101,14 @@ Box box_of(const MultiPolygon2& shape) {
   for (const auto& p : shape)
     for (const auto& v : p.outer) b.add(v.x(), v.y());
   return b;
+}
+
+bool is_point_file(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  for (const char* known : {".las", ".laz", ".ply", ".pcd", ".xyz", ".txt", ".csv", ".pts"})
+    if (ext == known) return true;
+  return false;
 }
 
 std::vector<std::string> expand_point_files(const std::vector<std::string>& args) {

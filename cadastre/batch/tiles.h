@@ -32,6 +32,9 @@ struct Box {
 
 Box box_of(const MultiPolygon2& shape);
 
+// A name with a point cloud's extension (.las .laz .ply .pcd .xyz .txt .csv .pts).
+bool is_point_file(const std::string& path);
+
 // The point-cloud files the arguments name, in order: a file as it is, a
 // folder's point clouds (.las .laz .ply .pcd .xyz .txt .csv .pts) sorted by
 // name, a glob's matches sorted. Throws InputError naming an argument that
