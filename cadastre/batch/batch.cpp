@@ -59,6 +59,12 @@ int job_count(int jobs, size_t parcels) {
   return int(std::min<size_t>(size_t(jobs), std::max<size_t>(parcels, 1)));
 }
 
+// glibc gives a thread that finds an arena locked one of its own, up to 8
+// per core, and each arena keeps what was freed in it between live blocks:
+// over a 10,000-parcel run the arenas held some 40 MB more than over 1,000
+// (docs/scale.md, stop 44). As many arenas as workers keeps the run flat.
+void limit_malloc_arenas(int jobs) { mallopt(M_ARENA_MAX, std::max(2, jobs)); }
+
 // Models the parcels on threads; the sink is written under one lock. The
 // first exception (a store write failing, the disk full) stops every worker
 // and is rethrown here; the failed parcel's transaction has rolled back.
@@ -111,6 +117,7 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
                   const Config& cfg, BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
   const SceneGeometry geometry = scene_geometry(in.layer, cfg.clip);
   const int jobs = job_count(settings.jobs, todo.size());
+  limit_malloc_arenas(jobs);
   DensityBlocks density(in.tiles, cfg.classes);
   const double reach = geometry.reach_m + kRegionMarginM;
   const ChunkLimits limits{size_t(cfg.batch.chunk_parcels), double(cfg.batch.chunk_points), reach};
