@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -100,7 +99,8 @@ Box working_extent(const CloudExtent& e, const std::string& from, const std::str
 }
 
 // The tiles and the working CRS: each file's extent and CRS read (a header,
-// or one pass), the layer brought into the working CRS (reconcile_crs).
+// or one pass), the layer brought into the working CRS (reconcile_crs) and
+// its boxes taken.
 void index_tiles(const BatchInputs& inputs, const std::string& wanted, bool have_dtm, LoadedInputs& in) {
   in.cloud_files = expand_point_files(inputs.clouds);
   in.wall_files = expand_point_files(inputs.walls);
@@ -126,6 +126,7 @@ void index_tiles(const BatchInputs& inputs, const std::string& wanted, bool have
     t.points = extents[i].points;
     if (extents[i].points > 0) in.tiles.push_back(std::move(t));
   }
+  in.boxes = ParcelBoxes(in.layer);  // the layer is in the working CRS now
 }
 
 // --classify: each cloud read whole, classified and kept in memory (classes
@@ -158,14 +159,19 @@ double work_reach(const Config& cfg) {
          kRegionMarginM;
 }
 
+// The boxes of the parcels `work` picks, grown by the run's reach.
+std::vector<Box> work_boxes(const Shard& work, const Config& cfg, const LoadedInputs& in) {
+  std::vector<Box> out;
+  for (size_t i : shard_parcels(in.layer.parcels, work)) out.push_back(in.boxes[i].grown(work_reach(cfg)));
+  return out;
+}
+
 // With --dtm, keeps the tiles a run on the parcels `work` picks can read:
 // those touching the roof-density blocks within reach of them (the blocks
 // are read whole), so a shard or a --bbox reads its own area of a national
 // cloud, not all of it. The file lists follow (the run record hashes them).
 void keep_tiles_in_reach(const Shard& work, const Config& cfg, LoadedInputs& in) {
-  std::vector<Box> reach;
-  for (size_t i : shard_parcels(in.layer.parcels, work)) reach.push_back(in.boxes[i].grown(work_reach(cfg)));
-  const std::set<CellIndex> blocks = cells_touched(reach, kDensityBlockM);
+  const std::set<CellIndex> blocks = cells_touched(work_boxes(work, cfg, in), kDensityBlockM);
   std::set<std::string> dropped;
   std::vector<Tile> kept;
   for (Tile& t : in.tiles)
@@ -174,9 +180,7 @@ void keep_tiles_in_reach(const Shard& work, const Config& cfg, LoadedInputs& in)
   if (kept.empty() && !in.tiles.empty() && !work.active()) {  // a shard off the survey: its parcels fail
     Box all;
     for (const Tile& t : in.tiles) all.add(t.extent);
-    char extent[160];
-    std::snprintf(extent, sizeof extent, "x %.1f..%.1f, y %.1f..%.1f", all.min_x, all.max_x, all.min_y, all.max_y);
-    throw far_from_parcels(in.tiles.front().path, in.layer, extent);
+    throw far_from_parcels(in.tiles.front().path, in.layer, extent_text(all.min_x, all.max_x, all.min_y, all.max_y));
   }
   in.tiles = std::move(kept);
   const auto drop = [&](std::vector<std::string>& files) {
@@ -191,9 +195,7 @@ void keep_tiles_in_reach(const Shard& work, const Config& cfg, LoadedInputs& in)
 // The coverage, the warnings and the counts of the tiles near the parcels in work.
 TileSurvey survey_near(const Shard& work, const Config& cfg, const LoadedInputs& in, bool all) {
   if (all) return survey_tiles(in.tiles, cfg.classes);
-  std::vector<Box> near;
-  for (size_t i : shard_parcels(in.layer.parcels, work)) near.push_back(in.boxes[i].grown(work_reach(cfg)));
-  const std::set<CellIndex> cells = cells_touched(near, kCoverageReachM);
+  const std::set<CellIndex> cells = cells_touched(work_boxes(work, cfg, in), kCoverageReachM);
   std::vector<Tile> tiles;
   for (const Tile& t : in.tiles)
     if (touches_any(t.extent, cells, kCoverageReachM)) tiles.push_back(t);
@@ -211,7 +213,6 @@ LoadedInputs load_all(const BatchInputs& inputs, const Config& cfg, const Shard&
   if (have_dtm) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
   if (have_dtm) in.dtm = in.dtm_source->header();
   index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), have_dtm, in);
-  in.boxes = ParcelBoxes(in.layer);  // the layer is in the working CRS now
   if (have_dtm) keep_tiles_in_reach(work, cfg, in);
   for (std::string& w : overlap_warnings(in.layer)) in.warnings.push_back(std::move(w));
   log::info("areas in " + areas_crs_text(in.crs_wkt));
@@ -251,7 +252,6 @@ LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg) {
     in.layer = read_parcels(inputs.parcels, inputs.parcel_selection, cfg.fields, &in.warnings);
     if (!inputs.dtm.empty()) in.dtm = read_dtm_header(inputs.dtm);  // its CRS may choose the working CRS
     index_tiles(inputs, inputs.crs.empty() ? "" : user_crs_wkt(inputs.crs, "--crs"), !inputs.dtm.empty(), in);
-    in.boxes = ParcelBoxes(in.layer);
     if (!inputs.classifier_model.empty()) {  // the classes the batch modelled from (reads the DTM under the clouds)
       if (!inputs.dtm.empty()) in.dtm_source = std::make_shared<const DtmSource>(inputs.dtm);
       classify_tiles(inputs, cfg, in);
@@ -302,17 +302,24 @@ std::vector<std::string> parcel_keys(const LoadedInputs& in, const BatchInputs& 
   std::map<CellIndex, std::vector<size_t>> by_block;  // density block -> the tiles touching it
   for (size_t t = 0; t < in.tiles.size(); ++t)
     for (const CellIndex& b : cells_touched({in.tiles[t].extent}, kDensityBlockM)) by_block[b].push_back(t);
+  const auto hashes = [&](const std::set<size_t>& tiles) {
+    std::vector<std::string> sha;
+    for (size_t t : tiles) sha.push_back(tile_sha[in.tiles[t].path]);
+    return sha;
+  };
+  std::set<size_t> every;
+  for (size_t t = 0; t < in.tiles.size(); ++t) every.insert(t);
+  const std::vector<std::string> all = hashes(every);
   std::vector<std::string> keys;
   for (size_t i = 0; i < in.layer.parcels.size(); ++i) {
+    if (inputs.dtm.empty()) {  // the ground DTM is built from every tile
+      keys.push_back(parcel_key(key, in.layer.parcels[i], all));
+      continue;
+    }
     std::set<size_t> read;
-    if (inputs.dtm.empty())
-      for (size_t t = 0; t < in.tiles.size(); ++t) read.insert(t);
-    else
-      for (const CellIndex& b : cells_touched({in.boxes[i].grown(work_reach(cfg))}, kDensityBlockM))
-        if (by_block.count(b)) read.insert(by_block[b].begin(), by_block[b].end());
-    std::vector<std::string> sha;
-    for (size_t t : read) sha.push_back(tile_sha[in.tiles[t].path]);
-    keys.push_back(parcel_key(key, in.layer.parcels[i], sha));
+    for (const CellIndex& b : cells_touched({in.boxes[i].grown(work_reach(cfg))}, kDensityBlockM))
+      if (by_block.count(b)) read.insert(by_block[b].begin(), by_block[b].end());
+    keys.push_back(parcel_key(key, in.layer.parcels[i], hashes(read)));
   }
   return keys;
 }

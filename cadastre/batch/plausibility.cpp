@@ -88,11 +88,14 @@ bool PointCoverage::near(const MultiPolygon2& shape) const {
   return false;
 }
 
-std::string PointCoverage::extent() const {
-  if (cells_.empty()) return "no points";
+std::string extent_text(double min_x, double max_x, double min_y, double max_y) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "x %.1f..%.1f, y %.1f..%.1f", lo_x_, hi_x_, lo_y_, hi_y_);
+  std::snprintf(buf, sizeof buf, "x %.1f..%.1f, y %.1f..%.1f", min_x, max_x, min_y, max_y);
   return buf;
+}
+
+std::string PointCoverage::extent() const {
+  return cells_.empty() ? "no points" : extent_text(lo_x_, hi_x_, lo_y_, hi_y_);
 }
 
 std::string elevation_bounds() { return num(kMinElevationM) + ".." + num(kMaxElevationM) + " m"; }

@@ -41,6 +41,9 @@ constexpr double kMaxMoney = 9.0e15;
 // survey (a lake gives no returns, but its banks do).
 constexpr double kCoverageReachM = 50;
 
+// "x a..b, y c..d": an extent in an error message.
+std::string extent_text(double min_x, double max_x, double min_y, double max_y);
+
 // Where the clouds have points (any class), as occupied cells.
 class PointCoverage {
  public:

@@ -32,7 +32,6 @@ std::string first_difference(const json& a, const json& b, const std::string& at
   return "";
 }
 
-// The files given against the store's run's, by SHA-256 in run order.
 // Every file the store's run read is among the given ones, by content (its
 // path may be spelt otherwise). The given ones may hold more: tiles out of
 // the reach of the run's parcels, which it did not read.

@@ -51,12 +51,6 @@ void add_runs_across(const ParcelScene& s, const RoofComponent& c, const std::ve
   }
 }
 
-
-// Roof found in a band of land: the cells of a fixed grid (the local frame's,
-// the same in every scene) holding a share of the scan's typical count or
-// more. Cells, not points, so that the answer does not hang on the scan's
-// density, and a share of the typical count, not a fixed one, so that a
-// sparse scan's cells count as a dense one's do.
 // What a roof cell must hold to count as roof: a fifth of the typical count
 // where it lies (3 of Cimahi's 15), so stray points in a cell do not make it
 // roof. Without the scan's density (a scene alone), the scene's own typical.
@@ -77,6 +71,11 @@ class CellNeed {
   mutable int own_ = -1;
 };
 
+// Roof found in a band of land: the cells of a fixed grid (the local frame's,
+// the same in every scene) holding a share of the scan's typical count or
+// more. Cells, not points, so that the answer does not hang on the scan's
+// density, and a share of the typical count, not a fixed one, so that a
+// sparse scan's cells count as a dense one's do.
 class RoofCells {
  public:
   explicit RoofCells(const CellNeed& need) : need_(need) {}
