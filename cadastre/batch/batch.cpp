@@ -59,11 +59,18 @@ int job_count(int jobs, size_t parcels) {
   return int(std::min<size_t>(size_t(jobs), std::max<size_t>(parcels, 1)));
 }
 
-// glibc gives a thread that finds an arena locked one of its own, up to 8
-// per core, and each arena keeps what was freed in it between live blocks:
-// over a 10,000-parcel run the arenas held some 40 MB more than over 1,000
-// (docs/scale.md, stop 44). As many arenas as workers keeps the run flat.
-void limit_malloc_arenas(int jobs) { mallopt(M_ARENA_MAX, std::max(2, jobs)); }
+// Keeps what glibc holds of freed memory from growing with the parcels a run
+// goes through (docs/scale.md, stops 44-45):
+// - a thread that finds an arena locked gets one of its own, up to 8 per
+//   core, and each keeps what was freed in it: as many arenas as workers;
+// - after a large block is freed, glibc raises its mmap threshold to that
+//   size (up to 32 MB), so later chunk-sized buffers come from the arenas and
+//   stay there between live blocks: a fixed threshold returns every buffer
+//   over 4 MB to the system when it is freed.
+void bound_malloc(int jobs) {
+  mallopt(M_ARENA_MAX, std::max(2, jobs));
+  mallopt(M_MMAP_THRESHOLD, 4 << 20);
+}
 
 // Models the parcels on threads; the sink is written under one lock. The
 // first exception (a store write failing, the disk full) stops every worker
@@ -117,7 +124,7 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
                   const Config& cfg, BatchSink& sink, const BatchSettings& settings, BatchReport& report) {
   const SceneGeometry geometry = scene_geometry(in.layer, cfg.clip);
   const int jobs = job_count(settings.jobs, todo.size());
-  limit_malloc_arenas(jobs);
+  bound_malloc(jobs);
   DensityBlocks density(in.tiles, cfg.classes);
   const double reach = geometry.reach_m + kRegionMarginM;
   const ChunkLimits limits{size_t(cfg.batch.chunk_parcels), double(cfg.batch.chunk_points), reach};

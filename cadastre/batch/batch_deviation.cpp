@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <malloc.h>
+#include <unordered_set>
 
 #include "cadastre/batch/chunks.h"
 #include "cadastre/batch/scenes.h"
@@ -20,7 +22,6 @@ constexpr double kModelMarginM = 5.0;
 // The first radius around a chunk searched for the nearest face; a point
 // whose nearest face lies further is searched again at four times the radius.
 constexpr double kFirstSearchM = 10.0;
-constexpr size_t kNone = std::numeric_limits<size_t>::max();
 
 std::vector<Face> world_faces(const BatchModel& model, const std::vector<ElementType>& types) {
   std::vector<Face> out;
@@ -44,18 +45,32 @@ std::vector<Ring3> footprint_rings(const BatchModel& model) {
 // The points this chunk counts: those whose lowest-indexed parcel (inside it
 // strictly for roofs, within the clipper's reach for walls) is in the chunk,
 // so that each point counts once in the batch; by parcel, then list order.
-std::vector<Vec3> counted_points(const std::vector<Vec3>& pts, const ParcelClipper& clipper, bool strictly_inside,
+// `pts` is freed before the counted ones are copied out, which are sized
+// exactly: a chunk's points are the deviation's largest buffers.
+std::vector<Vec3> counted_points(std::vector<Vec3>&& pts, const ParcelClipper& clipper, bool strictly_inside,
                                  const std::vector<char>& in_chunk) {
-  const ParcelClipper::IndexLists lists = clipper.clip(pts);
-  std::vector<size_t> first(pts.size(), kNone);
-  for (size_t k = 0; k < lists.size(); ++k)
-    for (size_t i : lists[k])
-      if (first[i] == kNone && (!strictly_inside || clipper.inside(k, pts[i].x(), pts[i].y()))) first[i] = k;
-  std::vector<Vec3> out;
-  for (size_t k = 0; k < lists.size(); ++k)
-    if (in_chunk[k])
+  constexpr uint32_t kNoParcel = std::numeric_limits<uint32_t>::max();
+  std::vector<uint32_t> picked;  // indices into pts, in the order counted
+  {
+    const ParcelClipper::IndexLists lists = clipper.clip(pts);
+    std::vector<uint32_t> first(pts.size(), kNoParcel);
+    for (size_t k = 0; k < lists.size(); ++k)
       for (size_t i : lists[k])
-        if (first[i] == k) out.push_back(pts[i]), first[i] = kNone;
+        if (first[i] == kNoParcel && (!strictly_inside || clipper.inside(k, pts[i].x(), pts[i].y())))
+          first[i] = uint32_t(k);
+    size_t n = 0;
+    for (size_t k = 0; k < lists.size(); ++k)
+      if (in_chunk[k])
+        for (size_t i : lists[k]) n += first[i] == k;
+    picked.reserve(n);
+    for (size_t k = 0; k < lists.size(); ++k)
+      if (in_chunk[k])
+        for (size_t i : lists[k])
+          if (first[i] == k) picked.push_back(uint32_t(i)), first[i] = kNoParcel;
+  }
+  std::vector<Vec3> out(picked.size());
+  for (size_t j = 0; j < picked.size(); ++j) out[j] = pts[picked[j]];
+  std::vector<Vec3>().swap(pts);
   return out;
 }
 
@@ -74,18 +89,21 @@ Measured unmeasured(std::vector<Vec3> pts) {
   return m;
 }
 
-// What every chunk's search reads: the parcels' boxes grown by how far their
-// models may reach, and the layer's Hilbert order (the chunks are runs of it).
+// What every chunk's search reads: the parcels' boxes and how far past them
+// their models may reach, and the layer's Hilbert order (the chunks are runs
+// of it).
 struct Layout {
-  std::vector<Box> reach;
+  const ParcelBoxes& boxes;
+  double model_reach;
   std::vector<size_t> order;  // the layer's parcels in Hilbert order
   std::vector<size_t> rank;   // each parcel's place in `order`
   size_t page;                // parcels whose models are held at once
+
+  Box reach(size_t parcel) const { return boxes[parcel].grown(model_reach); }
 };
 
 Layout layout_of(const ParcelBoxes& boxes, double model_reach, size_t page) {
-  Layout l{{}, {}, std::vector<size_t>(boxes.size()), page};
-  for (size_t i = 0; i < boxes.size(); ++i) l.reach.push_back(boxes[i].grown(model_reach));
+  Layout l{boxes, model_reach, {}, std::vector<size_t>(boxes.size()), page};
   std::vector<size_t> all(boxes.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   l.order = hilbert_sorted(boxes, all);
@@ -147,7 +165,7 @@ void lower_by_pages(BatchSink& sink, const Layout& l, std::vector<size_t> parcel
   for (size_t at = 0; at < parcels.size(); at += l.page) {
     const size_t end = std::min(parcels.size(), at + l.page);
     Box box;
-    for (size_t k = at; k < end; ++k) box.add(l.reach[parcels[k]]);
+    for (size_t k = at; k < end; ++k) box.add(l.reach(parcels[k]));
     const std::vector<char> ask_roof = nearer_than_found(s.roof, s.roof_open, box);
     const std::vector<char> ask_wall = nearer_than_found(s.wall, s.wall_open, box);
     const auto none = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) == v.end(); };
@@ -189,17 +207,14 @@ Search search_rings(BatchSink& sink, const Layout& l, const Box& points_box, std
                     std::vector<Vec3> wall) {
   Search s{unmeasured(std::move(roof)), unmeasured(std::move(wall)), {}, {}};
   s.roof_open.assign(s.roof.pts.size(), 1), s.wall_open.assign(s.wall.pts.size(), 1);
-  std::vector<char> searched(l.reach.size(), 0);
-  size_t count = 0;
+  std::unordered_set<size_t> searched;
   for (double r = kFirstSearchM; r <= kLastRingM; r *= 4) {
     std::vector<size_t> ring;  // the parcels not searched yet whose models may reach within r
-    const Box b = points_box.grown(r);
-    for (size_t i = 0; i < l.reach.size(); ++i)
-      if (!searched[i] && l.reach[i].touches(b)) ring.push_back(i), searched[i] = 1;
-    count += ring.size();
+    for (size_t i : l.boxes.touching(points_box.grown(r), l.model_reach))
+      if (searched.insert(i).second) ring.push_back(i);
     // Every footprint within reach of a point is in the first ring.
     lower_by_pages(sink, l, std::move(ring), s, r == kFirstSearchM);
-    const bool last = count == l.reach.size();
+    const bool last = searched.size() == l.boxes.size();
     const bool roof_done = close_within(s.roof.d, s.roof_open, r, last);
     const bool wall_done = close_within(s.wall.d, s.wall_open, r, last);
     if ((roof_done && wall_done) || last) break;
@@ -254,8 +269,9 @@ std::pair<std::vector<Vec3>, std::vector<Vec3>> chunk_points(const LoadedInputs&
   near.overhang_buffer_m = kWallPointReachM;
   const ParcelClipper inside(in.layer, exact, in.boxes.touching(region.box, 0));
   const ParcelClipper reach(in.layer, near, in.boxes.touching(region.box, kWallPointReachM));
-  const RegionPoints pts = read_region(in.tiles, region, cfg.classes);
-  return {counted_points(pts.roof, inside, true, in_chunk), counted_points(pts.wall, reach, false, in_chunk)};
+  RegionPoints pts = read_region(in.tiles, region, cfg.classes);
+  std::vector<Vec3> roof = counted_points(std::move(pts.roof), inside, true, in_chunk);
+  return {std::move(roof), counted_points(std::move(pts.wall), reach, false, in_chunk)};
 }
 
 }  // namespace

@@ -21,11 +21,24 @@ std::vector<size_t> hilbert_sorted(const ParcelBoxes& boxes, const std::vector<s
   return out;
 }
 
-RegionPointsEstimate::RegionPointsEstimate(const std::vector<Tile>& tiles) {
+namespace {
+
+// Tiles are seldom under 100 m: a parcel's box meets one cell or a few.
+constexpr double kTileCellM = 128;
+
+std::vector<Box> tile_extents(const std::vector<Tile>& tiles) {
+  std::vector<Box> out;
+  for (const Tile& t : tiles) out.push_back(t.extent);
+  return out;
+}
+
+}  // namespace
+
+RegionPointsEstimate::RegionPointsEstimate(const std::vector<Tile>& tiles)
+    : extents_(tile_extents(tiles), kTileCellM) {
   for (const Tile& t : tiles) {
-    if (t.extent.empty()) continue;
-    const double area = std::max(1.0, (t.extent.max_x - t.extent.min_x) * (t.extent.max_y - t.extent.min_y));
-    extents_.push_back(t.extent);
+    const Box& e = t.extent;
+    const double area = e.empty() ? 1.0 : std::max(1.0, (e.max_x - e.min_x) * (e.max_y - e.min_y));
     density_.push_back(double(t.points) / area);
   }
 }
@@ -37,9 +50,7 @@ void RegionPointsEstimate::clear() {
 
 double RegionPointsEstimate::add(const Box& part) {
   if (part.empty()) return total_;
-  std::vector<size_t> over;  // the tiles under the part
-  for (size_t k = 0; k < extents_.size(); ++k)
-    if (extents_[k].touches(part)) over.push_back(k);
+  const std::vector<size_t> over = extents_.touching(part, 0);  // the tiles under the part
   const double c = kRegionCellM;
   const long x0 = long(std::floor(part.min_x / c)), x1 = long(std::floor(part.max_x / c));
   const long y0 = long(std::floor(part.min_y / c)), y1 = long(std::floor(part.max_y / c));

@@ -9,6 +9,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "cadastre/batch/box_grid.h"
 #include "cadastre/batch/parcel_boxes.h"
 #include "cadastre/batch/tiles.h"
 #include "core/types.h"
@@ -39,7 +40,7 @@ class RegionPointsEstimate {
   void clear();
 
  private:
-  std::vector<Box> extents_;
+  BoxGrid extents_;               // the tiles' extents
   std::vector<double> density_;  // points per m2, by tile
   std::unordered_set<uint64_t> cells_;
   double total_ = 0;
