@@ -222,14 +222,20 @@ Search search_rings(BatchSink& sink, const Layout& l, const Box& points_box, std
   return s;
 }
 
-// Moves the open points of `from` to `to`; the settled ones stay.
+// Moves the open points of `from` to `to`; the settled ones stay, in order,
+// compacted where they are (a copy of a chunk's points would double the
+// deviation's largest buffers).
 void move_open(Measured& from, const std::vector<char>& open, Measured& to) {
-  Measured kept;
+  size_t kept = 0;
   for (size_t k = 0; k < from.pts.size(); ++k) {
-    Measured& m = open[k] ? to : kept;
-    m.pts.push_back(from.pts[k]), m.d.push_back(from.d[k]), m.of_building.push_back(from.of_building[k]);
+    if (open[k]) {
+      to.pts.push_back(from.pts[k]), to.d.push_back(from.d[k]), to.of_building.push_back(from.of_building[k]);
+      continue;
+    }
+    from.pts[kept] = from.pts[k], from.d[kept] = from.d[k], from.of_building[kept] = from.of_building[k];
+    ++kept;
   }
-  from = std::move(kept);
+  from.pts.resize(kept), from.d.resize(kept), from.of_building.resize(kept);
 }
 
 // The batch's pooled figures, a part at a time.
