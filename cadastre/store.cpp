@@ -158,8 +158,13 @@ std::int64_t Store::begin_run(const std::string& params_json, const std::vector<
   else run.bind(shard);
   run.run();
   impl_->run_id = db.last_id();
-  sql::Stmt in(db, "INSERT INTO run_input (run_id, path, sha256, bytes) VALUES (?,?,?,?)");
-  for (const auto& f : inputs) in.bind(impl_->run_id).bind(f.path).bind(f.sha256).bind(f.bytes).run();
+  sql::Stmt in(db, "INSERT INTO run_input (run_id, path, sha256, bytes, role) VALUES (?,?,?,?,?)");
+  for (const auto& f : inputs) {
+    in.bind(impl_->run_id).bind(f.path).bind(f.sha256).bind(f.bytes);
+    if (f.role.empty()) in.bind_null();  // a merged record from before roles
+    else in.bind(f.role);
+    in.run();
+  }
   tx.commit();
   return impl_->run_id;
 }

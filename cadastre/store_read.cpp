@@ -393,7 +393,9 @@ std::vector<RunRecord> load_runs(const std::string& path) {
               "SELECT fid, tool_version, parameters, started, finished, crs_epsg, origin_x, "
               "origin_y, origin_z, parcels_ok, parcels_empty, parcels_failed, " + shard +
               " FROM run ORDER BY fid");
-  sql::Stmt qi(db, "SELECT path, sha256, bytes FROM run_input WHERE run_id=? ORDER BY fid");
+  // A store from before roles has none: "" (merge judges those by the file's name).
+  const std::string role = store_schema::has_column(db, "run_input", "role") ? "role" : "NULL";
+  sql::Stmt qi(db, "SELECT path, sha256, bytes, " + role + " FROM run_input WHERE run_id=? ORDER BY fid");
   std::vector<RunRecord> out;
   while (q.step()) {
     RunRecord r;
@@ -409,7 +411,7 @@ std::vector<RunRecord> load_runs(const std::string& path) {
     r.parcels_failed = int(q.get_int(11));
     r.shard = q.get_text(12);
     qi.bind(r.id);
-    while (qi.step()) r.inputs.push_back({qi.get_text(0), qi.get_text(1), qi.get_int(2)});
+    while (qi.step()) r.inputs.push_back({qi.get_text(0), qi.get_text(1), qi.get_int(2), qi.get_text(3)});
     qi.reset();
     out.push_back(std::move(r));
   }

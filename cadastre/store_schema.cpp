@@ -56,7 +56,7 @@ CREATE TABLE IF NOT EXISTS run (fid INTEGER PRIMARY KEY, tool_version TEXT NOT N
   parcels_ok INTEGER, parcels_empty INTEGER, parcels_failed INTEGER);
 CREATE TABLE IF NOT EXISTS run_input (fid INTEGER PRIMARY KEY,
   run_id INTEGER NOT NULL REFERENCES run(fid) ON DELETE CASCADE,
-  path TEXT NOT NULL, sha256 TEXT NOT NULL, bytes INTEGER);
+  path TEXT NOT NULL, sha256 TEXT NOT NULL, bytes INTEGER, role TEXT);
 CREATE TABLE IF NOT EXISTS la_party (fid INTEGER PRIMARY KEY, party_key TEXT NOT NULL UNIQUE,
   name TEXT, party_type TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS la_baunit (fid INTEGER PRIMARY KEY, parcel_id TEXT NOT NULL UNIQUE,
@@ -200,6 +200,7 @@ const AddedColumn kAddedColumns[] = {
     {"building_element", "sigma_shared", "DOUBLE"},
     {"run", "parcels_suspect", "INTEGER"},
     {"run", "shard", "TEXT"},  // "K/N" of a shard's run (docs/scale.md)
+    {"run_input", "role", "TEXT"},  // cloud, walls, parcels, dtm, classifier (cadastre/batch/batch.h)
     // 3DBAG-style attributes (docs/design.md, "Building attributes"); heights world z.
     {"building", "roof_type", "TEXT"},
     {"building", "roof_z_min", "DOUBLE"},
@@ -368,6 +369,13 @@ int pg_srid(sql::Db& db, const std::string& crs_wkt, int epsg) {
   return kCustomSrsId;
 }
 
+// The columns added since a table first came (kAddedColumns) that this store lacks.
+void add_missing_columns(sql::Db& db) {
+  for (const AddedColumn& c : kAddedColumns)
+    if (!has_column(db, c.table, c.column))
+      db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN " + c.column + " " + column_type(db, c.type));
+}
+
 int create_postgres(sql::Db& db, const std::string& crs_wkt, int epsg) {
   sql::Transaction tx(db);
   db.exec(kSchemaLock);
@@ -383,7 +391,9 @@ int create_postgres(sql::Db& db, const std::string& crs_wkt, int epsg) {
   // The first writer creates everything in this one transaction, layer_styles
   // last; a later writer does no DDL at all: CREATE INDEX / ALTER ... IF NOT
   // EXISTS still lock their tables and would deadlock with writers at work.
+  // Only a store from before a column gets it, once, from its first writer since.
   if (db.has_table("layer_styles")) {
+    add_missing_columns(db);
     tx.commit();
     return epsg > 0 ? epsg : crs_wkt.empty() ? -1 : kCustomSrsId;
   }
@@ -396,9 +406,7 @@ int create_postgres(sql::Db& db, const std::string& crs_wkt, int epsg) {
                      "; CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);",
                  srid));
   db.exec(pg_ddl(store_gis::kSchema, srid));
-  for (const AddedColumn& c : kAddedColumns)
-    db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN IF NOT EXISTS " + c.column + " " +
-            column_type(db, c.type));
+  add_missing_columns(db);
   for (const Layer& l : kLayers)
     if (l.features)
       db.exec(std::string("CREATE INDEX IF NOT EXISTS ix_") + l.table + "_geom ON " + l.table + " USING gist (geom)");
@@ -441,9 +449,7 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
   create_rrr(db);
   create_parcel_job(db);
   db.exec(store_gis::kSchema);
-  for (const AddedColumn& c : kAddedColumns)
-    if (!has_column(db, c.table, c.column))
-      db.exec(std::string("ALTER TABLE ") + c.table + " ADD COLUMN " + c.column + " " + c.type);
+  add_missing_columns(db);
   sql::Stmt contents(db,
                      "INSERT OR IGNORE INTO gpkg_contents (table_name, data_type, identifier, "
                      "description, srs_id) VALUES (?,?,?,?,?)");

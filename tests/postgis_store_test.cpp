@@ -264,11 +264,24 @@ TEST(PostgisStore, KilledThenResumed) {
   EXPECT_EQ(db.number("SELECT count(*) FROM la_spatialunit su JOIN parcel_job j USING (parcel_id) "
                       "WHERE j.status = 'pending'"),
             0);
+  // As a store from before run_input had a role: resuming adds the column.
+  db.number("ALTER TABLE run_input DROP COLUMN role");
   std::string out;
   const int rc = test::run_cli(pg_batch(db.url(), d + "/kill", "--resume"), &out);
   ASSERT_TRUE(rc == 0 || rc == 3) << out;
   expect_same_store(town().gpkg, db.url());
   expect_same_counts(db, town().gpkg);
+  // The roles round-trip: the resumed run's are the GeoPackage's; the killed run's unknown.
+  const auto roles = [](const RunRecord& r) {
+    std::vector<std::string> out;
+    for (const InputFile& f : r.inputs) out.push_back(f.role);
+    return out;
+  };
+  const std::vector<RunRecord> runs = load_runs(db.url());
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(roles(runs[0]), std::vector<std::string>(runs[0].inputs.size(), ""));
+  EXPECT_EQ(roles(runs[1]), roles(load_runs(town().gpkg).back()));
+  EXPECT_EQ(roles(runs[1]), (std::vector<std::string>{"cloud", "parcels", "dtm"}));
 }
 
 // The library's Store on PostGIS with a CRS that has no EPSG code: its own

@@ -2,6 +2,7 @@
 // cover the layer once, a shard stores only its own parcels, and the merged
 // shards equal one unsharded run: parcels, statuses, element areas, NJOP, tax,
 // and, given the batch's inputs, the summary's whole-run fit.
+#include <gdal_utils.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -63,17 +64,25 @@ namespace {
 
 const test::SampleTown& sample_town() { return test::sample_town("--parcels 24 --seed 3"); }
 
-// Runs the sample town (one shard of it, or all) into a fresh store (or `store`).
+// Runs the sample town (one shard of it, or all) into a fresh store (or
+// `store`), from its own inputs or `inputs`.
 std::string run_town(const std::string& name, Shard shard = {}, BatchReport* report = nullptr,
-                     std::string store = "") {
+                     std::string store = "", const BatchInputs* inputs = nullptr, bool resume = false) {
   if (store.empty()) store = test::temp_dir(name) + "/cadastre.gpkg";
   StoreSink sink(store);
   BatchSettings settings;
   settings.jobs = 2;
   settings.shard = shard;
-  const BatchReport r = run_batch(sample_town().inputs, default_config(), sink, settings);
+  settings.resume = resume;
+  const BatchReport r = run_batch(inputs ? *inputs : sample_town().inputs, default_config(), sink, settings);
   if (report) *report = r;
   return store;
+}
+
+std::vector<std::string> roles_of(const RunRecord& run) {
+  std::vector<std::string> roles;
+  for (const InputFile& f : run.inputs) roles.push_back(f.role);
+  return roles;
 }
 
 std::set<std::string> stored_ids(const std::string& store) {
@@ -155,7 +164,11 @@ TEST(ShardMerge, MergedShardsEqualTheUnshardedRun) {
   const RunRecord want = load_runs(s.full).back(), got = load_runs(merged).back();
   EXPECT_EQ(got.parameters, want.parameters);
   ASSERT_EQ(got.inputs.size(), want.inputs.size());
-  for (size_t i = 0; i < want.inputs.size(); ++i) EXPECT_EQ(got.inputs[i].sha256, want.inputs[i].sha256);
+  EXPECT_EQ(roles_of(want), (std::vector<std::string>{"cloud", "parcels", "dtm"}));
+  for (size_t i = 0; i < want.inputs.size(); ++i) {
+    EXPECT_EQ(got.inputs[i].sha256, want.inputs[i].sha256);
+    EXPECT_EQ(got.inputs[i].role, want.inputs[i].role);  // the merged record keeps the roles
+  }
   EXPECT_EQ(got.shard, "");
   EXPECT_EQ(got.parcels_ok + got.parcels_empty + got.parcels_failed, want.parcels_ok + want.parcels_empty + want.parcels_failed);
   EXPECT_EQ(test::sql_number(merged, "SELECT count(*) - count(DISTINCT parcel_id) FROM la_spatialunit"), 0);
@@ -193,6 +206,85 @@ TEST(ShardMerge, RefusesWhatIsNotOneRunsShards) {
   EXPECT_EQ(test::sql_number(same, "SELECT count(*) FROM parcel_job"), 16);
   test::sql_exec(twin, "UPDATE vm_valuation SET njop = njop + 1 WHERE fid = (SELECT max(fid) FROM vm_valuation)");
   refused({s.stores[0], twin}, twin + ": parcel ");
+}
+
+namespace {
+
+// The sample town's parcel layer as a CSV file (geometry as WKT): a name a
+// point file could have. With CRLF the same parcels in other bytes: another layer.
+std::string layer_as_csv(const std::string& path, bool crlf) {
+  GDALAllRegister();
+  GDALDatasetH src = GDALOpenEx(sample_town().inputs.parcels.c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr);
+  EXPECT_NE(src, nullptr);
+  const char* args[] = {"-f",  "CSV", "-lco", "GEOMETRY=AS_WKT",
+                        "-lco", crlf ? "LINEFORMAT=CRLF" : "LINEFORMAT=LF", nullptr};
+  GDALVectorTranslateOptions* o = GDALVectorTranslateOptionsNew(const_cast<char**>(args), nullptr);
+  GDALDatasetH out = GDALVectorTranslate(path.c_str(), nullptr, 1, &src, o, nullptr);
+  EXPECT_NE(out, nullptr) << path;
+  GDALClose(out);
+  GDALVectorTranslateOptionsFree(o);
+  GDALClose(src);
+  return path;
+}
+
+}  // namespace
+
+// The run record says which file was the parcel layer, whatever its name: two
+// shards given different layers are no one run's shards, the same layer merges.
+TEST(ShardMerge, RefusesShardsGivenOtherParcelLayersWhateverTheirNames) {
+  const std::string dir = test::temp_dir("csv_layers");
+  BatchInputs a = sample_town().inputs, b = a;
+  a.parcels = layer_as_csv(dir + "/parcels_a.csv", false);
+  b.parcels = layer_as_csv(dir + "/parcels_b.csv", true);
+  const std::string a1 = run_town("a1", {1, 2}, nullptr, "", &a), a2 = run_town("a2", {2, 2}, nullptr, "", &a),
+                    b2 = run_town("b2", {2, 2}, nullptr, "", &b);
+  EXPECT_EQ(roles_of(load_runs(b2).back()), (std::vector<std::string>{"cloud", "parcels", "dtm"}));
+  try {
+    merge_stores({a1, b2}, dir + "/refused.gpkg");
+    ADD_FAILURE() << "merged shards given other parcel layers";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(b2 + ": was run on other inputs than " + a1), std::string::npos) << e.what();
+  }
+  const MergeSummary sum = merge_stores({a1, a2}, dir + "/merged.gpkg");
+  EXPECT_TRUE(sum.complete());
+  EXPECT_EQ(sum.parcels, 24u);
+  const RunRecord merged = load_runs(dir + "/merged.gpkg").back();
+  ASSERT_EQ(roles_of(merged), (std::vector<std::string>{"cloud", "parcels", "dtm"}));  // the layer once
+  EXPECT_EQ(merged.inputs[1].path, a.parcels);
+}
+
+// Stores written before run_input had a role still merge (their point files
+// known by name) and resume (the column added, the new run's roles in it).
+TEST(ShardMerge, StoresFromBeforeInputRolesMergeAndResume) {
+  const Shards& s = three_shards();
+  const std::string dir = test::temp_dir("before_roles");
+  std::vector<std::string> old;
+  for (int k = 1; k <= 3; ++k) {
+    old.push_back(dir + "/shard" + std::to_string(k) + ".gpkg");
+    fs::copy_file(s.stores[size_t(k - 1)], old.back());
+    test::sql_exec(old.back(), "ALTER TABLE run_input DROP COLUMN role");
+  }
+  const MergeSummary sum = merge_stores(old, dir + "/merged.gpkg");
+  EXPECT_TRUE(sum.complete());
+  expect_equal_stores(s.full, dir + "/merged.gpkg");
+  const RunRecord want = load_runs(s.full).back(), got = load_runs(dir + "/merged.gpkg").back();
+  ASSERT_EQ(got.inputs.size(), want.inputs.size());
+  for (size_t i = 0; i < want.inputs.size(); ++i) {
+    EXPECT_EQ(got.inputs[i].sha256, want.inputs[i].sha256);
+    EXPECT_EQ(got.inputs[i].role, "");  // not known: not made up
+  }
+  // A batch resumes into an old store: every parcel kept, the new run with its roles.
+  const std::string full = dir + "/full.gpkg";
+  fs::copy_file(s.full, full);
+  test::sql_exec(full, "ALTER TABLE run_input DROP COLUMN role");
+  const double done = test::sql_number(full, "SELECT count(*) FROM parcel_job WHERE status IN ('ok','empty')");
+  run_town("", {}, nullptr, full, nullptr, true);
+  EXPECT_EQ(test::sql_number(full, "SELECT count(*) FROM parcel_job WHERE status IN ('ok','empty') AND run_id = 1"),
+            done);
+  const auto runs = load_runs(full);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(roles_of(runs[0]), std::vector<std::string>(runs[0].inputs.size(), ""));
+  EXPECT_EQ(roles_of(runs[1]), (std::vector<std::string>{"cloud", "parcels", "dtm"}));
 }
 
 TEST(ShardMerge, SaysWhichShardsAndParcelsAreMissing) {

@@ -290,18 +290,50 @@ TEST(Store, RunRecordsInputChecksums) {
   std::string dir = test::temp_dir("store_run");
   std::string input = dir + "/input.txt";
   std::ofstream(input) << "abc";
+  InputFile layer = describe_input_file(input);
+  layer.role = "parcels";  // a parcel layer whose name could be a point file's
   Store s;
   s.open(dir + "/cadastre.gpkg", "", 32748);
-  s.begin_run("{\"voxel_m\":0}", {describe_input_file(input)});
+  s.begin_run("{\"voxel_m\":0}", {layer, describe_input_file(input)});
   s.end_run();
   s.close();
   auto runs = load_runs(dir + "/cadastre.gpkg");
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_EQ(runs[0].parameters, "{\"voxel_m\":0}");
-  ASSERT_EQ(runs[0].inputs.size(), 1u);
+  ASSERT_EQ(runs[0].inputs.size(), 2u);
   EXPECT_EQ(runs[0].inputs[0].sha256, sha256_hex("abc"));
   EXPECT_EQ(runs[0].inputs[0].bytes, 3);
+  EXPECT_EQ(runs[0].inputs[0].role, "parcels");
+  EXPECT_EQ(runs[0].inputs[1].role, "");  // none given: NULL
+  EXPECT_EQ(test::sql_number(dir + "/cadastre.gpkg", "SELECT count(*) FROM run_input WHERE role IS NULL"), 1);
   EXPECT_FALSE(runs[0].finished.empty());
+}
+
+// A store written before run_input had a role: read with none, and given the
+// column when opened for writing again.
+TEST(Store, OpensAStoreFromBeforeInputRoles) {
+  const std::string dir = test::temp_dir("store_old_run");
+  const std::string path = dir + "/cadastre.gpkg";
+  std::ofstream(dir + "/dtm.tif") << "abc";
+  InputFile dtm = describe_input_file(dir + "/dtm.tif");
+  dtm.role = "dtm";
+  Store s;
+  s.open(path, "", 32748);
+  s.begin_run("{}", {dtm});
+  s.end_run();
+  s.close();
+  test::sql_exec(path, "ALTER TABLE run_input DROP COLUMN role");
+  ASSERT_EQ(load_runs(path).back().inputs.size(), 1u);
+  EXPECT_EQ(load_runs(path).back().inputs[0].role, "");
+  Store again;
+  again.open(path, "", 32748);
+  again.begin_run("{}", {dtm});
+  again.end_run();
+  again.close();
+  const auto runs = load_runs(path);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].inputs[0].role, "");
+  EXPECT_EQ(runs[1].inputs[0].role, "dtm");
 }
 
 TEST(Store, ThousandParcelsWriteFast) {

@@ -41,6 +41,13 @@ struct BatchInputs {
   std::vector<std::string> files() const;  // every input file, in a fixed order
 };
 
+// What each input file is to a run, as its record names it (run_input.role):
+// the --cloud, --walls, --parcels, --dtm and classifier model files.
+namespace input_role {
+constexpr char kCloud[] = "cloud", kWalls[] = "walls", kParcels[] = "parcels", kDtm[] = "dtm",
+               kClassifier[] = "classifier";
+}  // namespace input_role
+
 // How the batch runs; none of it changes a result.
 struct BatchSettings {
   int jobs = 0;         // parallel parcels; 0: all cores; more than kMaxJobsPerCore per core: clamped

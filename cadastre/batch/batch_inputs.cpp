@@ -281,12 +281,16 @@ InputFile describe_parcel_source(const std::string& source, const ParcelLayer& l
 }  // namespace
 
 std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs& inputs) {
-  BatchInputs files = inputs;  // every file the folders and globs name, each hashed
-  files.clouds = in.cloud_files;
-  files.walls = in.wall_files;
-  std::vector<InputFile> out;
-  for (const auto& f : files.files())
-    out.push_back(f == inputs.parcels ? describe_parcel_source(f, in.layer) : describe_input_file(f));
+  std::vector<InputFile> out;  // every file the folders and globs name, each hashed, with its role
+  const auto add = [&out](InputFile f, const char* role) {
+    f.role = role;
+    out.push_back(std::move(f));
+  };
+  for (const auto& f : in.cloud_files) add(describe_input_file(f), input_role::kCloud);
+  for (const auto& f : in.wall_files) add(describe_input_file(f), input_role::kWalls);
+  add(describe_parcel_source(inputs.parcels, in.layer), input_role::kParcels);
+  if (!inputs.dtm.empty()) add(describe_input_file(inputs.dtm), input_role::kDtm);
+  if (!inputs.classifier_model.empty()) add(describe_input_file(inputs.classifier_model), input_role::kClassifier);
   return out;
 }
 

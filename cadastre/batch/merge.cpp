@@ -6,6 +6,7 @@
 #include <memory>
 #include <set>
 
+#include "cadastre/batch/batch.h"
 #include "cadastre/batch/out_dir.h"
 #include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/shard.h"
@@ -40,26 +41,33 @@ ShardStore read_shard_store(const std::string& path) {
   return s;
 }
 
+// A shard's own point files (--cloud, --walls), by their role; a record from
+// before roles (run_input without a role) by the file's name.
+bool is_point_input(const InputFile& f) {
+  if (f.role.empty()) return is_point_file(f.path);
+  return f.role == input_role::kCloud || f.role == input_role::kWalls;
+}
+
 // The files every shard reads alike (layer, DTM, classifier): a shard reads
 // only the point files within reach of its parcels, so those differ; each
 // parcel's key holds its own (checked when merge is given the inputs).
 std::vector<std::string> shared_input_hashes(const RunRecord& r) {
   std::vector<std::string> h;
   for (const auto& f : r.inputs)
-    if (!is_point_file(f.path)) h.push_back(f.sha256);
+    if (!is_point_input(f)) h.push_back(f.sha256);
   return h;
 }
 
-// The merged run's inputs: every shard's point files, once each, in the order
-// met, then the shared files.
+// The merged run's inputs with their roles: every shard's point files, once
+// each, in the order met, then the shared files.
 std::vector<InputFile> merged_inputs(const std::vector<ShardStore>& stores) {
   std::vector<InputFile> out;
   std::set<std::string> seen;
   for (const ShardStore& s : stores)
     for (const InputFile& f : s.run.inputs)
-      if (is_point_file(f.path) && seen.insert(f.sha256).second) out.push_back(f);
+      if (is_point_input(f) && seen.insert(f.sha256).second) out.push_back(f);
   for (const InputFile& f : stores.front().run.inputs)
-    if (!is_point_file(f.path)) out.push_back(f);
+    if (!is_point_input(f)) out.push_back(f);
   return out;
 }
 

@@ -32,6 +32,9 @@ struct InputFile {
   std::string path;
   std::string sha256;
   std::int64_t bytes = 0;  // -1 when the size cannot be read
+  // What the file was to the run (cadastre/batch/batch.h, input_role); "" in
+  // a record from before roles.
+  std::string role;
 };
 // Reads the file once for its checksum; throws InputError when it cannot be read.
 InputFile describe_input_file(const std::string& path);
