@@ -93,6 +93,15 @@ TEST(ReportTown, EveryLinkOfEveryPageResolves) {
   EXPECT_TRUE(fs::exists(t.out + "/report.csv"));
 }
 
+// The run's line names its inputs by role, as the store's run_input has them.
+TEST(ReportTown, NamesTheRunsInputsByRole) {
+  const Town& t = town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  const std::string html = read(t.out + "/report.html");
+  EXPECT_NE(html.find("inputs cloud cloud.las, parcels parcels.gpkg, dtm dtm.tif, each with its SHA-256"),
+            std::string::npos);
+}
+
 TEST(ReportTown, TotalsEqualTheStore) {
   const Town& t = town();
   ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;

@@ -1,5 +1,6 @@
 #include "cadastre/report/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -125,6 +126,30 @@ void write_report(const std::string& out_dir, const BatchModel& model,
   }
 }
 
+namespace {
+
+// The run's inputs by role, as an officer checks them: "inputs 152 cloud
+// files, parcels parcels.gpkg, dtm dtm.tif, ..." (a record from before roles:
+// a count).
+std::string inputs_note(const std::vector<InputFile>& inputs) {
+  const std::string sums = ", each with its SHA-256 in the store";
+  if (inputs.empty()) return "no input files recorded";
+  std::vector<std::pair<std::string, std::vector<std::string>>> by_role;  // in the order met
+  for (const InputFile& f : inputs) {
+    if (f.role.empty()) return std::to_string(inputs.size()) + " input file(s)" + sums;
+    auto it = std::find_if(by_role.begin(), by_role.end(), [&](const auto& r) { return r.first == f.role; });
+    if (it == by_role.end()) it = by_role.insert(by_role.end(), {f.role, {}});
+    it->second.push_back(std::filesystem::path(f.path).filename().string());
+  }
+  std::string out;
+  for (const auto& [role, names] : by_role)
+    out += (out.empty() ? "inputs " : ", ") +
+           (names.size() == 1 ? role + " " + names.front() : std::to_string(names.size()) + " " + role + " files");
+  return out + sums;
+}
+
+}  // namespace
+
 ReportInfo store_report_info(const std::string& store_loc, const Config& cfg, bool revalue, bool own_run) {
   ReportInfo info;
   info.source = store_loc;
@@ -135,7 +160,7 @@ ReportInfo store_report_info(const std::string& store_loc, const Config& cfg, bo
                     (!r.finished.empty() ? ", finished " + r.finished
                      : own_run        ? std::string(", finished with these outputs")
                                       : std::string(" (not finished)")) + ", " +
-                    std::to_string(r.inputs.size()) + " input file(s) with SHA-256 in the store";
+                    inputs_note(r.inputs);
   }
   if (revalue) info.run_note += (info.run_note.empty() ? "" : "; ") +
                                 std::string("re-valued with ") + cfg.source;
