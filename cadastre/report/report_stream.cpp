@@ -16,12 +16,19 @@ using namespace report_detail;
 
 namespace {
 
-// What the summary page, the tables and the CSV read of a result: its
-// figures, not its geometry (faces, solids and lower LoDs are the bulk).
-void drop_geometry(ParcelResult& r) {
+// What the summary page reads of a parcel once its detail page and CSV rows
+// are written: its id, shape, status, reason and element areas, not its
+// geometry (faces, solids and lower LoDs are the bulk), timings, attributes
+// or notes. Every parcel's row is held to the end, so it is kept small.
+void keep_summary_row(Parcel& p, ParcelResult& r) {
+  std::vector<ParcelAttribute>().swap(p.attributes);
+  std::string().swap(p.repair_note);
+  std::vector<Timing>().swap(r.timings);
   for (Building& b : r.buildings) {
     std::vector<Face>().swap(b.solid);
     std::vector<LodShell>().swap(b.lower_lods);
+    b.attributes = BuildingAttributes{};
+    std::string().swap(b.lod_note), std::string().swap(b.solid_problem);
     for (Element& e : b.elements) std::vector<Face>().swap(e.faces);
   }
 }
@@ -81,7 +88,7 @@ void ReportWriter::write_ready(bool all) {
       const ParcelValuation* v = find_valuation(vmap, p.id);
       write("report/" + parcel_page(p), parcel_html(rows_, v, info_, i, total_));
       csv_ << csv_rows(p, rows_.results[i], v);
-      drop_geometry(rows_.results[i]);
+      keep_summary_row(rows_.parcels[i], rows_.results[i]);
       done.insert(p.id);
     }
     if (!csv_) throw InputError(csv_path_, "cannot write report");
