@@ -38,7 +38,6 @@ struct BatchInputs {
   // Last, so that an initialiser {clouds, walls, parcels, dtm} keeps its meaning:
   ParcelSelection parcel_selection;  // --layer, --where, --bbox
   std::string crs;  // the working CRS the user names (docs/inputs.md); empty: chosen by the policy
-  std::vector<std::string> files() const;  // every input file, in a fixed order
 };
 
 // What each input file is to a run, as its record names it (run_input.role):

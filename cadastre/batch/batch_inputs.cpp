@@ -65,15 +65,6 @@ std::string unreachable(const LoadedInputs& in, size_t i) {
   return gap.empty() ? gap : "DTM " + in.dtm.source + " " + gap;
 }
 
-std::vector<std::string> BatchInputs::files() const {
-  std::vector<std::string> out = clouds;
-  out.insert(out.end(), walls.begin(), walls.end());
-  out.push_back(parcels);
-  if (!dtm.empty()) out.push_back(dtm);
-  if (!classifier_model.empty()) out.push_back(classifier_model);
-  return out;
-}
-
 namespace {
 
 // The CRS a file's points are in: its own, or the one reconcile_crs assumes
