@@ -14,6 +14,8 @@
 #include <functional>
 #include <typeinfo>
 
+#include <sys/resource.h>
+
 #include "cadastre/parcels.h"
 #include "core/config/config.h"
 #include "core/error.h"
@@ -171,34 +173,153 @@ TEST(ReaderLimits, DtmGeotransformBeyondTheEarthIsRefused) {
   expect_refused([&] { read_dtm(path); }, "far.tif", "raster extent reaches");
 }
 
-// tests/fuzz, seed 1, iteration 1085 (the deflate-tiled seed with its width
-// set to 18192): a 2 KB GeoTIFF that is NoData but for a few cells kept
-// GDALFillNodata busy for 26 s. It is filled in tiles now (1024 cells and the
-// search at most 256 around), which bounds the work without a warning; the
-// tiles far from the valid cells look farther (a grown margin).
-TEST(ReaderLimits, NoDataStripFillIsBounded) {
-  const std::string path = test::temp_dir("dtm_strip") + "/strip.tif";
+// CPU seconds f takes, its child processes' included (the suite runs tests
+// in parallel: the clock would measure the machine's load).
+double cpu_seconds(const std::function<void()>& f) {
+  const auto used = [] {
+    double s = 0;
+    for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+      rusage r{};
+      getrusage(who, &r);
+      s += double(r.ru_utime.tv_sec + r.ru_stime.tv_sec) + 1e-6 * double(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
+    }
+    return s;
+  };
+  const double before = used();
+  f();
+  return used() - before;
+}
+
+// A north-up GeoTIFF of nx x ny cells, NoData (-9999) but for `valid` (cell
+// index, height) pairs.
+std::string write_sparse_dtm(const std::string& path, int nx, int ny,
+                             const std::vector<std::pair<size_t, float>>& valid) {
   GDALAllRegister();
-  const char* options[] = {"COMPRESS=DEFLATE", nullptr};
-  GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(path.c_str(), 18192, 12, 1,
-                                                                            GDT_Float32, const_cast<char**>(options));
+  const char* options[] = {"COMPRESS=DEFLATE", "TILED=YES", nullptr};
+  GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(path.c_str(), nx, ny, 1, GDT_Float32,
+                                                                            const_cast<char**>(options));
   double gt[6] = {781790, 1, 0, 9240010, 0, -1};
   ds->SetGeoTransform(gt);
-  std::vector<float> z(18192 * 12, -9999.0f);
-  for (int i = 0; i < 16; ++i) z[i] = 780.0f + float(i);
+  std::vector<float> z(size_t(nx) * ny, -9999.0f);
+  for (const auto& [cell, h] : valid) z[cell] = h;
   ds->GetRasterBand(1)->SetNoDataValue(-9999);
-  ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 18192, 12, z.data(), 18192, 12, GDT_Float32, 0, 0),
-            CE_None);
+  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, nx, ny, z.data(), nx, ny, GDT_Float32, 0, 0), CE_None);
   GDALClose(ds);
-  std::vector<std::string> warnings;
+  return path;
+}
+
+// The warnings read_dtm(path) logs, and the DTM.
+Dtm read_dtm_warnings(const std::string& path, std::vector<std::string>& warnings) {
   log::set_sink([&](log::Level l, const std::string& m) {
     if (l >= log::Level::Warn) warnings.push_back(m);
   });
-  const Dtm d = read_dtm(path);
+  Dtm d;
+  try {
+    d = read_dtm(path);
+  } catch (...) {
+    log::set_sink([](log::Level, const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
+    throw;
+  }
   log::set_sink([](log::Level, const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
+  return d;
+}
+
+// tests/fuzz, seed 1, iteration 1085 (the deflate-tiled seed with its width
+// set to 18192): a 2 KB GeoTIFF that is NoData but for a few cells kept
+// GDALFillNodata busy for 26 s. It is filled in tiles now (1024 cells and the
+// search at most 256 around); the tiles with no valid cell within that reach
+// take the nearest terrain's mean height (FarTerrain), with one warning.
+TEST(ReaderLimits, NoDataStripFillIsBounded) {
+  std::vector<std::pair<size_t, float>> valid;
+  for (int i = 0; i < 16; ++i) valid.push_back({size_t(i), 780.0f + float(i)});
+  const std::string path = write_sparse_dtm(test::temp_dir("dtm_strip") + "/strip.tif", 18192, 12, valid);
+  std::vector<std::string> warnings;
+  const Dtm d = read_dtm_warnings(path, warnings);
   EXPECT_EQ(d.nx, 18192);
-  EXPECT_TRUE(warnings.empty()) << warnings[0];
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("strip.tif: cells 1024..2047 x 0..11 (and maybe others) have no valid height within "
+                             "256 cells"), std::string::npos) << warnings[0];
   for (float v : d.z) ASSERT_TRUE(v >= 780.0f && v <= 795.0f);
+  EXPECT_FLOAT_EQ(d.z.back(), 787.5f);  // the mean of the one block with terrain
+}
+
+// Fuzz.ReadersSanitized on a fresh machine (target dtm, seed input
+// geotiff-strips, --seed 1, iteration 4948): 16 x 31,500 cells, NoData but
+// for 186 in the first rows, its StripByteCounts tag broken. Each tile far
+// from those rows doubled its margin until it reached them and filled all of
+// that again (9.5 s without sanitizers, a hang with them). Its bytes:
+const char* const kFuzzDtmHang =
+    "49492a0008000000100000010300010000001000000001010300010000000c7b000002010300"
+    "0100000020000000030103000100000001000000060103000100000001000000110104000100"
+    "00007a01000015010300010000000100000016010300010000000c0000001701040001000000"
+    "000300001c010300010000000100000053010300010000000300ffff0e830c0003000000ce00"
+    "000082840c0006000000e6000000af8703002000000016010000b18702001e00000056010000"
+    "81a40200060000007401000000000000000000000000f03f000000000000f03f000000000000"
+    "000000000000000000000000000000000000000000000000000000000000bcdb274100000040"
+    "b99f61410000000000000000017f010000000700000400000100010001040000010001000204"
+    "b187160000000108b187070016000608000001008e23000c00000100ec7f040c000001002923"
+    "574753203834202f2055544d207a6f6e65203438537c5747532038347c002d39393939000000"
+    "434466064344cd0c4344331343449a194344003c1cc666264344cd2c4344333343449a394344"
+    "0040434466464344cd4c4344335343449a594344006043440000434466064344cd0c43443313"
+    "43449a1943440020434466264344cd2c4344333343449a3943440040434466464344cd4c4344"
+    "335343449a594344006043440000434466064344cd0c4344331343449a194344002043446626"
+    "4344cd2c4344333343449a394344003c1cc666464344cd4c4344335343449a59434400604344"
+    "0000434466064344cd0c4344331343449a1943440020434466264344cd2c4344333343449a39"
+    "43440040434466464344cd4c4344335343449a594344006043440000434466064344cd0c4344"
+    "331343449a1943440020434466264344cd2c4344333343449a3943440040434466464344cd4c"
+    "4344335343449a594344003c1cc60000434466064344cd0c4344331343449a19434400204344"
+    "66264344cd2c4344333343449a3943440040434466464344cd4c4344335343449a5943440060"
+    "43440000434466064344cd0c4344331343449a1943440020434466264344cd2c434433334344"
+    "9a3943440040434466464344cd4c4344335343449a594344006043440000434466064344cd0c"
+    "434433134344003c1cc60020434466264344cd2c4344333343449a3943440040434466464344"
+    "cd4c4344335343449a594344006043440000434466064344cd0c4344331343449a1943440020"
+    "434466264344cd2c4344333343449a3943440040434466464344cd4c4344335343449a594344"
+    "006043440000434466064344cd0c4344331343449a1943440020434466264344cd2c43443333"
+    "4344003c1cc60040434466464344cd4c4344335343449a594344006043440000434466064344"
+    "cd0c4344331343449a1943440020434466264344cd2c4344333343449a394344004043446646"
+    "4344cd4c4344335343449a594344006043440000434466064344cd0c4344331343449a194344"
+    "0020434466264344cd2c4344333343449a3943440040434466464344cd4c434433534344003c"
+    "1cc600604344";
+
+std::string from_hex(const std::string& hex) {
+  std::string bytes;
+  for (size_t i = 0; i + 1 < hex.size(); i += 2) bytes.push_back(char(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  return bytes;
+}
+
+TEST(ReaderLimits, FuzzDtmHangReadsInUnderASecond) {
+  const std::string path = test::temp_dir("fuzz_dtm_hang") + "/hang.tif";
+  write_bytes(path, from_hex(kFuzzDtmHang));
+  Dtm d;
+  std::vector<std::string> warnings;
+  EXPECT_LT(cpu_seconds([&] { d = read_dtm_warnings(path, warnings); }), 1.0);
+  ASSERT_EQ(d.z.size(), size_t(16) * 31500);
+  for (float v : d.z) ASSERT_TRUE(v >= 780.0f && v <= 782.0f) << v;
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("hang.tif: cells 0..15 x 1024..2047"), std::string::npos) << warnings[0];
+  // `info` describes the file as it is, filling nothing.
+  std::string out;
+  EXPECT_LT(cpu_seconds([&] { EXPECT_EQ(test::run_cli("info " + path, &out), 0) << out; }), 1.0);
+  EXPECT_NE(out.find("16 x 31500"), std::string::npos) << out;
+}
+
+// 10^6 cells: all NoData is refused, nearly all NoData (a corner of terrain,
+// as one tile and as a strip of tiles) filled, each in under a CPU-second.
+TEST(ReaderLimits, MillionNoDataCellsFillInUnderASecond) {
+  const std::string dir = test::temp_dir("dtm_million");
+  const std::string none = write_sparse_dtm(dir + "/none.tif", 1000, 1000, {});
+  EXPECT_LT(cpu_seconds([&] { expect_refused([&] { read_dtm(none); }, "none.tif", "all cells NoData"); }), 1.0);
+  for (const auto& [nx, ny] : {std::pair{1000, 1000}, std::pair{16, 62500}}) {
+    std::vector<std::pair<size_t, float>> corner;
+    for (int v = 0; v < 4; ++v)
+      for (int u = 0; u < 4; ++u) corner.push_back({size_t(v) * nx + u, 100.0f + float(u + v)});
+    const std::string path = write_sparse_dtm(dir + "/corner.tif", nx, ny, corner);
+    Dtm d;
+    std::vector<std::string> warnings;
+    EXPECT_LT(cpu_seconds([&] { d = read_dtm_warnings(path, warnings); }), 1.0) << nx << " x " << ny;
+    ASSERT_EQ(d.z.size(), size_t(1000000));
+    for (float v : d.z) ASSERT_TRUE(v >= 100.0f && v <= 106.0f) << v;
+  }
 }
 
 TEST(ReaderLimits, ParcelVertexBeyondRangeNamesTheParcel) {

@@ -82,7 +82,7 @@ FileInfo describe_file(const std::string& path) {
     info.parcels = describe_parcel_layer(path);
   } else {
     info.kind = FileInfo::Kind::Raster;
-    info.raster = describe_raster(read_dtm(path));
+    info.raster = describe_raster(DtmSource(path).header());  // the file as it is: nothing filled
   }
   return info;
 }

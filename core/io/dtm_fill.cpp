@@ -48,11 +48,13 @@ void fill_nearest(std::vector<float>& z, std::vector<char>& valid, int nx, int n
   }
 }
 
-// GDALFillNodata's time grows with NoData cells x search distance: a 2 KB
-// GeoTIFF of 18192 x 12 cells, all but a few NoData, took 26 s at the full
-// distance. Past this much work (about 2 s) the distance shrinks (Cimahi's
-// DTM needs 5e7) and fill_nearest fills what the shorter search leaves.
-constexpr double kMaxFillWork = 4e8;
+// GDALFillNodata's time grows with NoData cells x search distance where the
+// holes are wide (small holes stop the search early): a 2 KB GeoTIFF of
+// 18192 x 12 cells, all but a few NoData, took 26 s at the full distance, and
+// 10^6 such cells take 0.08 s + 4.5 ns x cells x distance here. Past this
+// much work (about 0.35 s) the distance shrinks (Cimahi's DTM needs 5.2e7 and
+// keeps its full distance) and fill_nearest fills what the shorter search leaves.
+constexpr double kMaxFillWork = 6e7;
 constexpr int kMinFillSearch = 32;  // cells; never shorter than this
 
 // A tile's search never reaches past its margin, and a shorter one is the
@@ -213,6 +215,47 @@ bool surface_fill_here(const HoleRegion& h, const FillTile* tile, int nx, int ny
 }
 
 }  // namespace
+
+FarTerrain::FarTerrain(int nx, int ny)
+    : nx_(nx), ny_(ny), bx_((nx + kBlockCells - 1) / kBlockCells), by_((ny + kBlockCells - 1) / kBlockCells),
+      sum_(size_t(bx_) * size_t(by_), 0.0), count_(sum_.size(), 0) {}
+
+void FarTerrain::add_rows(const std::vector<float>& z, int y0) {
+  const int rows = int(z.size() / size_t(nx_));
+  for (int v = 0; v < rows; ++v) {
+    const size_t row = size_t((y0 + v) / kBlockCells) * size_t(bx_);
+    for (int u = 0; u < nx_; ++u) {
+      const float h = z[size_t(v) * nx_ + u];
+      if (std::isnan(h)) continue;
+      sum_[row + u / kBlockCells] += h;
+      ++count_[row + u / kBlockCells];
+    }
+  }
+}
+
+bool FarTerrain::finish() {
+  block_z_.assign(sum_.size(), 0.0f);
+  std::vector<char> valid(sum_.size());
+  for (size_t b = 0; b < sum_.size(); ++b)
+    if ((valid[b] = count_[b] > 0)) block_z_[b] = float(sum_[b] / count_[b]);
+  sum_ = {}, count_ = {};
+  if (std::find(valid.begin(), valid.end(), 1) == valid.end()) return false;
+  fill_nearest(block_z_, valid, bx_, by_);
+  return true;
+}
+
+float FarTerrain::height(int x, int y) const {
+  // Position in block units, 0 at the centre of block 0, clamped to the centres.
+  const auto at = [](int cell, int blocks) {
+    return std::clamp((cell + 0.5) / kBlockCells - 0.5, 0.0, double(blocks - 1));
+  };
+  const double u = at(x, bx_), v = at(y, by_);
+  const int i = std::min(int(u), std::max(0, bx_ - 2)), j = std::min(int(v), std::max(0, by_ - 2));
+  const int i1 = std::min(i + 1, bx_ - 1), j1 = std::min(j + 1, by_ - 1);
+  const double fu = u - i, fv = v - j;
+  const auto z = [&](int a, int b) { return double(block_z_[size_t(b) * bx_ + a]); };
+  return float((1 - fv) * ((1 - fu) * z(i, j) + fu * z(i1, j)) + fv * ((1 - fu) * z(i, j1) + fu * z(i1, j1)));
+}
 
 // Inverse-distance interpolation (GDALFillNodata), building-size holes with
 // the terrain's trend (fill_with_surface).

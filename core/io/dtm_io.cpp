@@ -109,8 +109,8 @@ void read_cells(GDALDataset& ds, const std::string& path, int x, int y, int w, i
       v = std::nanf("");
 }
 
-// Calls visit(z) for every row-major run of rows of the raster, a strip of
-// blocks at a time: only a strip is ever held.
+// Calls visit(z, y) for every row-major run of rows of the raster from row y,
+// a strip of blocks at a time: only a strip is ever held.
 template <class Visit>
 void for_each_strip(GDALDataset& ds, const std::string& path, Visit visit) {
   int bx = 0, by = 0;
@@ -121,7 +121,7 @@ void for_each_strip(GDALDataset& ds, const std::string& path, Visit visit) {
   for (int y = 0; y < ny; y += rows) {
     read_cells(ds, path, 0, y, nx, std::min(rows, ny - y), strip);
     ds.GetRasterBand(1)->FlushCache();  // else GDAL's block cache keeps up to 5 % of memory
-    visit(strip);
+    visit(strip, y);
   }
 }
 
@@ -141,10 +141,6 @@ namespace {
 // A chunk's window (a few hundred metres) touches at most 2 x 2 tiles, and
 // the next chunk (Hilbert order) lies beside it: four stay filled (16 MB).
 constexpr size_t kCachedTiles = 4;
-// A tile with no valid cell within its margin looks farther (doubling the
-// margin) while its grown tile holds at most this many cells (~2900 x 2900,
-// some 200 MB while filled); beyond, its cells have no terrain: an InputError.
-constexpr size_t kMaxGrownTileCells = size_t(1) << 23;
 
 bool has_valid(const std::vector<float>& z) {
   return std::any_of(z.begin(), z.end(), [](float v) { return !std::isnan(v); });
@@ -160,11 +156,13 @@ Dtm read_dtm_header(const std::string& path) {
 
 DtmSource::DtmSource(const std::string& path, size_t max_cells) : max_cells_(max_cells) {
   ds_ = open_dtm(path, header_);
-  for_each_strip(*ds_, path, [&](const std::vector<float>& z) {
+  far_ = FarTerrain(header_.nx, header_.ny);
+  for_each_strip(*ds_, path, [&](const std::vector<float>& z, int y) {
     nodata_cells_ += size_t(std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
+    far_.add_rows(z, y);
   });
   const size_t cells = size_t(header_.nx) * size_t(header_.ny);
-  if (nodata_cells_ == cells) throw InputError(path, "DTM has no valid height (all cells NoData)");
+  if (!far_.finish()) throw InputError(path, "DTM has no valid height (all cells NoData)");
   header_.nodata_share = double(nodata_cells_) / double(cells);
   if (nodata_cells_ > 0 && (header_.nx > kFillTileCells || header_.ny > kFillTileCells))
     log::info(log::format("%s: NoData cells, filled in tiles of %d cells and %d around", path.c_str(),
@@ -174,39 +172,49 @@ DtmSource::DtmSource(const std::string& path, size_t max_cells) : max_cells_(max
 DtmSource::~DtmSource() = default;
 
 // Tile (ti, tj) filled from itself and its margin (clipped to the raster);
-// a raster within one tile is filled whole, as one grid.
+// a raster within one tile is filled whole, as one grid. A tile with no
+// valid height within its margin is beyond the fill's reach: FarTerrain's.
 std::shared_ptr<const DtmSource::Tile> DtmSource::fill_tile(int ti, int tj) const {
   const int nx = header_.nx, ny = header_.ny;
   const int x0 = ti * kFillTileCells, y0 = tj * kFillTileCells;
   const int x1 = std::min(nx, x0 + kFillTileCells), y1 = std::min(ny, y0 + kFillTileCells);
   const bool one_tile = nx <= kFillTileCells && ny <= kFillTileCells;
-  for (int margin = kFillMarginCells;; margin *= 2) {
-    const int gx0 = std::max(0, x0 - margin), gy0 = std::max(0, y0 - margin);
-    const int gx1 = std::min(nx, x1 + margin), gy1 = std::min(ny, y1 + margin);
-    Dtm grown = header_;
-    grown.nx = gx1 - gx0, grown.ny = gy1 - gy0;
-    const size_t held = size_t(grown.nx) * size_t(grown.ny);
-    if (held > kMaxGrownTileCells && margin > kFillMarginCells)
-      throw InputError(header_.source, log::format("no valid height within %d cells of cells %d..%d x %d..%d",
-                                                   margin / 2, x0, x1 - 1, y0, y1 - 1));
-    {
-      std::lock_guard<std::mutex> lock(read_);
-      read_cells(*ds_, header_.source, gx0, gy0, grown.nx, grown.ny, grown.z);
-      ds_->GetRasterBand(1)->FlushCache();
-    }
-    size_t peak = peak_fill_cells_;
-    while (held > peak && !peak_fill_cells_.compare_exchange_weak(peak, held)) {
-    }
-    if (!has_valid(grown.z)) continue;  // the whole raster has some: look farther
-    FillTile limits{kFillMarginCells, x0 - gx0, y0 - gy0, x1 - gx0, y1 - gy0,
-                    gx0 > 0, gy0 > 0, gx1 < nx, gy1 < ny};
-    fill_holes(grown, one_tile ? nullptr : &limits);
-    auto tile = std::make_shared<Tile>(size_t(x1 - x0) * size_t(y1 - y0));
+  const int gx0 = std::max(0, x0 - kFillMarginCells), gy0 = std::max(0, y0 - kFillMarginCells);
+  const int gx1 = std::min(nx, x1 + kFillMarginCells), gy1 = std::min(ny, y1 + kFillMarginCells);
+  Dtm grown = header_;
+  grown.nx = gx1 - gx0, grown.ny = gy1 - gy0;
+  const size_t held = size_t(grown.nx) * size_t(grown.ny);
+  {
+    std::lock_guard<std::mutex> lock(read_);
+    read_cells(*ds_, header_.source, gx0, gy0, grown.nx, grown.ny, grown.z);
+    ds_->GetRasterBand(1)->FlushCache();
+  }
+  size_t peak = peak_fill_cells_;
+  while (held > peak && !peak_fill_cells_.compare_exchange_weak(peak, held)) {
+  }
+  auto tile = std::make_shared<Tile>(size_t(x1 - x0) * size_t(y1 - y0));
+  if (!has_valid(grown.z)) {
+    note_far_tile(x0, x1, y0, y1);
     for (int v = y0; v < y1; ++v)
-      std::copy_n(grown.z.begin() + (size_t(v - gy0) * grown.nx + (x0 - gx0)), x1 - x0,
-                  tile->begin() + size_t(v - y0) * (x1 - x0));
+      for (int u = x0; u < x1; ++u) (*tile)[size_t(v - y0) * (x1 - x0) + (u - x0)] = far_.height(u, v);
     return tile;
   }
+  FillTile limits{kFillMarginCells, x0 - gx0, y0 - gy0, x1 - gx0, y1 - gy0, gx0 > 0, gy0 > 0, gx1 < nx, gy1 < ny};
+  fill_holes(grown, one_tile ? nullptr : &limits);
+  for (int v = y0; v < y1; ++v)
+    std::copy_n(grown.z.begin() + (size_t(v - gy0) * grown.nx + (x0 - gx0)), x1 - x0,
+                tile->begin() + size_t(v - y0) * (x1 - x0));
+  return tile;
+}
+
+// Once per raster: its terrain is extrapolated far, which a user should know.
+void DtmSource::note_far_tile(int x0, int x1, int y0, int y1) const {
+  std::call_once(far_noted_, [&] {
+    log::warn(log::format("%s: cells %d..%d x %d..%d (and maybe others) have no valid height within %d cells: "
+                          "they take the mean height of the nearest %d x %d cells with terrain",
+                          header_.source.c_str(), x0, x1 - 1, y0, y1 - 1, kFillMarginCells,
+                          FarTerrain::kBlockCells, FarTerrain::kBlockCells));
+  });
 }
 
 // The tile from the cache, or filled once (other threads asking meanwhile wait for it).
@@ -287,7 +295,7 @@ Dtm DtmSource::whole() const {
 size_t DtmSource::count_cells(const std::function<bool(float)>& pick, float* first) const {
   size_t n = 0;
   std::lock_guard<std::mutex> lock(read_);
-  for_each_strip(*ds_, header_.source, [&](const std::vector<float>& z) {
+  for_each_strip(*ds_, header_.source, [&](const std::vector<float>& z, int) {
     for (float v : z)
       if (!std::isnan(v) && pick(v) && n++ == 0 && first) *first = v;
   });

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/gdal_dataset.h"
+#include "core/io/dtm_fill.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -33,9 +34,10 @@ Dtm read_dtm_header(const std::string& path);
 // large the raster. NoData is filled on a fixed grid of tiles of the raster:
 // tile (i, j) is cells [i S, (i+1) S) x [j S, (j+1) S), S = kFillTileCells,
 // filled from itself and kFillMarginCells around it (GDALFillNodata searching
-// no farther than the margin, then the nearest valid cell there), so a cell's
-// height depends on the raster alone, never on the windows asked for. A raster
-// within one tile is filled whole. A window's cells and lookups equal
+// no farther than the margin, then the nearest valid cell there; a tile with
+// no valid cell in that reach takes FarTerrain's heights), so a cell's height
+// depends on the raster alone, never on the windows asked for, and filling
+// costs a bounded amount per cell. A raster within one tile is filled whole. A window's cells and lookups equal
 // read_dtm's grid's (Dtm::win_*). Thread-safe.
 class DtmSource {
  public:
@@ -71,10 +73,13 @@ class DtmSource {
   std::shared_ptr<const Tile> tile(int ti, int tj) const;
   std::shared_ptr<const Tile> fill_tile(int ti, int tj) const;
   void copy_cells(int c0, int r0, int nx, int ny, std::vector<float>& out) const;
+  void note_far_tile(int x0, int x1, int y0, int y1) const;
 
   size_t max_cells_;
   Dtm header_;
   size_t nodata_cells_ = 0;
+  FarTerrain far_;  // heights beyond the fill's reach
+  mutable std::once_flag far_noted_;
   GdalDataset ds_;
   mutable std::mutex read_;  // GDAL datasets are not thread-safe
   // The tiles filled last, most recent first (a future while one is filled).
