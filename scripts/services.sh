@@ -5,6 +5,7 @@
 # of the system's own configuration changes.
 #
 #   scripts/services.sh start   # idempotent; prints the environment to use
+#   scripts/services.sh start postgres   # PostgreSQL alone (the tests' fixture)
 #   scripts/services.sh env     # prints it again:  eval "$(scripts/services.sh env)"
 #   scripts/services.sh stop
 #
@@ -134,7 +135,7 @@ stop_all() {
 }
 
 case "${1:-}" in
-  start) mkdir -p "$DIR"; start_postgres; start_slurm; print_env ;;
+  start) mkdir -p "$DIR"; start_postgres; [ "${2:-}" = postgres ] || start_slurm; print_env ;;
   env) print_env ;;
   stop) stop_all ;;
   *) echo "usage: $0 start|env|stop" >&2; exit 2 ;;

@@ -12,8 +12,10 @@
 #include <tuple>
 #include <sstream>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <functional>
 #include <sys/wait.h>
 
@@ -28,6 +30,16 @@ namespace c3d::test {
 static std::string shared_path(const std::string& sub) {
   fs::path p = fs::path(C3D_SOURCE_DIR).parent_path() / "shared" / sub;
   return fs::exists(p) ? p.string() : std::string();
+}
+
+bool in_ci() {
+  const char* ci = std::getenv("CI");
+  return ci && *ci && std::string(ci) != "false" && std::string(ci) != "0";
+}
+
+void note_missing(const std::string& what) {
+  if (in_ci()) ADD_FAILURE() << "CI requires it: " << what;
+  else std::cout << what << "\n";
 }
 
 std::string cimahi_dir() { return shared_path("data/cimahi"); }

@@ -10,6 +10,13 @@
 
 namespace c3d::test {
 
+// Whether this is a CI run (CI set and not "false" or "0"): there every
+// requirement of a test must be present (C3D_NEED).
+bool in_ci();
+// A judge missing where the test goes on with a weaker check: a failure in
+// CI, a printed note elsewhere.
+void note_missing(const std::string& what);
+
 // ../shared/data/cimahi beside the checkout, or "" when absent (tests then skip).
 std::string cimahi_dir();
 std::string schemas_dir();
@@ -61,8 +68,15 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text);
 
 }  // namespace c3d::test
 
-#define C3D_REQUIRE_CIMAHI()                                                    \
-  do {                                                                          \
-    if (c3d::test::cimahi_dir().empty())                                        \
-      GTEST_SKIP() << "../shared/data/cimahi not found beside the checkout";    \
+// A test's requirement (a service, a judge, ../shared): without it the test
+// skips with `what`, but in CI (CI=true, .ci/run) it fails naming it, so a
+// missing install step cannot pass as green.
+#define C3D_NEED(have, what)                                                         \
+  do {                                                                               \
+    if (!(have)) {                                                                   \
+      if (c3d::test::in_ci()) FAIL() << "CI requires it: " << what;                  \
+      GTEST_SKIP() << what;                                                          \
+    }                                                                                \
   } while (0)
+
+#define C3D_REQUIRE_CIMAHI() C3D_NEED(!c3d::test::cimahi_dir().empty(), "../shared/data/cimahi not found beside the checkout")
