@@ -3,5 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-# CI also fuzzes every reader for 2 minutes under ASan + UBSan (docs/testing.md).
+# CI also fuzzes every reader under ASan + UBSan, a fixed count of inputs each (docs/testing.md).
 C3D_FUZZ_SANITIZE=ON bash scripts/test.sh

@@ -184,8 +184,7 @@ void expect_report_csv_matches_store(const std::string& out, Sqlite& db,
 
 // GDAL sees the LADM tables (QGIS opens the file through the same driver).
 void expect_gdal_sees_tables(const std::string& out) {
-  if (std::system("command -v ogrinfo >/dev/null 2>&1") != 0)
-    GTEST_SKIP() << "ogrinfo (gdal-bin) not installed";
+  C3D_NEED(std::system("command -v ogrinfo >/dev/null 2>&1") == 0, "ogrinfo (gdal-bin) not installed");
   std::string listing;
   {
     FILE* p = popen(("ogrinfo -ro -q " + out + "/cadastre.gpkg 2>&1").c_str(), "r");

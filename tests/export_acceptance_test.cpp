@@ -80,8 +80,7 @@ const Batch& batch(const std::string& data) {
 class Exports : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    if (GetParam() == "cimahi" && test::cimahi_dir().empty())
-      GTEST_SKIP() << "../shared/data/cimahi not found beside the checkout";
+    if (GetParam() == "cimahi") C3D_REQUIRE_CIMAHI();
   }
 };
 
@@ -105,7 +104,7 @@ TEST_P(Exports, EveryBuildingIsAValidSolid) {
     for (const auto& id : *invalid) ids += " " + id;
     EXPECT_TRUE(invalid->empty()) << "val3dity finds invalid:" << ids;
   } else {
-    std::cout << "val3dity not found beside the checkout: validity judged by our check only\n";
+    test::note_missing("val3dity not found beside the checkout: validity judged by our check only");
   }
   // Every wall says what placed it: a party wall the parcel boundary, any
   // other its wall points, another facade, the default overhang or a roof step.

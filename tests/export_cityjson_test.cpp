@@ -71,13 +71,13 @@ class CityJson : public ::testing::Test {
 }  // namespace
 
 TEST_F(CityJson, SchemaValid) {
-  if (!can_ajv()) GTEST_SKIP() << "tests/js/node_modules (npm) or ../shared/schemas missing";
+  C3D_NEED(can_ajv(), "tests/js/node_modules (npm) or ../shared/schemas missing");
   std::string out;
   EXPECT_EQ(ajv(path, &out), 0) << out;
 }
 
 TEST_F(CityJson, BrokenFileFailsSchema) {
-  if (!can_ajv()) GTEST_SKIP() << "tests/js/node_modules (npm) or ../shared/schemas missing";
+  C3D_NEED(can_ajv(), "tests/js/node_modules (npm) or ../shared/schemas missing");
   json bad = doc;
   bad["CityObjects"]["P-001_b1"]["geometry"][0]["lod"] = 2;  // must be a string
   fx::write_text(dir + "/bad.city.json", bad.dump());
@@ -256,6 +256,6 @@ TEST_F(CityJson, SeqIsAHeaderThenOneFeaturePerBuilding) {
 
 TEST_F(CityJson, Val3dityFindsEveryBuildingValid) {
   const auto invalid = test::val3dity_invalid(path);
-  if (!invalid) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  C3D_NEED(invalid, "../shared/tools/val3dity not found");
   EXPECT_TRUE(invalid->empty()) << (*invalid)[0];
 }

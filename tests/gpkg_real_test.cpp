@@ -78,8 +78,7 @@ LayerSum scan(GDALDataset& ds, const char* name) {
 class GpkgReal : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    if (GetParam() == "cimahi" && test::cimahi_dir().empty())
-      GTEST_SKIP() << "../shared/data/cimahi not found beside the checkout";
+    if (GetParam() == "cimahi") C3D_REQUIRE_CIMAHI();
     const DataRun& r = run(GetParam());
     ASSERT_EQ(r.rc, 0) << r.log;
   }

@@ -2,17 +2,18 @@
 # The LAZ files our writer makes, decoded by an independent decoder: laz-perf
 # (tests/js, installed by scripts/setup.sh) must give the SHA-256 of the
 # records that ../shared/data/laz/README.md lists for the originals.
-# Usage: tests/laz_perf_check.sh BUILD_DIR     (exit 77: skipped)
+# Usage: tests/laz_perf_check.sh BUILD_DIR     (exit 77: skipped; in CI a failure)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$(cd "$1" && pwd)"
-[ -d "$root/../shared/data/laz" ] || { echo "skip: ../shared/data/laz not found"; exit 77; }
+. "$root/tests/need.sh"
+[ -d "$root/../shared/data/laz" ] || missing "../shared/data/laz not found"
 command -v node >/dev/null && [ -f "$root/tests/js/node_modules/laz-perf/package.json" ] ||
-  { echo "skip: node or laz-perf missing (scripts/setup.sh installs them)"; exit 77; }
+  missing "node or laz-perf (scripts/setup.sh installs them)"
 # Each shared LAZ written again by our encoder (chunks of 50,000 and 1,000 points).
 dir="$build/tests/tmp/laz_perf_check"
 rm -rf "$dir"
-C3D_LAZ_OUT="$dir" "$build/tests/laz_write_test" --gtest_filter=LazWrite.RewriteSharedFilesForLazPerf >/dev/null
+C3D_LAZ_OUT="$dir" "$build/tests/laz_write_test" --gtest_filter=LazWrite.ForScript_RewriteSharedFiles >/dev/null
 readme="$root/../shared/data/laz/README.md"
 fail=0
 for f in "$dir"/*.laz; do

@@ -63,8 +63,7 @@ std::string records_sha(const std::string& path) {
   return h.hex();
 }
 
-#define C3D_REQUIRE_LAZ()                                                  \
-  if (test::laz_dir().empty()) GTEST_SKIP() << "../shared/data/laz not found beside the checkout"
+#define C3D_REQUIRE_LAZ() C3D_NEED(!test::laz_dir().empty(), "../shared/data/laz not found beside the checkout")
 
 // The README's hashes: every LAZ there, and the uncompressed twins.
 TEST(LazDecode, RecordsMatchKnownHashes) {

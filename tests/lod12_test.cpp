@@ -204,7 +204,7 @@ TEST(Lod12, CityJsonWritesLod12AndReadsItBack) {
   EXPECT_EQ(b.lod_note, m.results.back().buildings.front().lod_note);
   EXPECT_EQ(b.elements.size(), 8u);
   EXPECT_EQ(back.results.front().buildings.front().lod, "2.2");
-  if (!can_ajv()) GTEST_SKIP() << "tests/js/node_modules (npm) or ../shared/schemas missing";
+  C3D_NEED(can_ajv(), "tests/js/node_modules (npm) or ../shared/schemas missing");
   std::string out;
   EXPECT_EQ(ajv(path, &out), 0) << out;
 }
@@ -223,7 +223,7 @@ TEST(Lod12, CityGmlWritesLod1SolidSchemaValid) {
     std::string out;
     EXPECT_EQ(xmllint(path, &out, version), 0) << out;
   }
-  if (!can_xmllint()) GTEST_SKIP() << "xmllint or ../shared/schemas missing";
+  C3D_NEED(can_xmllint(), "xmllint or ../shared/schemas missing");
 }
 
 TEST(Lod12, StoreRecordsTheLodAndAnOlderStoreGetsTheColumns) {
@@ -256,7 +256,7 @@ const fs::path kShared = fs::path(C3D_SOURCE_DIR).parent_path() / "shared";
 
 TEST(Lod12, Ahn3TownHasOnlyValidSolids) {
   const fs::path town = kShared / "data" / "ahn3";
-  if (!fs::exists(town / "cloud.las")) GTEST_SKIP() << town << " not found";
+  C3D_NEED(fs::exists(town / "cloud.las"), town << " not found");
   const std::string out = test::temp_dir("ahn3");
   std::string log;
   const int rc = test::run_cli("batch --quiet --cloud " + (town / "cloud.las").string() + " --parcels " +
@@ -293,7 +293,7 @@ TEST(Lod12, Ahn3TownHasOnlyValidSolids) {
   EXPECT_LE(lod12 + lod13, 8) << "most buildings keep their LoD 2.2";
 
   const auto judged = test::val3dity_invalid(out + "/buildings.city.json");
-  if (!judged) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  C3D_NEED(judged, "../shared/tools/val3dity not found");
   std::string invalid;
   for (const auto& id : *judged) {
     invalid += " " + id;

@@ -170,7 +170,7 @@ TEST(Lod13, SteppedSolidIsValidByOurCheckAndVal3dity) {
   const std::string dir = test::temp_dir("lod13_val3dity");
   test::write_solids_cityjson({{"B1", "1.3", shell}}, dir + "/stepped.city.json");
   const auto invalid = test::val3dity_invalid(dir + "/stepped.city.json");
-  if (!invalid) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  C3D_NEED(invalid, "../shared/tools/val3dity not found");
   EXPECT_TRUE(invalid->empty()) << invalid->front();
 }
 

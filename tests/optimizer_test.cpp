@@ -8,6 +8,7 @@
 #include "core/optimizer/optimizer.h"
 #include "core/optimizer/optimizer_kernels.h"
 #include "core/optimizer/vulkan_compute.h"
+#include "tests/test_support.h"
 
 using namespace c3d;
 
@@ -98,7 +99,7 @@ KernelState random_state(int nv, int nt) {
 }  // namespace
 
 TEST(OptimizerKernels, CpuAndVulkanAgree) {
-  if (!have_vulkan()) GTEST_SKIP() << "no Vulkan device";
+  C3D_NEED(have_vulkan(), "no Vulkan device");
   VulkanCompute* vk = shared_vulkan();
   KernelState s = random_state(5000, 8000);
 
@@ -175,7 +176,7 @@ TEST(Optimizer, NoisyGableRoofCpu) {
 }
 
 TEST(Optimizer, NoisyGableRoofVulkanMatchesCpu) {
-  if (!have_vulkan()) GTEST_SKIP() << "no Vulkan device";
+  C3D_NEED(have_vulkan(), "no Vulkan device");
   ConstrainedMesh cpu = noisy_gable(), gpu = noisy_gable();
   OptimizeReport rc = optimize_mesh(cpu, opts(ComputeDevice::Cpu));
   OptimizeReport rg = optimize_mesh(gpu, opts(ComputeDevice::Vulkan));
@@ -206,7 +207,7 @@ TEST(Optimizer, ViewDependentIncremental) {
   EXPECT_LT(rc.energy.back(), 0.05 * rc.energy.front());
   // A vertex refined by an earlier view is not dispatched again.
   EXPECT_LT(rc.view_tasks[2], rc.view_tasks[0] + rc.view_tasks[1]);
-  if (!have_vulkan()) GTEST_SKIP() << "no Vulkan device";
+  C3D_NEED(have_vulkan(), "no Vulkan device");
   ConstrainedMesh gpu = noisy_gable();
   OptimizeReport rg = optimize_views(gpu, views, opts(ComputeDevice::Vulkan));
   EXPECT_EQ(rc.view_tasks, rg.view_tasks);

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The scale-out services start from the project's own script (issue 37):
 # PostGIS answers a spatial query and a Slurm job array runs every task.
-# Exit 77 (skipped) without root or without the Debian packages.
+# Exit 77 (skipped; in CI a failure) without root or without the Debian packages.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+. "$here/tests/need.sh"
 if [ "$(id -u)" -ne 0 ] || ! command -v slurmctld >/dev/null || [ ! -x /usr/lib/postgresql/15/bin/initdb ]; then
-  echo "skipped: needs root and scripts/setup.sh's postgresql-15-postgis-3, slurm-wlm, munge"
-  exit 77
+  missing "root and scripts/setup.sh's postgresql-15-postgis-3, slurm-wlm, munge"
 fi
 export C3D_SERVICES_DIR=$(mktemp -d /tmp/c3d-services-test.XXXXXX) C3D_PG_PORT=55499 C3D_SLURM_PORT=56897
 chmod 755 "$C3D_SERVICES_DIR"

@@ -8,15 +8,15 @@
 # task writes at once (--store postgresql://): no merge, the finish job
 # (`merge --store`) writes the summary, report and exports from the database.
 # Both finish jobs get the batch's inputs: the summaries' whole-run fit
-# equals the unsharded run's. Exit 77 (skipped) without root, Slurm or GDAL's Python.
+# equals the unsharded run's. Exit 77 (skipped; in CI a failure) without root, Slurm or GDAL's Python.
 #   tests/slurm_shards_check.sh path/to/cadastre3d
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+. "$here/tests/need.sh"
 c3d=$(realpath "${1:?usage: $0 path/to/cadastre3d}")
 if [ "$(id -u)" -ne 0 ] || ! command -v slurmctld >/dev/null || [ ! -x /usr/lib/postgresql/15/bin/initdb ] ||
    ! /usr/bin/python3 -c 'from osgeo import ogr' 2>/dev/null; then
-  echo "skipped: needs root, scripts/setup.sh's slurm-wlm, munge, postgresql-15-postgis-3 and python3-gdal"
-  exit 77
+  missing "root, scripts/setup.sh's slurm-wlm, munge, postgresql-15-postgis-3 and python3-gdal"
 fi
 export C3D_SERVICES_DIR=$(mktemp -d /tmp/c3d-slurm-shards.XXXXXX) C3D_PG_PORT=55497 C3D_SLURM_PORT=56893
 chmod 755 "$C3D_SERVICES_DIR"

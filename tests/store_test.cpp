@@ -359,7 +359,7 @@ TEST(Store, ThousandParcelsWriteFast) {
 
 TEST(Store, GdalValidatorAndOgrinfoAcceptTheFile) {
   std::string path = make_store("store_validate", test::sample_batch());
-  if (!fs::exists(kValidator)) GTEST_SKIP() << "validate_gpkg.py not shipped (python3-gdal)";
+  C3D_NEED(fs::exists(kValidator), "validate_gpkg.py not shipped (python3-gdal)");
   std::string cmd = std::string("python3 ") + kValidator + " -k --extra " + path + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
@@ -367,7 +367,7 @@ TEST(Store, GdalValidatorAndOgrinfoAcceptTheFile) {
   while (fgets(buf, sizeof buf, p)) out += buf;
   EXPECT_EQ(pclose(p), 0) << out;
   EXPECT_EQ(out, "") << out;
-  if (!fs::exists("/usr/bin/ogrinfo")) return;
+  C3D_NEED(fs::exists("/usr/bin/ogrinfo"), "ogrinfo (gdal-bin) not installed");
   p = popen(("ogrinfo -ro -q " + path + " 2>&1").c_str(), "r");
   out.clear();
   while (fgets(buf, sizeof buf, p)) out += buf;

@@ -265,7 +265,7 @@ TEST(Val3dityJudge, AgreesWithValidateOnEveryBuilding) {
   const std::string dir = test::temp_dir("judge"), path = dir + "/judged.city.json";
   write_cityjson(with_defects(), path);
   const auto judged = test::val3dity_invalid(path);
-  if (!judged) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  C3D_NEED(judged, "../shared/tools/val3dity not found");
   const std::set<std::string> val3dity(judged->begin(), judged->end());
   std::string log;
   const std::set<std::string> ours = check::validate_invalid(path, &log);
@@ -320,7 +320,7 @@ TEST(Val3dityJudge, AHoleTouchingItsOuterRingIsNoPinch) {
   EXPECT_TRUE(check::validate_invalid(path, &log).empty()) << log;
   EXPECT_EQ(check::validate_invalid(pinch, &log), std::set<std::string>{"pit_b1"}) << log;
   const auto judged = test::val3dity_invalid(path);
-  if (!judged) GTEST_SKIP() << "../shared/tools/val3dity not found";
+  C3D_NEED(judged, "../shared/tools/val3dity not found");
   EXPECT_TRUE(judged->empty());
   EXPECT_EQ(*test::val3dity_invalid(pinch), std::vector<std::string>{"pit_b1"});
 }

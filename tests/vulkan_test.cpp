@@ -5,6 +5,7 @@
 
 #include "core/optimizer/mesh_distance.h"
 #include "core/optimizer/vulkan_compute.h"
+#include "tests/test_support.h"
 
 using namespace c3d;
 
@@ -53,7 +54,7 @@ TEST(Vulkan, DeviceParsingAndCpuChoice) {
 TEST(Vulkan, DeviceAvailableUnderCtest) {
   std::string why;
   VulkanCompute* vk = shared_vulkan(&why);
-  if (!vk) GTEST_SKIP() << "no Vulkan: " << why;
+  C3D_NEED(vk, "no Vulkan: " << why);
   EXPECT_FALSE(vk->device_name().empty());
   std::string note;
   EXPECT_EQ(select_compute(ComputeDevice::Auto, &note), vk);
@@ -71,7 +72,7 @@ TEST(PointToMesh, GridMatchesBruteForceOnCpu) {
 }
 
 TEST(PointToMesh, VulkanMatchesCpu) {
-  if (!shared_vulkan()) GTEST_SKIP() << "no Vulkan device";
+  C3D_NEED(shared_vulkan(), "no Vulkan device");
   std::mt19937 rng(5);
   auto tris = random_surface(5000, rng);
   std::uniform_real_distribution<double> u(-2, 22);
