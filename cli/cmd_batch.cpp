@@ -71,15 +71,16 @@ int print_counts(const BatchReport& report, bool quiet) {
   return failed + suspect > 0 ? kExitPartial : kExitOk;
 }
 
-// Test hook (tests/slurm_shards_check.sh): C3D_TEST_PAUSE_SHARD="K/N:M" holds
-// shard K/N for a minute once its M-th parcel is stored, so the test can kill
-// the task midway. Returns M, or 0 when the hook does not name this shard.
-size_t pause_after(const Shard& shard) {
+// Test hook of the tests' build only (tests/slurm_shards_check.sh):
+// C3D_TEST_PAUSE_SHARD="K/N:M" holds shard K/N a minute after its M-th parcel
+// is stored, for the test to kill it midway.
+void test_pause([[maybe_unused]] const Shard& shard, [[maybe_unused]] const char* stage,
+                [[maybe_unused]] size_t done) {
+#ifdef C3D_TEST_HOOKS
   const char* hook = std::getenv("C3D_TEST_PAUSE_SHARD");
-  const std::string h = hook ? hook : "";
-  const auto colon = h.find(':');
-  if (!shard.active() || colon == std::string::npos || h.substr(0, colon) != to_string(shard)) return 0;
-  return size_t(std::strtoul(h.c_str() + colon + 1, nullptr, 10));
+  const bool named = hook && shard.active() && hook == to_string(shard) + ":" + std::to_string(done);
+  if (named && std::string(stage) == "reconstruct") std::this_thread::sleep_for(std::chrono::minutes(1));
+#endif
 }
 
 // A shard writes its store only: a report of part of the layer would mislead;
@@ -104,10 +105,9 @@ int run(BatchOptions opt) {
   const std::string store_path = opt.store.empty() ? (fs::path(opt.out) / "cadastre.gpkg").string() : opt.store;
   StoreSink sink(store_path, opt.settings.resume);
   Progress progress(opt.quiet);
-  const size_t pause = pause_after(opt.settings.shard);
   opt.settings.progress = [&](const char* stage, size_t done, size_t total) {
     progress.show(stage, done, total);
-    if (pause && done == pause && std::string(stage) == "reconstruct") std::this_thread::sleep_for(std::chrono::minutes(1));
+    test_pause(opt.settings.shard, stage, done);
   };
   const BatchReport report = run_batch(opt.in.inputs, cfg, sink, opt.settings);
   if (opt.settings.shard.active()) return finish_shard(report, sink, opt, progress);

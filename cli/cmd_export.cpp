@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "cadastre/store.h"
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
+#include "cadastre/store/store.h"
 #include "cli/commands.h"
 #include "ifc_citygml/export.h"
 

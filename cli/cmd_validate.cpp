@@ -5,7 +5,7 @@
 #include <iostream>
 #include <string>
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "cli/commands.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"

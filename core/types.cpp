@@ -1,6 +1,7 @@
 #include "core/types.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace c3d {
 
@@ -25,6 +26,27 @@ const char* to_string(WallEvidence e) {
     case WallEvidence::RoofStep: return "roof_step";
   }
   return "?";
+}
+
+const char* to_string(Lod l) {
+  switch (l) {
+    case Lod::Lod12: return "1.2";
+    case Lod::Lod13: return "1.3";
+    case Lod::Lod22: return "2.2";
+  }
+  return "?";
+}
+
+Lod lod_from(const std::string& text) {
+  for (Lod l : {Lod::Lod12, Lod::Lod13, Lod::Lod22})
+    if (text == to_string(l)) return l;
+  throw std::invalid_argument("unknown level of detail '" + text + "' (known: 1.2, 1.3, 2.2)");
+}
+
+ParcelStatus parcel_status_from(const std::string& text) {
+  for (ParcelStatus s : {ParcelStatus::Ok, ParcelStatus::Empty, ParcelStatus::Failed, ParcelStatus::Suspect})
+    if (text == to_string(s)) return s;
+  throw std::invalid_argument("unknown parcel status '" + text + "' (known: ok, empty, failed, suspect)");
 }
 
 const char* to_string(ParcelStatus s) {

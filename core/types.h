@@ -171,11 +171,19 @@ struct BuildingAttributes {
   std::string data_quality;
 };
 
-// The same building at a lower level of detail ("1.2" prism, "1.3" layers),
+// The level of detail a building is modelled at (docs/design.md): 2.2 the
+// element model (roof planes), 1.3 height layers, 1.2 one prism. Ordered
+// from low to high; stores and exports write "1.2", "1.3", "2.2".
+enum class Lod { Lod12, Lod13, Lod22 };
+const char* to_string(Lod l);
+// The level its text names; std::invalid_argument naming the text otherwise.
+Lod lod_from(const std::string& text);
+
+// The same building at a lower level of detail (1.2 prism, 1.3 layers),
 // for the exports that carry several LoDs: its closed shell, outward, with
 // each face's element type.
 struct LodShell {
-  std::string lod;
+  Lod lod = Lod::Lod12;
   std::vector<Face> faces;
   std::vector<ElementType> face_types;  // one per face
   double volume = 0;                    // m3
@@ -192,11 +200,11 @@ struct Building {
   int storeys = 1;
   bool solid_valid = false;       // closed, 2-manifold, outward oriented
   std::string solid_problem;      // why not valid
-  // The level of detail modelled: "2.2" (roof planes, the element model),
-  // "1.3" (height layers, where the 2.2 model could not be made valid) or
-  // "1.2" (one prism, where the layers failed too), and why it is not 2.2
-  // ("" for a 2.2 model that is valid).
-  std::string lod = "2.2";
+  // The level of detail modelled: 2.2 (roof planes, the element model), 1.3
+  // (height layers, where the 2.2 model could not be made valid) or 1.2 (one
+  // prism, where the layers failed too), and why it is not 2.2 ("" for a 2.2
+  // model that is valid).
+  Lod lod = Lod::Lod22;
   std::string lod_note;
   Deviation roof_deviation, wall_deviation;
   // The closed solid: shell faces (ground, walls, roof inside the walls).
@@ -215,6 +223,8 @@ struct Timing {
 // (cadastre/batch/plausibility.h); reported with its reason, never valued.
 enum class ParcelStatus { Ok, Empty, Failed, Suspect };
 const char* to_string(ParcelStatus s);
+// The status its text names; std::invalid_argument naming the text otherwise.
+ParcelStatus parcel_status_from(const std::string& text);
 
 struct ParcelResult {
   int parcel_index = 0;

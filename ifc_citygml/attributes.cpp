@@ -16,10 +16,10 @@ std::string camel_case(const std::string& snake) {
   return out;
 }
 
-std::string rmse_name(const std::string& lod) {
+std::string rmse_name(Lod lod) {
   std::string digits;
-  for (char c : lod)
-    if (std::isdigit(static_cast<unsigned char>(c))) digits += c;
+  for (const char* c = to_string(lod); *c; ++c)
+    if (std::isdigit(static_cast<unsigned char>(*c))) digits += *c;
   return "rmse_lod" + digits;
 }
 

@@ -21,7 +21,7 @@ struct QualityAttributes {
 // Names in snake_case (CityJSON); camel_case() gives CityGML's.
 QualityAttributes quality_attributes(const Building& b, const LocalFrame& frame);
 std::string camel_case(const std::string& snake);
-// "rmse_lod22" for "2.2".
-std::string rmse_name(const std::string& lod);
+// "rmse_lod22" for LoD 2.2.
+std::string rmse_name(Lod lod);
 
 }  // namespace c3d::exp

@@ -167,7 +167,7 @@ class GmlWriter : public ExportWriter {
   }
 
   // "lod1" for an LoD 1.2 prism, "lod2" for the element model.
-  static const char* lod(const Building& b) { return b.lod.rfind('1', 0) == 0 ? "lod1" : "lod2"; }
+  static const char* lod(const Building& b) { return b.lod == Lod::Lod22 ? "lod2" : "lod1"; }
   bool prism_in_v2(const Building& b) const { return !v3_ && std::string(lod(b)) == "lod1"; }
 
   void building_attributes(const ParcelResult& r, const Building& b) {
@@ -188,13 +188,13 @@ class GmlWriter : public ExportWriter {
     dbl_attr("volume", b.volume, 3);
     dbl_attr("eaveHeight", b.eave_height, 3);
     str_attr("solidValid", b.solid_valid ? "true" : "false");
-    str_attr("lod", b.lod);
+    str_attr("lod", to_string(b.lod));
     str_attr("lodNote", b.lod_note);
     const exp::QualityAttributes q = exp::quality_attributes(b, frame_);
     for (const auto& [k, v] : q.texts) str_attr(exp::camel_case(k).c_str(), v);
     for (const auto& [k, v] : q.numbers) dbl_attr(exp::camel_case(k).c_str(), v, 3);
     for (const auto& [k, v] : q.counts) int_attr(exp::camel_case(k).c_str(), v);
-    if (const LodShell* l = lod1_shell(b)) str_attr("lod1Solid", "LoD " + l->lod);
+    if (const LodShell* l = lod1_shell(b)) str_attr("lod1Solid", std::string("LoD ") + to_string(l->lod));
   }
 
   // This building's surfaces, each once (set by building()).
@@ -271,7 +271,7 @@ class GmlWriter : public ExportWriter {
     if (std::string(lod(b)) != "lod2") return nullptr;
     const LodShell* best = nullptr;
     for (const auto& l : b.lower_lods)
-      if (!l.faces.empty() && l.lod.rfind('1', 0) == 0 && (!best || l.lod > best->lod)) best = &l;
+      if (!l.faces.empty() && l.lod != Lod::Lod22 && (!best || l.lod > best->lod)) best = &l;
     return best;
   }
 

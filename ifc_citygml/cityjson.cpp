@@ -153,14 +153,14 @@ void primary_geometries(json& geometry, Vertices& v, const Building& b) {
     Semantics sem(b, levels, level_count, described);
     json shell = json::array(), values = json::array();
     for (const auto& p : s.solid) shell.push_back(surface_json(v, p.face)), values.push_back(sem.of(p));
-    geometry.push_back({{"type", "Solid"}, {"lod", b.lod}, {"boundaries", json::array({shell})},
+    geometry.push_back({{"type", "Solid"}, {"lod", to_string(b.lod)}, {"boundaries", json::array({shell})},
                         {"semantics", {{"surfaces", sem.surfaces}, {"values", json::array({values})}}}});
   }
   if (s.outside.empty()) return;
   Semantics sem(b, levels, level_count, described);
   json bounds = json::array(), values = json::array();
   for (const auto& p : s.outside) bounds.push_back(surface_json(v, p.face)), values.push_back(sem.of(p));
-  geometry.push_back({{"type", "MultiSurface"}, {"lod", b.lod}, {"boundaries", bounds},
+  geometry.push_back({{"type", "MultiSurface"}, {"lod", to_string(b.lod)}, {"boundaries", bounds},
                       {"semantics", {{"surfaces", sem.surfaces}, {"values", values}}}});
 }
 
@@ -175,7 +175,7 @@ json lower_solid(Vertices& v, const Building& b, const LodShell& l) {
     shell.push_back(surface_json(v, l.faces[k]));
     values.push_back(sem.of(p));
   }
-  return {{"type", "Solid"}, {"lod", l.lod}, {"boundaries", json::array({shell})},
+  return {{"type", "Solid"}, {"lod", to_string(l.lod)}, {"boundaries", json::array({shell})},
           {"semantics", {{"surfaces", sem.surfaces}, {"values", json::array({values})}}}};
 }
 
@@ -194,7 +194,7 @@ json building_attributes(const BatchModel& m, const ParcelResult& r, const Build
             {"volume", b.volume}, {"measuredHeight", b.ridge_height},
             {"eave_height", b.eave_height}, {"storeysAboveGround", b.storeys},
             {"terrain_z", b.terrain_z}, {"solid_valid", b.solid_valid},
-            {"lod", b.lod}, {"lod_note", b.lod_note}};
+            {"lod", to_string(b.lod)}, {"lod_note", b.lod_note}};
   const exp::QualityAttributes q = exp::quality_attributes(b, m.frame);
   for (const auto& [k, x] : q.texts) a[k] = x;
   for (const auto& [k, x] : q.numbers) a[k] = x;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -40,6 +41,14 @@ struct Reader {
   std::vector<Vec3> verts;  // local coordinates (relative to translate)
 
   [[noreturn]] void fail(const std::string& what) const { throw InputError(path, what); }
+
+  Lod lod(const std::string& text) const {
+    try {
+      return lod_from(text);
+    } catch (const std::invalid_argument& e) {
+      fail(e.what());
+    }
+  }
 
   Ring3 ring(const json& r) const {
     if (!r.is_array()) fail("ring is not an array");
@@ -102,9 +111,9 @@ struct Reader {
     }
   }
 
-  LodShell lower(const json& g, const std::string& lod) const {
+  LodShell lower(const json& g, const std::string& text) const {
     LodShell l;
-    l.lod = lod;
+    l.lod = lod(text);
     const json& shell = g.at("boundaries").at(0);
     const json* sem = g.contains("semantics") ? &g["semantics"] : nullptr;
     for (size_t i = 0; i < shell.size(); ++i) {
@@ -125,14 +134,14 @@ struct Reader {
     Elements els;
     for (size_t gi = 0; gi < geoms.size(); ++gi) {
       const json* g = geoms[gi];
-      const std::string lod = lod_of(*g), type = g->value("type", "");
+      const std::string text = lod_of(*g), type = g->value("type", "");
       const json* sem = g->contains("semantics") ? &(*g)["semantics"] : nullptr;
       const json* surfaces = sem ? &sem->at("surfaces") : nullptr;
-      if (lod_number(lod) < top) {
-        if (type == "Solid" && !g->at("boundaries").empty()) b.lower_lods.push_back(lower(*g, lod));
+      if (lod_number(text) < top) {
+        if (type == "Solid" && !g->at("boundaries").empty()) b.lower_lods.push_back(lower(*g, text));
         continue;
       }
-      b.lod = lod;
+      b.lod = lod(text);
       if (type == "MultiSurface" || type == "CompositeSurface")
         elements(g->at("boundaries"), surfaces, sem ? &sem->at("values") : nullptr, false, gi, els);
       if (type == "Solid" && !g->at("boundaries").empty()) {
@@ -142,7 +151,7 @@ struct Reader {
       }
     }
     std::sort(b.lower_lods.begin(), b.lower_lods.end(),
-              [](const LodShell& x, const LodShell& y) { return lod_number(x.lod) < lod_number(y.lod); });
+              [](const LodShell& x, const LodShell& y) { return x.lod < y.lod; });
     for (auto& [key, el] : els) {
       if (el.area == 0) for (const auto& f : el.faces) el.area += area(f);
       b.elements.push_back(std::move(el));

@@ -254,7 +254,7 @@ std::vector<ValidationIssue> validate_building(const Building& b, const Validati
   Checker c{b, opt, {}};
   c.elements();
   c.shell(b.solid, "solid");
-  for (const auto& l : b.lower_lods) c.shell(l.faces, "lod " + l.lod + " solid");
+  for (const auto& l : b.lower_lods) c.shell(l.faces, std::string("lod ") + to_string(l.lod) + " solid");
   return c.issues;
 }
 

@@ -1,4 +1,4 @@
-// The scan's roof density by place (core/reconstruct/roof_density.h,
+// The scan's roof density by place (core/reconstruct/scene/roof_density.h,
 // DensityBlocks in cadastre/batch/tiles.h): each 1 km block holds the median
 // count of roof points per 0.5 m cell over its own cells, whatever else the
 // tiles hold; a scene finds its cells' blocks through its local frame.
@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "cadastre/batch/tiles.h"
-#include "core/reconstruct/roof_density.h"
+#include "core/reconstruct/scene/roof_density.h"
 
 namespace c3d {
 namespace {

@@ -19,10 +19,10 @@
 #include <sstream>
 
 #include "cadastre/parcels.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/geometry/geometry.h"
-#include "core/io/point_io.h"
 #include "core/geometry/polygon_ops.h"
+#include "core/io/point_io.h"
 #include "ifc_citygml/export.h"
 #include "ifc_citygml/validate.h"
 #include "tests/export_checks.h"

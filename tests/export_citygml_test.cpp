@@ -22,7 +22,7 @@ namespace {
 // reconstruction will give them) and a roof type.
 BatchModel with_lower_lod(BatchModel m) {
   Building& g = m.results[0].buildings[0];
-  for (auto [lod, h] : {std::pair{"1.2", 4.5}, {"1.3", 5.25}}) {
+  for (auto [lod, h] : {std::pair{Lod::Lod12, 4.5}, {Lod::Lod13, 5.25}}) {
     LodShell l;
     l.lod = lod;
     l.faces = test::box_shell({0, 0, 0}, {10, 8, h});

@@ -25,7 +25,7 @@ using namespace c3d::check;
 namespace {
 
 // Faces of a closed shell typed as a LodShell's: by their normal.
-LodShell lod_shell(const std::string& lod, std::vector<Face> faces, double rmse) {
+LodShell lod_shell(Lod lod, std::vector<Face> faces, double rmse) {
   LodShell l;
   l.lod = lod;
   for (const auto& f : faces) {
@@ -43,8 +43,8 @@ LodShell lod_shell(const std::string& lod, std::vector<Face> faces, double rmse)
 BatchModel with_lods_and_attributes() {
   BatchModel m = fx::sample_batch();
   Building& g = m.results[0].buildings[0];
-  g.lower_lods = {lod_shell("1.2", test::box_shell({0, 0, 0}, {10, 8, 4.5}), 0.9),
-                  lod_shell("1.3", test::box_shell({0, 0, 0}, {10, 8, 5.25}), 0.6)};
+  g.lower_lods = {lod_shell(Lod::Lod12, test::box_shell({0, 0, 0}, {10, 8, 4.5}), 0.9),
+                  lod_shell(Lod::Lod13, test::box_shell({0, 0, 0}, {10, 8, 5.25}), 0.6)};
   g.attributes.roof_type = "slanted";
   g.attributes.roof_z_min = 2.7, g.attributes.roof_z_50p = 4.5;
   g.attributes.roof_z_70p = 5.1, g.attributes.roof_z_max = 6.0;
@@ -170,9 +170,9 @@ TEST_F(CityJson, LowerLodsAreSolidsBesideThePrimary) {
   EXPECT_EQ(lods, (std::vector<std::string>{"2.2", "2.2", "1.2", "1.3"}));
   const BatchModel back = read_cityjson(path);
   const Building& b = back.results[0].buildings[0];
-  EXPECT_EQ(b.lod, "2.2");
+  EXPECT_EQ(b.lod, Lod::Lod22);
   ASSERT_EQ(b.lower_lods.size(), 2u);
-  EXPECT_EQ(b.lower_lods[0].lod, "1.2");
+  EXPECT_EQ(b.lower_lods[0].lod, Lod::Lod12);
   EXPECT_EQ(b.lower_lods[1].faces.size(), 6u);
   EXPECT_EQ(b.lower_lods[1].face_types[0], model.results[0].buildings[0].lower_lods[1].face_types[0]);
   EXPECT_TRUE(validate_model(back).empty());

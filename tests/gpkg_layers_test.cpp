@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <memory>
 
-#include "cadastre/store.h"
-#include "cadastre/store_gis.h"
+#include "cadastre/store/gis.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "core/geometry/geometry.h"
 #include "tests/store_fixtures.h"

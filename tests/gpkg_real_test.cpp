@@ -9,7 +9,7 @@
 #include <map>
 #include <memory>
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "tests/test_support.h"
 
 using namespace c3d;

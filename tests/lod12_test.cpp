@@ -14,11 +14,11 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/check/solid_check.h"
 #include "core/config/config.h"
 #include "core/geometry/geometry.h"
-#include "core/reconstruct/lod12.h"
+#include "core/reconstruct/lod12/lod12.h"
 #include "core/reconstruct/measure/measure.h"
 #include "ifc_citygml/export.h"
 #include "tests/export_checks.h"
@@ -84,7 +84,7 @@ TEST(Lod12, PrismOfAnLShapeHasExactAreasAndVolume) {
   const Building b = lod12_prism(in);
   ASSERT_TRUE(b.solid_valid) << b.solid_problem;
   EXPECT_TRUE(check_solid(b.solid).ok);
-  EXPECT_EQ(b.lod, "1.2");
+  EXPECT_EQ(b.lod, Lod::Lod12);
   EXPECT_DOUBLE_EQ(b.terrain_z, 1.0);
   EXPECT_EQ(count(b, ElementType::Roof), 1);
   EXPECT_EQ(count(b, ElementType::Wall), 6);  // one per footprint edge
@@ -159,7 +159,7 @@ TEST(Lod12, InvalidLod22BuildingTakesThePrismAndSaysWhy) {
   const std::string problem = b.solid_problem;
   EXPECT_NE(problem.find("not_closed"), std::string::npos) << problem;
   adopt_prism(b, lod12_prism(l_shape()), "");
-  EXPECT_EQ(b.lod, "1.2");
+  EXPECT_EQ(b.lod, Lod::Lod12);
   EXPECT_TRUE(b.solid_valid);
   EXPECT_EQ(b.id, "L_b1");
   EXPECT_EQ(b.lod_note, "LoD 2.2 invalid (" + problem + "): LoD 1.2 prism at the 70th percentile of its roof points");
@@ -168,7 +168,7 @@ TEST(Lod12, InvalidLod22BuildingTakesThePrismAndSaysWhy) {
   // Where the prism fails too, the building stays as it was and says so.
   Building c = open_box("L_b2");
   adopt_prism(c, Building{}, "the roof points lie at the terrain");
-  EXPECT_EQ(c.lod, "2.2");
+  EXPECT_EQ(c.lod, Lod::Lod22);
   EXPECT_FALSE(c.solid_valid);
   EXPECT_EQ(c.solid_problem, problem);
   EXPECT_EQ(c.lod_note, "no valid LoD 1.2 prism either (the roof points lie at the terrain)");
@@ -200,10 +200,10 @@ TEST(Lod12, CityJsonWritesLod12AndReadsItBack) {
   EXPECT_EQ(doc["CityObjects"]["P-001_b1"]["geometry"][0]["lod"], "2.2");  // docs/exports.md
   const BatchModel back = read_cityjson(path);
   const Building& b = back.results.back().buildings.front();
-  EXPECT_EQ(b.lod, "1.2");
+  EXPECT_EQ(b.lod, Lod::Lod12);
   EXPECT_EQ(b.lod_note, m.results.back().buildings.front().lod_note);
   EXPECT_EQ(b.elements.size(), 8u);
-  EXPECT_EQ(back.results.front().buildings.front().lod, "2.2");
+  EXPECT_EQ(back.results.front().buildings.front().lod, Lod::Lod22);
   C3D_NEED(can_ajv(), "tests/js/node_modules (npm) or ../shared/schemas missing");
   std::string out;
   EXPECT_EQ(ajv(path, &out), 0) << out;
@@ -231,19 +231,19 @@ TEST(Lod12, StoreRecordsTheLodAndAnOlderStoreGetsTheColumns) {
   const std::string path = test::write_store(test::temp_dir("lod12_store") + "/cadastre.gpkg", m);
   BatchModel back = load_batch_model(path);
   const Building& prism = back.results.back().buildings.front();
-  EXPECT_EQ(prism.lod, "1.2");
+  EXPECT_EQ(prism.lod, Lod::Lod12);
   EXPECT_EQ(prism.lod_note, m.results.back().buildings.front().lod_note);
-  EXPECT_EQ(back.results.front().buildings.front().lod, "2.2");
+  EXPECT_EQ(back.results.front().buildings.front().lod, Lod::Lod22);
   EXPECT_EQ(back.results.front().buildings.front().lod_note, "");
 
   // A store written before the LoD was recorded reads as LoD 2.2, and takes
   // the columns when a batch opens it again.
   test::sql_exec(path, "ALTER TABLE building DROP COLUMN lod; ALTER TABLE building DROP COLUMN lod_note;");
   back = load_batch_model(path);
-  EXPECT_EQ(back.results.back().buildings.front().lod, "2.2");
+  EXPECT_EQ(back.results.back().buildings.front().lod, Lod::Lod22);
   test::write_store(path, m);
   back = load_batch_model(path);
-  EXPECT_EQ(back.results.back().buildings.front().lod, "1.2");
+  EXPECT_EQ(back.results.back().buildings.front().lod, Lod::Lod12);
 }
 
 // ---- the AHN3 town end to end ---------------------------------------------------

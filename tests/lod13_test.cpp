@@ -73,7 +73,7 @@ TEST(Lod13, TwoLevelBuildingIsAValidStackOfPrisms) {
   Lod13Summary sum;
   const Building b = lod13_layers(in, points, {}, &sum);
   ASSERT_TRUE(b.solid_valid) << b.solid_problem;
-  EXPECT_EQ(b.lod, "1.3");
+  EXPECT_EQ(b.lod, Lod::Lod13);
   EXPECT_EQ(b.lod_note, "LoD 1.3 of 2 height layers");
   ASSERT_EQ(sum.layers, 2);
   EXPECT_NEAR(sum.heights[0], 4.0, 0.1);
@@ -182,7 +182,7 @@ TEST(Lod13, InvalidLod22BuildingTakesItsLayersAndSaysWhy) {
   Building layered = lod13_layers(two_level(points), points);
   ASSERT_TRUE(layered.solid_valid);
   adopt_lod13(b, layered);
-  EXPECT_EQ(b.lod, "1.3");
+  EXPECT_EQ(b.lod, Lod::Lod13);
   EXPECT_TRUE(b.solid_valid);
   EXPECT_EQ(b.lod_note, "LoD 2.2 invalid (not_closed: 4 boundary edges): LoD 1.3 of 2 height layers");
 }

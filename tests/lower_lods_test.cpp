@@ -14,7 +14,7 @@
 #include <random>
 #include <tuple>
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/check/solid_check.h"
 #include "core/config/config.h"
 #include "core/geometry/geometry.h"
@@ -45,11 +45,11 @@ Building only_building(const ParcelScene& s) {
   EXPECT_EQ(r.status, ParcelStatus::Ok) << r.reason;
   EXPECT_EQ(r.buildings.size(), 1u);
   if (r.buildings.empty()) return {};
-  EXPECT_EQ(r.buildings[0].lod, "2.2") << r.buildings[0].lod_note;
+  EXPECT_EQ(r.buildings[0].lod, Lod::Lod22) << r.buildings[0].lod_note;
   return r.buildings[0];
 }
 
-const LodShell* shell_at(const Building& b, const std::string& lod) {
+const LodShell* shell_at(const Building& b, Lod lod) {
   for (const auto& s : b.lower_lods)
     if (s.lod == lod) return &s;
   return nullptr;
@@ -60,7 +60,7 @@ const LodShell* shell_at(const Building& b, const std::string& lod) {
 void expect_valid_shells(const Building& b) {
   for (const auto& s : b.lower_lods) {
     const SolidCheck check = check_solid(s.faces);
-    EXPECT_TRUE(check.ok) << b.id << " LoD " << s.lod << ": " << check.summary();
+    EXPECT_TRUE(check.ok) << b.id << " LoD " << to_string(s.lod) << ": " << check.summary();
     ASSERT_EQ(s.face_types.size(), s.faces.size());
     std::map<ElementType, int> n;
     for (ElementType t : s.face_types) ++n[t];
@@ -106,7 +106,7 @@ TEST(LowerLods, DataQualitySaysWhyNotGood) {
   EXPECT_EQ(data_quality_of(b, a, 5.0), "good");
   a.point_density = 3.25;
   EXPECT_EQ(data_quality_of(b, a, 5.0), "insufficient points (3.2 per m2, LoD 2.2 needs 5.0)");
-  b.lod = "1.3";
+  b.lod = Lod::Lod13;
   EXPECT_EQ(data_quality_of(b, a, 5.0), "insufficient points (3.2 per m2, LoD 2.2 needs 5.0); lod fallback (1.3)");
   a.roof_points = 0;
   EXPECT_EQ(data_quality_of(b, a, 5.0), "no roof points; lod fallback (1.3)");
@@ -138,8 +138,8 @@ TEST(LowerLods, GableHouseIsSlantedWithKnownHeightsAndShells) {
   EXPECT_LT(a.roof_rmse, 0.1);  // the LoD 2.2 planes fit the points to their noise
 
   ASSERT_EQ(b.lower_lods.size(), 2u);
-  EXPECT_EQ(b.lower_lods[0].lod, "1.2");
-  EXPECT_EQ(b.lower_lods[1].lod, "1.3");
+  EXPECT_EQ(b.lower_lods[0].lod, Lod::Lod12);
+  EXPECT_EQ(b.lower_lods[1].lod, Lod::Lod13);
   expect_valid_shells(b);
   const LodShell& prism = b.lower_lods[0];
   // RMSE of a uniform height about its 70th percentile: span * sqrt(1/12 + 0.2^2).
@@ -151,7 +151,7 @@ TEST(LowerLods, GableHouseIsSlantedWithKnownHeightsAndShells) {
 
   const std::string path = test::temp_dir("lower_lods_gable") + "/shells.city.json";
   std::vector<NamedSolid> shells;
-  for (const auto& s : b.lower_lods) shells.push_back({b.id + "_lod" + s.lod, s.lod, s.faces});
+  for (const auto& s : b.lower_lods) shells.push_back({b.id + "_lod" + to_string(s.lod), to_string(s.lod), s.faces});
   write_solids_cityjson(shells, path);
   const auto invalid = test::val3dity_invalid(path);
   C3D_NEED(invalid, "../shared/tools/val3dity not found");
@@ -166,9 +166,9 @@ TEST(LowerLods, FlatRoofIsHorizontal) {
   EXPECT_NEAR(b.attributes.roof_z_50p, 103, 0.01);
   EXPECT_NEAR(b.attributes.roof_z_70p, 103, 0.02);
   EXPECT_EQ(b.attributes.data_quality, "good");
-  ASSERT_NE(shell_at(b, "1.2"), nullptr);
-  ASSERT_NE(shell_at(b, "1.3"), nullptr);
-  EXPECT_LT(shell_at(b, "1.2")->roof_rmse, 0.05);
+  ASSERT_NE(shell_at(b, Lod::Lod12), nullptr);
+  ASSERT_NE(shell_at(b, Lod::Lod13), nullptr);
+  EXPECT_LT(shell_at(b, Lod::Lod12)->roof_rmse, 0.05);
   expect_valid_shells(b);
 }
 
@@ -183,14 +183,14 @@ TEST(LowerLods, TwoFlatLevelsAreMultipleHorizontalWithTwoLayers) {
   EXPECT_EQ(b.attributes.roof_type, "multiple horizontal");
   EXPECT_NEAR(b.attributes.roof_z_min, 103, 0.1);
   EXPECT_NEAR(b.attributes.roof_z_max, 106, 0.1);
-  const LodShell* layers = shell_at(b, "1.3");
+  const LodShell* layers = shell_at(b, Lod::Lod13);
   ASSERT_NE(layers, nullptr);
-  ASSERT_NE(shell_at(b, "1.2"), nullptr);
+  ASSERT_NE(shell_at(b, Lod::Lod12), nullptr);
   int roofs = 0;
   for (ElementType t : layers->face_types) roofs += t == ElementType::Roof;
   EXPECT_EQ(roofs, 2);
   EXPECT_LT(layers->roof_rmse, 0.1);                      // each level on its layer
-  EXPECT_GT(shell_at(b, "1.2")->roof_rmse, 1.0);          // one top between them
+  EXPECT_GT(shell_at(b, Lod::Lod12)->roof_rmse, 1.0);          // one top between them
   // On the LoD 2.2 ground (x0..x1, y0..y1), the step at x = 11.
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   for (const auto& e : b.elements)
@@ -230,9 +230,9 @@ TEST(LowerLods, HousesSharingARoofPlaneCountTheirOwnPoints) {
     EXPECT_LE(double(b.attributes.roof_points), 1.1 * 64 * 40) << b.id;  // not its sibling's too
     EXPECT_NEAR(b.attributes.point_density, 40, 4) << b.id;
     EXPECT_EQ(b.attributes.roof_type, "horizontal");
-    ASSERT_NE(shell_at(b, "1.2"), nullptr);
+    ASSERT_NE(shell_at(b, Lod::Lod12), nullptr);
     const double want = totals(b).ground * (b.attributes.roof_z_70p - 100);  // on the LoD 2.2 ground
-    EXPECT_NEAR(shell_at(b, "1.2")->volume, want, 1e-6 * want) << b.id;
+    EXPECT_NEAR(shell_at(b, Lod::Lod12)->volume, want, 1e-6 * want) << b.id;
   }
 }
 

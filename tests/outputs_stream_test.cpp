@@ -11,8 +11,8 @@
 
 #include "cadastre/batch/outputs.h"
 #include "cadastre/report/report.h"
-#include "cadastre/store.h"
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "ifc_citygml/export.h"
 #include "tests/export_fixtures.h"

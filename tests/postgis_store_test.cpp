@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <thread>
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"

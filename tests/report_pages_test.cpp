@@ -11,7 +11,7 @@
 
 #include "cadastre/report/report.h"
 #include "cadastre/report/report_parts.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "tests/report_checks.h"
 #include "tests/store_fixtures.h"

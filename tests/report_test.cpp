@@ -7,11 +7,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "cadastre/store.h"
+#include "cadastre/report/report.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "tests/store_fixtures.h"
 #include "tests/test_support.h"
-#include "cadastre/report/report.h"
 #include "valuation/valuation.h"
 
 using namespace c3d;
@@ -156,7 +156,7 @@ TEST(Report, SaysWhichBuildingIsAnLod12PrismAndWhy) {
   // An officer must see that a building's areas come from the LoD 1.2 prism.
   Sample s;
   Building& b = s.model.results[0].buildings[0];
-  b.lod = "1.2";
+  b.lod = Lod::Lod12;
   b.lod_note = "LoD 2.2 invalid (not_closed): LoD 1.2 prism at the 70th percentile of its roof points";
   const std::string html = all_pages(s.model, s.vals);
   EXPECT_NE(html.find(b.id + ": LoD 1.2 (LoD 2.2 invalid (not_closed)"), std::string::npos);

@@ -14,7 +14,7 @@
 #include "cadastre/batch/merge.h"
 #include "cadastre/batch/shard.h"
 #include "cadastre/batch/store_sink.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/error.h"
 #include "tests/test_support.h"
 

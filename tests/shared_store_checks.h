@@ -10,8 +10,8 @@
 #include <string>
 
 #include "cadastre/report/report.h"
-#include "cadastre/store.h"
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "tests/store_fixtures.h"
 #include "tests/test_support.h"

@@ -9,7 +9,7 @@
 # (`merge --store`) writes the summary, report and exports from the database.
 # Both finish jobs get the batch's inputs: the summaries' whole-run fit
 # equals the unsharded run's. Exit 77 (skipped; in CI a failure) without root, Slurm or GDAL's Python.
-#   tests/slurm_shards_check.sh path/to/cadastre3d
+#   tests/slurm_shards_check.sh path/to/cadastre3d_test_hooks   (the program built with its test hooks)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 . "$here/tests/need.sh"

@@ -4,10 +4,13 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 
-#include "cadastre/gpkg_geometry.h"
-#include "cadastre/store.h"
+#include "cadastre/store/gpkg_geometry.h"
+#include "cadastre/store/gpkg_rtree.h"
+#include "cadastre/store/sql_db.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "core/error.h"
 #include "core/io/sha256.h"
@@ -257,9 +260,50 @@ TEST(Store, MarkPendingOnlyTouchesParcelsNotDone) {
   s.close();
   auto jobs = load_jobs(path);
   ASSERT_EQ(jobs.size(), 3u);
-  EXPECT_EQ(jobs[0].status, "ok");       // same inputs: stays done
-  EXPECT_EQ(jobs[1].status, "pending");  // inputs changed
-  EXPECT_EQ(jobs[2].status, "pending");  // failed before: retried
+  EXPECT_EQ(jobs[0].status, ParcelStatus::Ok);  // same inputs: stays done
+  EXPECT_EQ(jobs[1].status, std::nullopt);      // inputs changed: pending
+  EXPECT_EQ(jobs[2].status, std::nullopt);      // failed before: retried
+}
+
+// LoD and status: one text each, both ways; a store holding any other is
+// refused naming the store, the row and the text.
+TEST(Store, UnknownLodOrStatusTextIsRefusedByName) {
+  for (Lod l : {Lod::Lod12, Lod::Lod13, Lod::Lod22}) EXPECT_EQ(lod_from(to_string(l)), l);
+  for (ParcelStatus s : {ParcelStatus::Ok, ParcelStatus::Empty, ParcelStatus::Failed, ParcelStatus::Suspect})
+    EXPECT_EQ(parcel_status_from(to_string(s)), s);
+  EXPECT_THROW(lod_from("2"), std::invalid_argument);
+  EXPECT_THROW(parcel_status_from("pending"), std::invalid_argument);
+
+  const auto refused = [](const std::function<void()>& read, const std::string& message) {
+    try {
+      read();
+      ADD_FAILURE() << "read without an error; expected '" << message << "'";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  const BatchModel m = test::sample_batch();
+  const std::string lod = make_store("store_bad_lod", m);
+  {
+    sql::Db db(lod, false);
+    gpkg_rtree::register_functions(db);  // the index triggers call them on an update
+    db.exec("UPDATE building SET lod = '2.5'");
+  }
+  refused([&] { load_batch_model(lod); },
+          "store_bad_lod/cadastre.gpkg: building 32.73.01_b0: unknown level of detail '2.5'");
+  const std::string status = make_store("store_bad_status", m);
+  test::sql_exec(status, "PRAGMA ignore_check_constraints = 1; UPDATE parcel_job SET status = 'done'");
+  refused([&] { load_jobs(status); }, "store_bad_status/cadastre.gpkg: parcel 32.73.01: unknown parcel status 'done'");
+}
+
+// The run record counts suspect parcels as the store's column does.
+TEST(Store, RunRecordCountsSuspectParcels) {
+  BatchModel m = test::sample_batch();
+  m.results[0].status = ParcelStatus::Suspect;
+  const std::vector<RunRecord> runs = load_runs(make_store("store_suspect", m));
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].parcels_suspect, 1);
+  EXPECT_EQ(runs[0].parcels_ok, 0);
 }
 
 TEST(Store, FailedWriteLeavesThePreviousParcelWhole) {

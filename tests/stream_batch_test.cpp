@@ -11,7 +11,7 @@
 #include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/store_sink.h"
 #include "cadastre/batch/tiles.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "core/error.h"
 #include "core/geometry/unique_points.h"

@@ -21,7 +21,7 @@
 
 namespace fs = std::filesystem;
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "valuation/valuation.h"
 

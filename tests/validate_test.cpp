@@ -247,7 +247,7 @@ BatchModel with_defects() {
   add("D-bent", bent);
   Building lod = fx::gable_house("D-lod_b1");
   LodShell prism;
-  prism.lod = "1.2";
+  prism.lod = Lod::Lod12;
   prism.faces = test::box_shell({0, 0, 0}, {10, 8, 4});
   prism.faces.pop_back();  // the LoD 1.2 shell is open
   prism.face_types.assign(prism.faces.size(), ElementType::Wall);

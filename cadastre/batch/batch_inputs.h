@@ -43,8 +43,8 @@ LoadedInputs load_inputs(const BatchInputs& inputs, const Config& cfg, const Sha
 LoadedInputs load_fit_inputs(const BatchInputs& inputs, const Config& cfg);
 
 // Every input file the run reads (folders and globs expanded) with its
-// SHA-256 (each file read once) and its role (input_role), in
-// BatchInputs::files() order: the run record.
+// SHA-256 (each file read once) and its role (input_role): clouds, walls,
+// the parcel layer, the DTM, the classifier. The run record.
 std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs& inputs);
 
 // Per parcel of the layer, its resume key (resume_key.h): the parameters,

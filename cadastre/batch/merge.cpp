@@ -11,9 +11,9 @@
 #include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/shard.h"
 #include "cadastre/batch/tiles.h"
-#include "cadastre/gpkg_rtree.h"
-#include "cadastre/sqlite_util.h"
-#include "cadastre/store.h"
+#include "cadastre/store/gpkg_rtree.h"
+#include "cadastre/store/sql_db.h"
+#include "cadastre/store/store.h"
 #include "core/error.h"
 
 namespace c3d {
@@ -249,8 +249,7 @@ void write_merged_outputs(MergedRun& m, const std::string& out_dir, const std::v
                           const OutputProgress& progress, const RunInputs* inputs, const LoadedInputs* in) {
   BatchReport report;  // the counts as the store holds them
   for (const JobRecord& j : load_jobs(m.store))
-    for (size_t k = 0; k < 4; ++k)
-      if (j.status == to_string(ParcelStatus(k))) ++m.status_counts[k];
+    if (j.status) ++m.status_counts[size_t(*j.status)];
   for (size_t k = 0; k < 4; ++k) report.held_by_status[k] = m.status_counts[k], report.parcels += m.status_counts[k];
   report.reconstructed = report.held = report.parcels;
   report.failed = m.status_counts[size_t(ParcelStatus::Failed)];
@@ -298,7 +297,7 @@ MergedRun finish_shared_store(const std::string& store, const std::string& out_d
   for (int k = 1; k <= m.merge.shard_count; ++k)
     if (!ran.count(k)) m.merge.missing_shards.push_back(k);
   for (const JobRecord& j : load_jobs(store))
-    if (j.status == "pending") m.merge.pending.push_back(j.parcel_id);
+    if (!j.status) m.merge.pending.push_back(j.parcel_id);
     else ++m.merge.parcels;
   const std::unique_ptr<LoadedInputs> in(inputs ? new LoadedInputs(load_run_inputs(*inputs, {store})) : nullptr);
   write_merged_outputs(m, out_dir, formats, progress, inputs, in.get());

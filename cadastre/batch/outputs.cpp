@@ -57,7 +57,7 @@ json building_json(const Building& b) {
             {"outer_ceiling_area_m2", r4(t.sigma_outer_ceiling)}}},
           {"solid_valid", b.solid_valid},
           {"solid_problem", b.solid_problem},
-          {"lod", b.lod},
+          {"lod", to_string(b.lod)},
           {"lod_note", b.lod_note},
           {"roof_deviation", to_json(b.roof_deviation)},
           {"wall_deviation", to_json(b.wall_deviation)}};

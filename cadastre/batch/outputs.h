@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "cadastre/batch/batch.h"
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
 
 namespace c3d {
 
@@ -21,7 +21,7 @@ using OutputProgress = std::function<void(size_t done, size_t total)>;
 // OUT/summary.json, OUT/report.html + .csv, OUT/preview/<parcel>.svg and the
 // exports in `formats`, from the batch's report (its counts, deviations and
 // timings) and the store at store_loc, read a page of parcels at a time in
-// one pass that feeds every output (cadastre/store_pages.h): memory holds one
+// one pass that feeds every output (cadastre/store/pages.h): memory holds one
 // page of models, never the town's. Each file is written under OUT/.staging
 // and renamed into place once all are written (see out_dir.h). Progress:
 // one step per page, one for publishing.

@@ -11,7 +11,7 @@
 #include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/shard.h"
 #include "cadastre/batch/store_sink.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/error.h"
 
 namespace c3d {

@@ -62,11 +62,8 @@ SinkCounts StoreSink::end() {
   store_.close();
   SinkCounts held;
   for (const JobRecord& j : load_jobs(path_)) {
-    const ParcelStatus s = j.status == "ok"        ? ParcelStatus::Ok
-                           : j.status == "failed"  ? ParcelStatus::Failed
-                           : j.status == "suspect" ? ParcelStatus::Suspect
-                                                   : ParcelStatus::Empty;
-    ++held.parcels, ++held.by_status[size_t(s)];
+    // One still pending (another writer's, in a shared store) is counted empty.
+    ++held.parcels, ++held.by_status[size_t(j.status.value_or(ParcelStatus::Empty))];
   }
   return held;
 }

@@ -1,11 +1,11 @@
 #pragma once
-// The batch's default sink: the LADM GeoPackage store (cadastre/store.h), one
+// The batch's default sink: the LADM GeoPackage store (cadastre/store/store.h), one
 // transaction per parcel, so a killed batch leaves whole parcels and --resume
 // picks up where it stopped.
 #include <string>
 
 #include "cadastre/batch/batch.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 
 namespace c3d {
 

@@ -12,7 +12,7 @@
 
 #include "cadastre/batch/plausibility.h"
 #include "core/io/dtm_io.h"
-#include "core/reconstruct/roof_density.h"
+#include "core/reconstruct/scene/roof_density.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -98,7 +98,7 @@ TileSurvey survey_tiles(const std::vector<Tile>& tiles, const ClassMapping& clas
 Dtm ground_dtm(const std::vector<Tile>& tiles, const TileSurvey& survey, const ClassMapping& classes,
                const std::string& crs_wkt);
 
-// The scan's roof density by block (core/reconstruct/roof_density.h). A
+// The scan's roof density by block (core/reconstruct/scene/roof_density.h). A
 // block is counted once, when a chunk first needs it: one pass over the
 // tiles that touch it, each roof point counted in its cell (a count per cell
 // for the block, 8 MB whatever the scan's density). Copies of a point count

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "cadastre/report/report_parts.h"
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
 #include "core/io/file_names.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
 #include "core/config/config.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
@@ -46,7 +46,7 @@ std::string parcel_svg(const Parcel& parcel, const ParcelResult& result, const L
 void write_report(const std::string& out_dir, const BatchModel& model,
                   const std::vector<ParcelValuation>& valuations, const ReportInfo& info = {});
 
-// The report written as a store's pages come (cadastre/store_pages.h): each
+// The report written as a store's pages come (cadastre/store/pages.h): each
 // detail page as soon as its parcels (and the next one, for the links) are
 // in, the summary page and the CSV at the end from the parcels' figures
 // (ids, shapes, statuses, element areas, valuations) without their geometry,

@@ -79,7 +79,7 @@ std::string report_detail::csv_rows(const Parcel& p, const ParcelResult& r, cons
     for (int k = 0; k < int(b.elements.size()); ++k) {
       const Element& e = b.elements[size_t(k)];
       CsvRow er;
-      er.set("record", "element").set("parcel_id", p.id).set("building_id", b.id).set("lod", b.lod)
+      er.set("record", "element").set("parcel_id", p.id).set("building_id", b.id).set("lod", to_string(b.lod))
           .set("element_index", std::to_string(k)).set("element_type", to_string(e.type))
           .num("area_m2", e.area, "%.3f").num("sigma_area_m2", e.sigma_area, "%.3f")
           .num("plan_area_m2", e.plan_area, "%.3f").num("slope_deg", e.slope_deg)

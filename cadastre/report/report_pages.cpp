@@ -99,7 +99,7 @@ std::string deviation(const Deviation& d) {
 std::string building_lines(const ParcelResult& r) {
   std::string s;  // concatenated: a note or a problem may be longer than fmt's buffer
   for (const Building& b : r.buildings)
-    s += "<p class=\"meta\">" + html_escape(b.id) + ": LoD " + html_escape(b.lod) +
+    s += "<p class=\"meta\">" + html_escape(b.id) + ": LoD " + to_string(b.lod) +
          (b.lod_note.empty() ? "" : " (" + html_escape(b.lod_note) + ")") +
          fmt(", volume %.1f m&#179;, eave %.2f m, ridge %.2f m, %d storey(s), solid ", b.volume,
              b.eave_height, b.ridge_height, b.storeys) +

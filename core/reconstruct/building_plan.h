@@ -4,8 +4,9 @@
 // split with a neighbour, and the land each may still grow onto.
 #include <vector>
 
+#include "core/config/config.h"
 #include "core/reconstruct/envelope/envelope.h"
-#include "core/reconstruct/reconstruct.h"
+#include "core/reconstruct/scene/parcel_scene.h"
 #include "core/reconstruct/segment/segmentation.h"
 
 namespace c3d {

@@ -7,7 +7,7 @@
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
-#include "core/reconstruct/lod12.h"
+#include "core/reconstruct/lod12/lod12.h"
 #include "core/reconstruct/segment/segmentation.h"
 
 namespace c3d {
@@ -59,7 +59,7 @@ std::string data_quality_of(const Building& b, const BuildingAttributes& a, doub
     std::snprintf(s, sizeof s, "insufficient points (%.1f per m2, LoD 2.2 needs %.1f)", a.point_density, min_density);
     why.push_back(s);
   }
-  if (b.lod != "2.2") why.push_back("lod fallback (" + b.lod + ")");
+  if (b.lod != Lod::Lod22) why.push_back(std::string("lod fallback (") + to_string(b.lod) + ")");
   std::string out;
   for (const auto& w : why) out += (out.empty() ? "" : "; ") + w;
   return out.empty() ? "good" : out;
@@ -106,7 +106,7 @@ LodShell lod_shell_of(const Building& lower, const std::vector<Vec3>& own_roof_p
       if (e.type == ElementType::Roof) roof.push_back(f);
     }
   if (s.faces.size() != lower.solid.size())  // lod12 / lod13 make every shell face an element's
-    log::warn(lower.id + ": LoD " + lower.lod + " elements hold " + std::to_string(s.faces.size()) +
+    log::warn(lower.id + ": LoD " + to_string(lower.lod) + " elements hold " + std::to_string(s.faces.size()) +
               " faces, its solid " + std::to_string(lower.solid.size()));
   s.roof_rmse = roof_rmse(roof, own_roof_points);
   return s;

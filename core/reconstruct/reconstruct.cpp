@@ -19,7 +19,7 @@
 #include "core/optimizer/optimizer.h"
 #include "core/reconstruct/building_plan.h"
 #include "core/reconstruct/envelope/envelope.h"
-#include "core/reconstruct/lod12.h"
+#include "core/reconstruct/lod12/lod12.h"
 #include "core/reconstruct/lod13/lod13.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
@@ -388,7 +388,7 @@ void describe_buildings(const ParcelContext& c, ModelledParcel& m) {
   for (size_t k = 0; k < m.buildings.size(); ++k) {
     Building& b = m.buildings[k];
     BuildingPlan bp = m.plans[k];
-    if (b.lod == "2.2") {  // the lower LoDs stand where its walls stand, as 3DBAG's share one footprint
+    if (b.lod == Lod::Lod22) {  // the lower LoDs stand where its walls stand, as 3DBAG's share one footprint
       const Polygon2 ground = ground_footprint(b);
       if (ground.outer.size() >= 3) bp.outline = ground;
     }
@@ -399,11 +399,11 @@ void describe_buildings(const ParcelContext& c, ModelledParcel& m) {
       if (c.roofs.components[size_t(i)].fit.inliers > 0) planes.push_back(c.roofs.components[size_t(i)].fit);
     const double over = src.in.footprint.outer.size() >= 3 ? area(src.in.footprint) : totals(b).roof_plan;
     b.attributes = roof_attributes(b, own, planes, over, min_density);
-    if (b.lod == "1.2") continue;
+    if (b.lod == Lod::Lod12) continue;
     auto [prism, why12] = lod12_of(c, bp, src);
     if (why12.empty()) b.lower_lods.push_back(lod_shell_of(prism, own));
-    else log::debug(b.id + ": no LoD 1.2 below its " + b.lod + " (" + why12 + ")");
-    if (b.lod != "2.2") continue;
+    else log::debug(b.id + ": no LoD 1.2 below its " + to_string(b.lod) + " (" + why12 + ")");
+    if (b.lod != Lod::Lod22) continue;
     auto [layered, why13] = lod13_of(c, bp, src);
     if (why13.empty()) b.lower_lods.push_back(lod_shell_of(layered, own));
     else log::debug(b.id + ": no LoD 1.3 below its 2.2 (" + why13 + ")");

@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "cadastre/store.h"
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
+#include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "valuation/valuation.h"
 

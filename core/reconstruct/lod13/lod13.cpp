@@ -243,7 +243,7 @@ Building assemble(const lod13::StackedSolid& s, const std::vector<LayerPiece>& p
                   const std::vector<Vec3>& points, double terrain_z, double cell) {
   Building b;
   b.id = in.building_id;
-  b.lod = "1.3";
+  b.lod = Lod::Lod13;
   b.terrain_z = terrain_z;
   const PieceSupport sup = support_of(pieces, points);
   for (size_t k = 0; k < pieces.size(); ++k) {
@@ -272,7 +272,7 @@ Building assemble(const lod13::StackedSolid& s, const std::vector<LayerPiece>& p
 Building without_layers(const std::string& id, const std::string& why) {
   Building b;
   b.id = id;
-  b.lod = "1.3";
+  b.lod = Lod::Lod13;
   b.solid_valid = false;
   b.solid_problem = why;
   return b;

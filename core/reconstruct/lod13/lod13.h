@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/reconstruct/lod12.h"
+#include "core/reconstruct/lod12/lod12.h"
 #include "core/types.h"
 
 namespace c3d {

@@ -14,7 +14,8 @@
 #include <vector>
 
 #include "core/reconstruct/ownership/point_grid.h"
-#include "core/reconstruct/reconstruct.h"
+#include "core/config/config.h"
+#include "core/reconstruct/scene/parcel_scene.h"
 #include "core/reconstruct/segment/segmentation.h"
 
 namespace c3d {

@@ -1,10 +1,10 @@
-#include "cadastre/store_pages.h"
+#include "cadastre/store/pages.h"
 
 #include <algorithm>
 #include <chrono>
 #include <memory>
 
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 #include "ifc_citygml/export.h"
 
 namespace c3d {
@@ -12,7 +12,7 @@ namespace c3d {
 StorePages::StorePages(const std::string& loc, size_t page_size)
     : loc_(loc), page_size_(std::max<size_t>(page_size, 1)) {
   for (const JobRecord& j : load_jobs(loc))  // in layer order; a parcel id is one job
-    if (j.status != "pending") parcel_ids_.push_back(j.parcel_id);
+    if (j.status) parcel_ids_.push_back(j.parcel_id);
   header_ = load_batch_model(loc, std::vector<std::string>());  // the frame and CRS, no parcels
 }
 

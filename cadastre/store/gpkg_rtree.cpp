@@ -1,10 +1,10 @@
-#include "cadastre/gpkg_rtree.h"
+#include "cadastre/store/gpkg_rtree.h"
 
 #include <sqlite3.h>
 
 #include <cmath>
 
-#include "cadastre/gpkg_geometry.h"
+#include "cadastre/store/gpkg_geometry.h"
 
 namespace c3d::gpkg_rtree {
 

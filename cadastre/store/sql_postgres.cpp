@@ -1,4 +1,4 @@
-// The PostgreSQL backend of cadastre/sql_db.h (libpq). Statements are
+// The PostgreSQL backend of cadastre/store/sql_db.h (libpq). Statements are
 // prepared on the server with `?` turned into `$n`; values travel as text
 // (doubles with 17 significant digits: exact), geometry as hex EWKB.
 #include <libpq-fe.h>
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <map>
 
-#include "cadastre/sql_backend.h"
+#include "cadastre/store/sql_backend.h"
 #include "core/error.h"
 #include "core/log.h"
 

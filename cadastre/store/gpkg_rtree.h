@@ -6,7 +6,7 @@
 // registers its own on every connection that writes geometry.
 #include <string>
 
-#include "cadastre/sql_db.h"
+#include "cadastre/store/sql_db.h"
 
 namespace c3d::gpkg_rtree {
 

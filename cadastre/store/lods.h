@@ -1,9 +1,9 @@
 #pragma once
 // The store's 3DBAG-style building attributes (columns of `building`) and
-// lower LoDs (table `building_lod`), internal to cadastre/store*.cpp.
+// lower LoDs (table `building_lod`), internal to cadastre/store/.
 #include <cstdint>
 
-#include "cadastre/sql_db.h"
+#include "cadastre/store/sql_db.h"
 #include "core/types.h"
 
 namespace c3d::store_lods {

@@ -1,7 +1,7 @@
-// The SQLite backend of cadastre/sql_db.h: the GeoPackage file.
+// The SQLite backend of cadastre/store/sql_db.h: the GeoPackage file.
 #include <sqlite3.h>
 
-#include "cadastre/sql_backend.h"
+#include "cadastre/store/sql_backend.h"
 #include "core/error.h"
 
 namespace c3d::sql {

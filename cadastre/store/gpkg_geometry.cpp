@@ -1,4 +1,4 @@
-#include "cadastre/gpkg_geometry.h"
+#include "cadastre/store/gpkg_geometry.h"
 
 #include <algorithm>
 #include <cmath>

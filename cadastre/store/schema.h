@@ -1,11 +1,11 @@
 #pragma once
-// The store's tables (internal to cadastre/store*.cpp): GeoPackage core
+// The store's tables (internal to cadastre/store/): GeoPackage core
 // tables, the LADM / valuation tables, their layers in gpkg_contents and the
 // layer extents.
 #include <string>
 #include <vector>
 
-#include "cadastre/sql_db.h"
+#include "cadastre/store/sql_db.h"
 
 namespace c3d::store_schema {
 

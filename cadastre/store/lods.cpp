@@ -1,7 +1,7 @@
-#include "cadastre/store_lods.h"
+#include "cadastre/store/lods.h"
 
-#include "cadastre/gpkg_geometry.h"
-#include "cadastre/store_schema.h"
+#include "cadastre/store/gpkg_geometry.h"
+#include "cadastre/store/schema.h"
 #include "core/error.h"
 
 namespace c3d::store_lods {
@@ -49,7 +49,7 @@ void Writer::write(std::int64_t building_fid, const Building& b, const Vec3& ori
       .bind(a.roof_z_max + z).bind(a.roof_points).bind(a.point_density).bind(a.roof_rmse).bind(a.data_quality)
       .bind(static_cast<long long>(building_fid)).run();
   for (const LodShell& s : b.lower_lods)
-    lod_.bind_blob(gpkg_faces_blob(s.faces, origin, srs)).bind(static_cast<long long>(building_fid)).bind(s.lod)
+    lod_.bind_blob(gpkg_faces_blob(s.faces, origin, srs)).bind(static_cast<long long>(building_fid)).bind(to_string(s.lod))
         .bind(joined(s.face_types)).bind(s.volume).bind(s.roof_rmse).run();
 }
 
@@ -91,7 +91,11 @@ void Reader::read(std::int64_t building_fid, const Vec3& origin, Building& b) {
     std::size_t n;
     const std::uint8_t* blob = lod_.blob(0, &n);
     s.faces = gpkg_read_faces(blob, n, origin);
-    s.lod = lod_.get_text(1);
+    try {
+      s.lod = lod_from(lod_.get_text(1));
+    } catch (const std::invalid_argument& e) {
+      throw InputError("store", "building_lod of " + b.id + ": " + e.what());
+    }
     s.face_types = split_types(lod_.get_text(2));
     s.volume = lod_.get_double(3);
     s.roof_rmse = lod_.get_double(4);

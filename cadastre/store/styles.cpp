@@ -1,4 +1,4 @@
-#include "cadastre/store_styles.h"
+#include "cadastre/store/styles.h"
 
 #include <cstdio>
 #include <string>

@@ -1,17 +1,17 @@
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 
 #include <sqlite3.h>
 
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "cadastre/gpkg_geometry.h"
-#include "cadastre/gpkg_rtree.h"
-#include "cadastre/sql_db.h"
-#include "cadastre/store_gis.h"
-#include "cadastre/store_lods.h"
-#include "cadastre/store_schema.h"
-#include "cadastre/store_styles.h"
+#include "cadastre/store/gis.h"
+#include "cadastre/store/gpkg_geometry.h"
+#include "cadastre/store/gpkg_rtree.h"
+#include "cadastre/store/lods.h"
+#include "cadastre/store/schema.h"
+#include "cadastre/store/sql_db.h"
+#include "cadastre/store/styles.h"
 #include "core/error.h"
 #include "core/geometry/geometry.h"
 #include "core/io/sha256.h"
@@ -37,6 +37,46 @@ std::vector<Face> building_geometry(const Building& b, std::string* kind) {
     if (e.type == ElementType::Ground) faces.insert(faces.end(), e.faces.begin(), e.faces.end());
   *kind = faces.empty() ? "none" : "footprint";
   return faces;
+}
+
+// Fills the GIS layers of parcels stored before they existed (a store of an
+// earlier version, opened to resume) from their 3D rows and valuations, in
+// one transaction; does nothing when every parcel has its row.
+void backfill_gis(sql::Db& db, store_gis::Writer& w) {
+  {
+    sql::Stmt q(db, "SELECT count(*) FROM la_spatialunit su WHERE NOT EXISTS "
+                    "(SELECT 1 FROM parcel p WHERE p.spatialunit_id = su.fid)");
+    if (!q.step() || q.get_int(0) == 0) return;
+  }
+  const BatchModel m = load_batch_model(db.path());
+  const std::vector<ParcelValuation> values = load_valuations(db.path());
+  sql::Stmt su(db, "SELECT su.fid FROM la_spatialunit su WHERE parcel_id=? AND NOT EXISTS "
+                   "(SELECT 1 FROM parcel p WHERE p.spatialunit_id = su.fid)");
+  sql::Stmt building(db, "SELECT fid FROM building WHERE building_id=?");
+  sql::Stmt element(db, "SELECT fid FROM building_element WHERE building_fid=? AND element_index=?");
+  auto fid_of = [](sql::Stmt& q) {
+    const std::int64_t fid = q.step() ? q.get_int(0) : 0;
+    q.reset();
+    return fid;
+  };
+  sql::Transaction tx(db);
+  for (size_t i = 0; i < m.parcels.size(); ++i) {
+    const Parcel& p = m.parcels[i];
+    const std::int64_t unit = fid_of(su.bind(p.id));
+    if (unit == 0) continue;  // has its row
+    ParcelValuation v;
+    for (const ParcelValuation& x : values)
+      if (x.parcel_id == p.id) v = x;
+    w.parcel(p, unit, m.results[i], v);
+    for (const Building& b : m.results[i].buildings) {
+      const std::int64_t bfid = fid_of(building.bind(b.id));
+      w.building(b, bfid, p.id, m.frame.origin, v);
+      for (int k = 0; k < int(b.elements.size()); ++k)
+        if (b.elements[size_t(k)].type == ElementType::Roof)
+          w.roof_part(b.elements[size_t(k)], fid_of(element.bind(bfid).bind(k)), k, b.id, p.id, m.frame.origin);
+    }
+  }
+  tx.commit();
 }
 
 }  // namespace
@@ -81,7 +121,7 @@ void Store::open(const std::string& path, const std::string& crs_wkt, int epsg) 
   impl->srs = store_schema::create(impl->db, crs_wkt, epsg);
   impl->prepare();
   impl->gis = store_gis::Writer(impl->db, impl->srs);
-  store_gis::backfill(impl->db, impl->gis);  // a store of an earlier version
+  backfill_gis(impl->db, impl->gis);  // a store of an earlier version
   impl_ = std::move(impl);
 }
 
@@ -207,7 +247,7 @@ std::int64_t Store::Impl::write_building(
   s.bind_blob(gpkg_faces_blob(building_geometry(b, &kind), off, srs)).bind(su).bind(b.id)
       .bind(index).bind(kind).bind(b.volume).bind(b.eave_height).bind(b.ridge_height)
       .bind(b.terrain_z + off.z()).bind(b.storeys).bind(b.solid_valid ? 1 : 0)
-      .bind(b.solid_problem).bind(b.lod).bind(b.lod_note).bind(t.roof).bind(t.roof_plan).bind(t.wall).bind(t.party_wall)
+      .bind(b.solid_problem).bind(to_string(b.lod)).bind(b.lod_note).bind(t.roof).bind(t.roof_plan).bind(t.wall).bind(t.party_wall)
       .bind(t.ground).bind(t.outer_ceiling);
   for (const Deviation* d : {&b.roof_deviation, &b.wall_deviation})
     s.bind(d->n).bind(d->max).bind(d->mean).bind(d->std).bind(d->rmse);

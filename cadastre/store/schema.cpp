@@ -1,4 +1,4 @@
-#include "cadastre/store_schema.h"
+#include "cadastre/store/schema.h"
 
 #include <cpl_conv.h>
 #include <ogr_srs_api.h>
@@ -8,10 +8,9 @@
 #include <cmath>
 #include <regex>
 
-#include "cadastre/gpkg_geometry.h"
-#include "cadastre/gpkg_rtree.h"
-#include "cadastre/store_gis.h"
-#include "cadastre/store_styles.h"
+#include "cadastre/store/gpkg_geometry.h"
+#include "cadastre/store/gpkg_rtree.h"
+#include "cadastre/store/styles.h"
 #include "core/error.h"
 
 namespace c3d::store_schema {
@@ -117,6 +116,38 @@ CREATE INDEX IF NOT EXISTS ix_ci_element ON vm_cost_item(element_fid);
 // rebuilt (migrate_rrr). party_id may be NULL: ISO 19152 lets a right have
 // no party (LA_RRR - LA_Party is 0..1), which is what a parcel layer without
 // owners gives; rrr_type is an LA_RightType value, local_type the layer's name.
+// The GIS layers (gis.h): 2D, each row hanging on its 3D source row.
+const char* kGisSchema = R"SQL(
+CREATE TABLE IF NOT EXISTS parcel (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
+  parcel_id TEXT NOT NULL UNIQUE, layer_index INTEGER, status TEXT, reason TEXT,
+  right_type TEXT, ladm_right_type TEXT, official_area DOUBLE, computed_area DOUBLE, repair_note TEXT,
+  buildings INTEGER, roof_area DOUBLE, wall_area DOUBLE, ground_area DOUBLE, volume DOUBLE,
+  zone TEXT, quality TEXT, land_area DOUBLE, land_area_source TEXT, land_price_per_m2 DOUBLE,
+  land_value DOUBLE, building_cost DOUBLE, building_value DOUBLE, sigma_building_value DOUBLE,
+  njop DOUBLE, sigma_njop DOUBLE, njop_per_m2 DOUBLE, taxable DOUBLE, tax DOUBLE, sigma_tax DOUBLE,
+  currency TEXT, valuation_note TEXT);
+CREATE TABLE IF NOT EXISTS building_footprint (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
+  building_id TEXT NOT NULL UNIQUE, parcel_id TEXT NOT NULL, lod TEXT, lod_note TEXT,
+  roof_type TEXT, data_quality TEXT, footprint_area DOUBLE, volume DOUBLE,
+  eave_height DOUBLE, ridge_height DOUBLE, ground_z DOUBLE, roof_z_min DOUBLE, roof_z_50p DOUBLE,
+  roof_z_70p DOUBLE, roof_z_max DOUBLE, storeys INTEGER, roof_points INTEGER, point_density DOUBLE,
+  roof_rmse DOUBLE, wall_rmse DOUBLE, solid_valid BOOLEAN, roof_planes INTEGER,
+  roof_area DOUBLE, sigma_roof_area DOUBLE, roof_plan_area DOUBLE, wall_area DOUBLE,
+  sigma_wall_area DOUBLE, party_wall_area DOUBLE, sigma_party_wall_area DOUBLE, ground_area DOUBLE,
+  sigma_ground_area DOUBLE, outer_ceiling_area DOUBLE, sigma_outer_ceiling_area DOUBLE,
+  building_cost DOUBLE, parcel_njop DOUBLE, parcel_tax DOUBLE, currency TEXT);
+CREATE TABLE IF NOT EXISTS roof_part (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
+  element_fid INTEGER NOT NULL REFERENCES building_element(fid) ON DELETE CASCADE,
+  building_id TEXT NOT NULL, parcel_id TEXT NOT NULL, element_index INTEGER NOT NULL,
+  area DOUBLE, plan_area DOUBLE, sigma_area DOUBLE, slope_deg DOUBLE, azimuth_deg DOUBLE,
+  support_points INTEGER, rmse DOUBLE, plan_note TEXT);
+CREATE INDEX IF NOT EXISTS ix_parcel_su ON parcel(spatialunit_id);
+CREATE INDEX IF NOT EXISTS ix_footprint_building ON building_footprint(building_fid);
+CREATE INDEX IF NOT EXISTS ix_roof_part_element ON roof_part(element_fid);
+)SQL";
+
 const char* kRrrColumns = R"SQL( (fid INTEGER PRIMARY KEY,
   baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
   party_id INTEGER REFERENCES la_party(fid) ON DELETE CASCADE,
@@ -405,7 +436,7 @@ int create_postgres(sql::Db& db, const std::string& crs_wkt, int epsg) {
   db.exec(pg_ddl(std::string("CREATE TABLE IF NOT EXISTS parcel_job") + kParcelJobColumns +
                      "; CREATE INDEX IF NOT EXISTS ix_job_run ON parcel_job(run_id);",
                  srid));
-  db.exec(pg_ddl(store_gis::kSchema, srid));
+  db.exec(pg_ddl(kGisSchema, srid));
   add_missing_columns(db);
   for (const Layer& l : kLayers)
     if (l.features)
@@ -448,7 +479,7 @@ int create(sql::Db& db, const std::string& crs_wkt, int epsg) {
   db.exec(kLadmSchema);
   create_rrr(db);
   create_parcel_job(db);
-  db.exec(store_gis::kSchema);
+  db.exec(kGisSchema);
   add_missing_columns(db);
   sql::Stmt contents(db,
                      "INSERT OR IGNORE INTO gpkg_contents (table_name, data_type, identifier, "

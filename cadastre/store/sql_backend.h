@@ -1,5 +1,5 @@
 #pragma once
-// The two halves a backend of cadastre/sql_db.h implements (internal):
+// The two halves a backend of cadastre/store/sql_db.h implements (internal):
 // a connection and a prepared statement. Columns and binds count from 0.
 #include <cstdint>
 #include <memory>

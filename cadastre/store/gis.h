@@ -1,25 +1,23 @@
 #pragma once
-// The store's GIS layers (internal to cadastre/store*.cpp): 2D geometries a
+// The store's GIS layers (internal to cadastre/store/): 2D geometries a
 // GIS opens as they are, each row carrying its figures so nothing needs a join.
 //   parcel             the parcel, its valuation and the input layer's own fields
 //   building_footprint one valid footprint per building: areas, sigma, heights,
 //                      LoD, roof type and the other building attributes, value
 //   roof_part          one valid plan per roof element: 3D area, slope, azimuth
 // Each row hangs on its 3D source row (ON DELETE CASCADE), so rewriting a
-// parcel replaces them with it. docs/design.md, "GeoPackage for GIS".
+// parcel replaces them with it. docs/design.md, "GeoPackage for GIS". Their
+// tables are created with the others (schema.cpp).
 #include <cstdint>
 #include <set>
 #include <string>
 #include <vector>
 
-#include "cadastre/sql_db.h"
+#include "cadastre/store/sql_db.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
 namespace c3d::store_gis {
-
-// CREATE TABLE IF NOT EXISTS statements of the three layers.
-extern const char* const kSchema;
 
 // The plan of faces in world coordinates (offset added), valid by GEOS: each
 // face's projection repaired with MakeValid where it crosses itself, then all
@@ -52,10 +50,5 @@ class Writer {
   sql::Stmt ins_footprint_, ins_roof_;
   std::set<std::string> parcel_columns_;  // lower case
 };
-
-// Fills the GIS layers of parcels stored before they existed (a store of an
-// earlier version, opened to resume) from their 3D rows and valuations, in
-// one transaction; does nothing when every parcel has its row.
-void backfill(sql::Db& db, Writer& writer);
 
 }  // namespace c3d::store_gis

@@ -11,6 +11,7 @@
 // whole parcels only.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,7 @@ struct RunRecord {
   std::string tool_version, parameters, started, finished;  // parameters: JSON text
   int epsg = 0;
   Vec3 origin = Vec3::Zero();
-  int parcels_ok = 0, parcels_empty = 0, parcels_failed = 0;
+  int parcels_ok = 0, parcels_empty = 0, parcels_failed = 0, parcels_suspect = 0;
   std::vector<InputFile> inputs;
   std::string shard;  // "K/N" for a shard's run (--shard), else ""
 };
@@ -33,7 +34,7 @@ struct RunRecord {
 struct JobRecord {
   std::string parcel_id;
   int layer_index = 0;
-  std::string status;  // pending | ok | empty | failed
+  std::optional<ParcelStatus> status;  // none while pending
   std::string reason, inputs_key, updated;
   std::int64_t run_id = 0;
 };

@@ -1,15 +1,15 @@
 // Reading a store back: the batch model, valuations, jobs and runs.
-#include "cadastre/store.h"
+#include "cadastre/store/store.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <unordered_map>
 #include <nlohmann/json.hpp>
 
-#include "cadastre/gpkg_geometry.h"
-#include "cadastre/sql_db.h"
-#include "cadastre/store_lods.h"
-#include "cadastre/store_schema.h"
+#include "cadastre/store/gpkg_geometry.h"
+#include "cadastre/store/lods.h"
+#include "cadastre/store/schema.h"
+#include "cadastre/store/sql_db.h"
 #include "core/error.h"
 
 namespace c3d {
@@ -39,11 +39,27 @@ WallEvidence evidence_from(const std::string& s) {
   return WallEvidence::None;
 }
 
-ParcelStatus status_from(const std::string& s) {
-  if (s == "ok") return ParcelStatus::Ok;
-  if (s == "failed") return ParcelStatus::Failed;
-  if (s == "suspect") return ParcelStatus::Suspect;
-  return ParcelStatus::Empty;
+// What parse() makes of a row's text; text it refuses (std::invalid_argument)
+// is an InputError naming the store and the row.
+template <class Parse>
+auto parsed(const sql::Db& db, const std::string& row, Parse parse) {
+  try {
+    return parse();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(sql::display_name(db.path()), row + ": " + e.what());
+  }
+}
+
+// A job's status: none while pending (and where a store from before jobs has
+// no row); other text must name a ParcelStatus.
+std::optional<ParcelStatus> job_status(const sql::Db& db, const std::string& parcel_id, const std::string& text) {
+  if (text.empty() || text == "pending") return std::nullopt;
+  return parsed(db, "parcel " + parcel_id, [&] { return parcel_status_from(text); });
+}
+
+// A building's level of detail; a store from before LoDs were recorded holds 2.2 models only.
+Lod building_lod(const sql::Db& db, const std::string& building_id, const std::string& text) {
+  return parsed(db, "building " + building_id, [&] { return text.empty() ? Lod::Lod22 : lod_from(text); });
 }
 
 sql::Db open_store(const std::string& path) {
@@ -126,7 +142,7 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
       *devs[k] = {long(qb.get_int(c)), qb.get_double(c + 1), qb.get_double(c + 2),
                   qb.get_double(c + 3), qb.get_double(c + 4)};
     }
-    b.lod = qb.is_null(21) ? "2.2" : qb.get_text(21);
+    b.lod = building_lod(db, b.id, qb.get_text(21));
     b.lod_note = qb.get_text(22);
     lods.read(qb.get_int(0), frame.origin, b);
     qe.bind(qb.get_int(0));
@@ -242,7 +258,7 @@ void read_parcels(const sql::Db& db, const std::string& filter, const std::vecto
     ParcelResult r;
     r.parcel_index = p.index;
     r.parcel_id = p.id;
-    r.status = status_from(q.get_text(7));
+    r.status = job_status(db, p.id, q.get_text(7)).value_or(ParcelStatus::Empty);  // rewritten now: empty till done
     r.reason = q.get_text(8);
     r.roof_points = long(q.get_int(9));
     r.wall_points = long(q.get_int(10));
@@ -381,17 +397,18 @@ std::vector<JobRecord> load_jobs(const std::string& path) {
               "FROM parcel_job ORDER BY layer_index, parcel_id");
   std::vector<JobRecord> out;
   while (q.step())
-    out.push_back({q.get_text(0), int(q.get_int(1)), q.get_text(2), q.get_text(3), q.get_text(4),
-                   q.get_text(5), q.get_int(6)});
+    out.push_back({q.get_text(0), int(q.get_int(1)), job_status(db, q.get_text(0), q.get_text(2)), q.get_text(3),
+                   q.get_text(4), q.get_text(5), q.get_int(6)});
   return out;
 }
 
 std::vector<RunRecord> load_runs(const std::string& path) {
   sql::Db db = open_store(path);
   const std::string shard = store_schema::has_column(db, "run", "shard") ? "shard" : "NULL";
+  const std::string suspect = store_schema::has_column(db, "run", "parcels_suspect") ? "parcels_suspect" : "0";
   sql::Stmt q(db,
               "SELECT fid, tool_version, parameters, started, finished, crs_epsg, origin_x, "
-              "origin_y, origin_z, parcels_ok, parcels_empty, parcels_failed, " + shard +
+              "origin_y, origin_z, parcels_ok, parcels_empty, parcels_failed, " + shard + ", " + suspect +
               " FROM run ORDER BY fid");
   // A store from before roles has none: "" (merge judges those by the file's name).
   const std::string role = store_schema::has_column(db, "run_input", "role") ? "role" : "NULL";
@@ -410,6 +427,7 @@ std::vector<RunRecord> load_runs(const std::string& path) {
     r.parcels_empty = int(q.get_int(10));
     r.parcels_failed = int(q.get_int(11));
     r.shard = q.get_text(12);
+    r.parcels_suspect = int(q.get_int(13));
     qi.bind(r.id);
     while (qi.step()) r.inputs.push_back({qi.get_text(0), qi.get_text(1), qi.get_int(2), qi.get_text(3)});
     qi.reset();

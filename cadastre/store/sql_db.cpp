@@ -1,9 +1,9 @@
-#include "cadastre/sql_db.h"
+#include "cadastre/store/sql_db.h"
 
 #include <cmath>
 #include <limits>
 
-#include "cadastre/sql_backend.h"
+#include "cadastre/store/sql_backend.h"
 #include "core/error.h"
 
 namespace c3d::sql {

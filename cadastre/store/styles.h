@@ -2,7 +2,7 @@
 // Default QGIS styles stored in the GeoPackage (the `layer_styles` table QGIS
 // reads when it opens a layer): parcels and building footprints coloured by
 // value in graduated classes, so a user sees the valuation without a join.
-#include "cadastre/sql_db.h"
+#include "cadastre/store/sql_db.h"
 
 namespace c3d::store_styles {
 

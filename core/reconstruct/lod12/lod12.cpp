@@ -1,4 +1,4 @@
-#include "core/reconstruct/lod12.h"
+#include "core/reconstruct/lod12/lod12.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,7 +127,7 @@ Building lod12_prism(const PrismInput& in) {
   if (in.roof_heights.empty()) return without_prism(in.building_id, "no roof points");
   Building b;
   b.id = in.building_id;
-  b.lod = "1.2";
+  b.lod = Lod::Lod12;
   try {
     b.terrain_z = envelope::mean_terrain(in.footprint, in.terrain);
   } catch (const std::runtime_error& e) {

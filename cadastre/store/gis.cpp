@@ -1,46 +1,14 @@
-#include "cadastre/store_gis.h"
+#include "cadastre/store/gis.h"
 
 #include <algorithm>
 #include <cctype>
 
-#include "cadastre/gpkg_geometry.h"
-#include "cadastre/store.h"
-#include "cadastre/store_schema.h"
+#include "cadastre/store/gpkg_geometry.h"
+#include "cadastre/store/schema.h"
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
 
 namespace c3d::store_gis {
-
-const char* const kSchema = R"SQL(
-CREATE TABLE IF NOT EXISTS parcel (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
-  spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
-  parcel_id TEXT NOT NULL UNIQUE, layer_index INTEGER, status TEXT, reason TEXT,
-  right_type TEXT, ladm_right_type TEXT, official_area DOUBLE, computed_area DOUBLE, repair_note TEXT,
-  buildings INTEGER, roof_area DOUBLE, wall_area DOUBLE, ground_area DOUBLE, volume DOUBLE,
-  zone TEXT, quality TEXT, land_area DOUBLE, land_area_source TEXT, land_price_per_m2 DOUBLE,
-  land_value DOUBLE, building_cost DOUBLE, building_value DOUBLE, sigma_building_value DOUBLE,
-  njop DOUBLE, sigma_njop DOUBLE, njop_per_m2 DOUBLE, taxable DOUBLE, tax DOUBLE, sigma_tax DOUBLE,
-  currency TEXT, valuation_note TEXT);
-CREATE TABLE IF NOT EXISTS building_footprint (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
-  building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
-  building_id TEXT NOT NULL UNIQUE, parcel_id TEXT NOT NULL, lod TEXT, lod_note TEXT,
-  roof_type TEXT, data_quality TEXT, footprint_area DOUBLE, volume DOUBLE,
-  eave_height DOUBLE, ridge_height DOUBLE, ground_z DOUBLE, roof_z_min DOUBLE, roof_z_50p DOUBLE,
-  roof_z_70p DOUBLE, roof_z_max DOUBLE, storeys INTEGER, roof_points INTEGER, point_density DOUBLE,
-  roof_rmse DOUBLE, wall_rmse DOUBLE, solid_valid BOOLEAN, roof_planes INTEGER,
-  roof_area DOUBLE, sigma_roof_area DOUBLE, roof_plan_area DOUBLE, wall_area DOUBLE,
-  sigma_wall_area DOUBLE, party_wall_area DOUBLE, sigma_party_wall_area DOUBLE, ground_area DOUBLE,
-  sigma_ground_area DOUBLE, outer_ceiling_area DOUBLE, sigma_outer_ceiling_area DOUBLE,
-  building_cost DOUBLE, parcel_njop DOUBLE, parcel_tax DOUBLE, currency TEXT);
-CREATE TABLE IF NOT EXISTS roof_part (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
-  element_fid INTEGER NOT NULL REFERENCES building_element(fid) ON DELETE CASCADE,
-  building_id TEXT NOT NULL, parcel_id TEXT NOT NULL, element_index INTEGER NOT NULL,
-  area DOUBLE, plan_area DOUBLE, sigma_area DOUBLE, slope_deg DOUBLE, azimuth_deg DOUBLE,
-  support_points INTEGER, rmse DOUBLE, plan_note TEXT);
-CREATE INDEX IF NOT EXISTS ix_parcel_su ON parcel(spatialunit_id);
-CREATE INDEX IF NOT EXISTS ix_footprint_building ON building_footprint(building_fid);
-CREATE INDEX IF NOT EXISTS ix_roof_part_element ON roof_part(element_fid);
-)SQL";
 
 namespace {
 
@@ -195,7 +163,7 @@ void Writer::building(const Building& b, std::int64_t building_fid, const std::s
   for (const CostItem& c : v.items) cost += c.building_id == b.id ? c.amount : 0.0;
   auto& s = ins_footprint_;
   s.bind_blob(gpkg_multipolygon_blob(plan, srs_)).bind(building_fid).bind(b.id).bind(parcel_id)
-      .bind(b.lod).bind(b.lod_note).bind(a.roof_type).bind(a.data_quality).bind(area(plan))
+      .bind(to_string(b.lod)).bind(b.lod_note).bind(a.roof_type).bind(a.data_quality).bind(area(plan))
       .bind(b.volume).bind(b.eave_height).bind(b.ridge_height).bind(b.terrain_z + off.z());
   for (double z : {a.roof_z_min, a.roof_z_50p, a.roof_z_70p, a.roof_z_max}) s.bind(z + off.z());  // NaN stays NULL
   s.bind(b.storeys).bind(a.roof_points).bind(a.point_density).bind(b.roof_deviation.rmse)
@@ -213,43 +181,6 @@ void Writer::roof_part(const Element& e, std::int64_t element_fid, int index, co
       .bind(parcel_id).bind(index).bind(e.area).bind(e.plan_area).bind(e.sigma_area).bind(e.slope_deg)
       .bind(e.azimuth_deg).bind(e.support_points).bind(e.rmse)
       .bind(repaired ? "plan crossed itself: repaired by GEOS MakeValid" : "").run();
-}
-
-void backfill(sql::Db& db, Writer& w) {
-  {
-    sql::Stmt q(db, "SELECT count(*) FROM la_spatialunit su WHERE NOT EXISTS "
-                    "(SELECT 1 FROM parcel p WHERE p.spatialunit_id = su.fid)");
-    if (!q.step() || q.get_int(0) == 0) return;
-  }
-  const BatchModel m = load_batch_model(db.path());
-  const std::vector<ParcelValuation> values = load_valuations(db.path());
-  sql::Stmt su(db, "SELECT su.fid FROM la_spatialunit su WHERE parcel_id=? AND NOT EXISTS "
-                   "(SELECT 1 FROM parcel p WHERE p.spatialunit_id = su.fid)");
-  sql::Stmt building(db, "SELECT fid FROM building WHERE building_id=?");
-  sql::Stmt element(db, "SELECT fid FROM building_element WHERE building_fid=? AND element_index=?");
-  auto fid_of = [](sql::Stmt& q) {
-    const std::int64_t fid = q.step() ? q.get_int(0) : 0;
-    q.reset();
-    return fid;
-  };
-  sql::Transaction tx(db);
-  for (size_t i = 0; i < m.parcels.size(); ++i) {
-    const Parcel& p = m.parcels[i];
-    const std::int64_t unit = fid_of(su.bind(p.id));
-    if (unit == 0) continue;  // has its row
-    ParcelValuation v;
-    for (const ParcelValuation& x : values)
-      if (x.parcel_id == p.id) v = x;
-    w.parcel(p, unit, m.results[i], v);
-    for (const Building& b : m.results[i].buildings) {
-      const std::int64_t bfid = fid_of(building.bind(b.id));
-      w.building(b, bfid, p.id, m.frame.origin, v);
-      for (int k = 0; k < int(b.elements.size()); ++k)
-        if (b.elements[size_t(k)].type == ElementType::Roof)
-          w.roof_part(b.elements[size_t(k)], fid_of(element.bind(bfid).bind(k)), k, b.id, p.id, m.frame.origin);
-    }
-  }
-  tx.commit();
 }
 
 }  // namespace c3d::store_gis

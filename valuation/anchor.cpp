@@ -1,2 +1,0 @@
-// Placeholder so the module library has a source until its first stage lands.
-namespace c3d { int valuation_module_anchor = 0; }
