@@ -208,20 +208,17 @@ std::string write_sparse_dtm(const std::string& path, int nx, int ny,
   return path;
 }
 
-// The warnings read_dtm(path) logs, and the DTM.
+// The warnings read_dtm(path) logs, and the DTM; log lines go to stderr again after.
 Dtm read_dtm_warnings(const std::string& path, std::vector<std::string>& warnings) {
+  struct ToStderrAfter {
+    ~ToStderrAfter() {
+      log::set_sink([](log::Level, const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
+    }
+  } after;
   log::set_sink([&](log::Level l, const std::string& m) {
     if (l >= log::Level::Warn) warnings.push_back(m);
   });
-  Dtm d;
-  try {
-    d = read_dtm(path);
-  } catch (...) {
-    log::set_sink([](log::Level, const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
-    throw;
-  }
-  log::set_sink([](log::Level, const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
-  return d;
+  return read_dtm(path);
 }
 
 // tests/fuzz, seed 1, iteration 1085 (the deflate-tiled seed with its width
