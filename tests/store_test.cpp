@@ -7,6 +7,7 @@
 #include <functional>
 #include <set>
 
+#include "cadastre/store/columns.h"
 #include "cadastre/store/gpkg_geometry.h"
 #include "cadastre/store/gpkg_rtree.h"
 #include "cadastre/store/sql_db.h"
@@ -378,6 +379,32 @@ TEST(Store, OpensAStoreFromBeforeInputRoles) {
   ASSERT_EQ(runs.size(), 2u);
   EXPECT_EQ(runs[0].inputs[0].role, "");
   EXPECT_EQ(runs[1].inputs[0].role, "dtm");
+}
+
+// One list per table makes the INSERT and the SELECT; rows come back by name,
+// and a column a store from before lacks reads as its stated default.
+TEST(Store, ColumnListsMakeTheInsertAndTheSelect) {
+  using namespace store_columns;
+  const Table t{"thing", {{"name"}, {"size"}, {"added", "42"}, {"made"}}};
+  EXPECT_EQ(insert_sql(t, {{"made", "now()"}}), "INSERT INTO thing (name, size, added, made) VALUES (?,?,?,now())");
+  EXPECT_EQ(upsert_sql(t, "name"), "INSERT INTO thing (name, size, added, made) VALUES (?,?,?,?) "
+                                   "ON CONFLICT(name) DO UPDATE SET size=excluded.size, added=excluded.added, "
+                                   "made=excluded.made");
+  EXPECT_EQ(update_sql(t), "UPDATE thing SET name=?, size=?, added=?, made=? WHERE fid=?");
+  const std::string path = test::temp_dir("store_columns") + "/old.sqlite";
+  sql::Db db(path, false);
+  db.exec("CREATE TABLE thing (fid INTEGER PRIMARY KEY, name TEXT, size DOUBLE, made TEXT)");
+  sql::Stmt(db, "INSERT INTO thing (name, size, made) VALUES (?,?,?)").bind("a").bind(2.5).bind("then").run();
+  EXPECT_EQ(select_list(db, t, "x", {"size", "added"}), "x.size AS size, 42 AS added");
+  sql::Stmt q(db, "SELECT " + select_list(db, t) + " FROM thing");
+  ASSERT_TRUE(q.step());
+  EXPECT_EQ(q.get_int("fid"), 1);
+  EXPECT_EQ(q.get_text("name"), "a");
+  EXPECT_EQ(q.get_double("size"), 2.5);
+  EXPECT_EQ(q.get_int("added"), 42);
+  EXPECT_EQ(q.get_text("made"), "then");
+  EXPECT_THROW(q.get_text("colour"), std::logic_error);
+  EXPECT_THROW(select_list(db, t, "", {"colour"}), std::logic_error);
 }
 
 TEST(Store, ThousandParcelsWriteFast) {

@@ -1,5 +1,8 @@
 #include "cadastre/store/lods.h"
 
+#include <stdexcept>
+
+#include "cadastre/store/columns.h"
 #include "cadastre/store/gpkg_geometry.h"
 #include "cadastre/store/schema.h"
 #include "core/error.h"
@@ -26,7 +29,7 @@ std::vector<ElementType> split_types(const std::string& text) {
     for (ElementType t : {ElementType::Roof, ElementType::Wall, ElementType::PartyWall, ElementType::Ground,
                           ElementType::OuterCeiling})
       if (name == to_string(t)) out.push_back(t), found = true;
-    if (!found) throw InputError("store", "unknown face type '" + name + "' in building_lod");
+    if (!found) throw std::invalid_argument("unknown face type '" + name + "'");
     start = end + 1;
   }
   return out;
@@ -35,12 +38,8 @@ std::vector<ElementType> split_types(const std::string& text) {
 }  // namespace
 
 Writer::Writer(const sql::Db& db)
-    : attributes_(db,
-                  "UPDATE building SET roof_type=?, roof_z_min=?, roof_z_50p=?, roof_z_70p=?, roof_z_max=?, "
-                  "roof_points=?, point_density=?, roof_rmse=?, data_quality=? WHERE fid=?"),
-      lod_(db,
-           "INSERT INTO building_lod (geom, building_fid, lod, face_types, volume, roof_rmse) "
-           "VALUES (?,?,?,?,?,?)") {}
+    : attributes_(db, store_columns::update_sql(store_columns::kBuildingAttributes)),
+      lod_(db, store_columns::insert_sql(store_columns::kBuildingLod)) {}
 
 void Writer::write(std::int64_t building_fid, const Building& b, const Vec3& origin, int srs) {
   const BuildingAttributes& a = b.attributes;
@@ -54,16 +53,14 @@ void Writer::write(std::int64_t building_fid, const Building& b, const Vec3& ori
 }
 
 Reader::Reader(const sql::Db& db)
-    : has_attributes_(store_schema::has_column(db, "building", "data_quality")),
+    : where_(sql::display_name(db.path())),
+      has_attributes_(store_schema::has_column(db, "building", "data_quality")),
       has_lods_(store_schema::has_column(db, "building_lod", "face_types")) {
+  using namespace store_columns;
   if (has_attributes_)
-    attributes_ = sql::Stmt(db,
-                            "SELECT roof_type, roof_z_min, roof_z_50p, roof_z_70p, roof_z_max, roof_points, "
-                            "point_density, roof_rmse, data_quality FROM building WHERE fid=?");
+    attributes_ = sql::Stmt(db, "SELECT " + select_list(db, kBuildingAttributes) + " FROM building WHERE fid=?");
   if (has_lods_)
-    lod_ = sql::Stmt(db,
-                     "SELECT geom, lod, face_types, volume, roof_rmse FROM building_lod WHERE building_fid=? "
-                     "ORDER BY lod");
+    lod_ = sql::Stmt(db, "SELECT " + select_list(db, kBuildingLod) + " FROM building_lod WHERE building_fid=? ORDER BY lod");
 }
 
 void Reader::read(std::int64_t building_fid, const Vec3& origin, Building& b) {
@@ -72,15 +69,15 @@ void Reader::read(std::int64_t building_fid, const Vec3& origin, Building& b) {
     if (attributes_.step()) {
       BuildingAttributes& a = b.attributes;
       const double z = origin.z();
-      a.roof_type = attributes_.get_text(0);
-      a.roof_z_min = attributes_.get_double(1) - z;
-      a.roof_z_50p = attributes_.get_double(2) - z;
-      a.roof_z_70p = attributes_.get_double(3) - z;
-      a.roof_z_max = attributes_.get_double(4) - z;
-      a.roof_points = long(attributes_.get_int(5));
-      a.point_density = attributes_.get_double(6);
-      a.roof_rmse = attributes_.get_double(7);
-      a.data_quality = attributes_.get_text(8);
+      a.roof_type = attributes_.get_text("roof_type");
+      a.roof_z_min = attributes_.get_double("roof_z_min") - z;
+      a.roof_z_50p = attributes_.get_double("roof_z_50p") - z;
+      a.roof_z_70p = attributes_.get_double("roof_z_70p") - z;
+      a.roof_z_max = attributes_.get_double("roof_z_max") - z;
+      a.roof_points = long(attributes_.get_int("roof_points"));
+      a.point_density = attributes_.get_double("point_density");
+      a.roof_rmse = attributes_.get_double("roof_rmse");
+      a.data_quality = attributes_.get_text("data_quality");
     }
     attributes_.reset();
   }
@@ -89,18 +86,18 @@ void Reader::read(std::int64_t building_fid, const Vec3& origin, Building& b) {
   while (lod_.step()) {
     LodShell s;
     std::size_t n;
-    const std::uint8_t* blob = lod_.blob(0, &n);
+    const std::uint8_t* blob = lod_.blob("geom", &n);
     s.faces = gpkg_read_faces(blob, n, origin);
     try {
-      s.lod = lod_from(lod_.get_text(1));
+      s.lod = lod_from(lod_.get_text("lod"));
+      s.face_types = split_types(lod_.get_text("face_types"));
     } catch (const std::invalid_argument& e) {
-      throw InputError("store", "building_lod of " + b.id + ": " + e.what());
+      throw InputError(where_, "building_lod of " + b.id + ": " + e.what());
     }
-    s.face_types = split_types(lod_.get_text(2));
-    s.volume = lod_.get_double(3);
-    s.roof_rmse = lod_.get_double(4);
+    s.volume = lod_.get_double("volume");
+    s.roof_rmse = lod_.get_double("roof_rmse");
     if (s.face_types.size() != s.faces.size())
-      throw InputError("store", "building_lod of " + b.id + ": " + std::to_string(s.faces.size()) + " faces but " +
+      throw InputError(where_, "building_lod of " + b.id + ": " + std::to_string(s.faces.size()) + " faces but " +
                                     std::to_string(s.face_types.size()) + " face types");
     b.lower_lods.push_back(std::move(s));
   }

@@ -2,6 +2,7 @@
 // The store's 3DBAG-style building attributes (columns of `building`) and
 // lower LoDs (table `building_lod`), internal to cadastre/store/.
 #include <cstdint>
+#include <string>
 
 #include "cadastre/store/sql_db.h"
 #include "core/types.h"
@@ -29,6 +30,7 @@ class Reader {
   void read(std::int64_t building_fid, const Vec3& origin, Building& b);
 
  private:
+  std::string where_;  // the store, as messages name it
   bool has_attributes_ = false, has_lods_ = false;
   sql::Stmt attributes_, lod_;
 };

@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <nlohmann/json.hpp>
 
+#include "cadastre/store/columns.h"
 #include "cadastre/store/gpkg_geometry.h"
 #include "cadastre/store/lods.h"
 #include "cadastre/store/schema.h"
@@ -29,7 +30,7 @@ ElementType element_type_from(const std::string& s) {
   for (ElementType t : {ElementType::Roof, ElementType::Wall, ElementType::PartyWall,
                         ElementType::Ground, ElementType::OuterCeiling})
     if (s == to_string(t)) return t;
-  throw InputError("store", "unknown element type '" + s + "'");
+  throw std::invalid_argument("unknown element type '" + s + "'");
 }
 
 WallEvidence evidence_from(const std::string& s) {
@@ -57,10 +58,12 @@ std::optional<ParcelStatus> job_status(const sql::Db& db, const std::string& par
   return parsed(db, "parcel " + parcel_id, [&] { return parcel_status_from(text); });
 }
 
-// A building's level of detail; a store from before LoDs were recorded holds 2.2 models only.
+// A building's level of detail; a row from before LoDs were recorded holds a 2.2 model.
 Lod building_lod(const sql::Db& db, const std::string& building_id, const std::string& text) {
   return parsed(db, "building " + building_id, [&] { return text.empty() ? Lod::Lod22 : lod_from(text); });
 }
+
+using namespace store_columns;
 
 sql::Db open_store(const std::string& path) {
   if (sql::is_postgres_url(path)) {
@@ -103,64 +106,62 @@ void read_crs(const sql::Db& db, BatchModel& m) {
   if (def != "undefined") m.crs_wkt = def;
 }
 
-std::vector<Face> read_faces(const sql::Stmt& q, int col, const Vec3& origin) {
+std::vector<Face> read_faces(const sql::Stmt& q, const Vec3& origin) {
   std::size_t n;
-  const std::uint8_t* b = q.blob(col, &n);
+  const std::uint8_t* b = q.blob("geom", &n);
   return gpkg_read_faces(b, n, origin);
 }
 
+Deviation read_deviation(const sql::Stmt& q, const std::string& prefix) {
+  return {long(q.get_int(prefix + "_n")), q.get_double(prefix + "_max"), q.get_double(prefix + "_mean"),
+          q.get_double(prefix + "_std"), q.get_double(prefix + "_rmse")};
+}
+
+Element read_element(const sql::Db& db, const sql::Stmt& q, const Building& b, const Vec3& origin) {
+  Element e;
+  e.faces = read_faces(q, origin);
+  e.type = parsed(db, "building " + b.id, [&] { return element_type_from(q.get_text("element_type")); });
+  e.area = q.get_double("area");
+  e.plan_area = q.get_double("plan_area");
+  e.slope_deg = q.get_double("slope_deg");
+  e.azimuth_deg = q.get_double("azimuth_deg");
+  e.sigma_area = q.get_double("sigma_area");
+  e.support_points = int(q.get_int("support_points"));
+  e.rmse = q.get_double("rmse");
+  e.evidence = evidence_from(q.get_text("wall_evidence"));
+  e.sigma_shared = q.is_null("sigma_shared") ? 0.0 : q.get_double("sigma_shared");
+  return e;
+}
+
+Building read_building(const sql::Db& db, const sql::Stmt& q, const LocalFrame& frame) {
+  Building b;
+  if (q.get_text("geom_kind") == "solid") b.solid = read_faces(q, frame.origin);
+  b.id = q.get_text("building_id");
+  b.volume = q.get_double("volume");
+  b.eave_height = q.get_double("eave_height");
+  b.ridge_height = q.get_double("ridge_height");
+  b.terrain_z = q.get_double("terrain_z") - frame.origin.z();
+  b.storeys = int(q.get_int("storeys"));
+  b.solid_valid = q.get_int("solid_valid") != 0;
+  b.solid_problem = q.get_text("solid_problem");
+  b.roof_deviation = read_deviation(q, "roof_dev");
+  b.wall_deviation = read_deviation(q, "wall_dev");
+  b.lod = building_lod(db, b.id, q.get_text("lod"));
+  b.lod_note = q.get_text("lod_note");
+  return b;
+}
+
 std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const LocalFrame& frame) {
-  // A store written before buildings recorded their LoD holds LoD 2.2 models only.
-  const std::string lod = store_schema::has_column(db, "building", "lod") ? "lod, lod_note" : "'2.2', ''";
-  sql::Stmt qb(db,
-               "SELECT fid, geom, geom_kind, building_id, volume, eave_height, ridge_height, "
-               "terrain_z, storeys, solid_valid, solid_problem, roof_dev_n, roof_dev_max, "
-               "roof_dev_mean, roof_dev_std, roof_dev_rmse, wall_dev_n, wall_dev_max, wall_dev_mean, "
-               "wall_dev_std, wall_dev_rmse, " + lod + " FROM building WHERE spatialunit_id=? ORDER BY building_index");
-  const std::string shared = store_schema::has_column(db, "building_element", "sigma_shared") ? "sigma_shared" : "0";
-  sql::Stmt qe(db,
-               "SELECT geom, element_type, area, plan_area, slope_deg, azimuth_deg, sigma_area, "
-               "support_points, rmse, wall_evidence, " + shared + " FROM building_element WHERE building_fid=? "
-               "ORDER BY element_index");
+  sql::Stmt qb(db, "SELECT " + select_list(db, kBuilding) + " FROM building WHERE spatialunit_id=? ORDER BY building_index");
+  sql::Stmt qe(db, "SELECT " + select_list(db, kElement) + " FROM building_element WHERE building_fid=? ORDER BY element_index");
   store_lods::Reader lods(db);
   std::vector<Building> out;
   qb.bind(su);
   while (qb.step()) {
-    Building b;
-    if (qb.get_text(2) == "solid") b.solid = read_faces(qb, 1, frame.origin);
-    b.id = qb.get_text(3);
-    b.volume = qb.get_double(4);
-    b.eave_height = qb.get_double(5);
-    b.ridge_height = qb.get_double(6);
-    b.terrain_z = qb.get_double(7) - frame.origin.z();
-    b.storeys = int(qb.get_int(8));
-    b.solid_valid = qb.get_int(9) != 0;
-    b.solid_problem = qb.get_text(10);
-    Deviation* devs[2] = {&b.roof_deviation, &b.wall_deviation};
-    for (int k = 0; k < 2; ++k) {
-      int c = 11 + 5 * k;
-      *devs[k] = {long(qb.get_int(c)), qb.get_double(c + 1), qb.get_double(c + 2),
-                  qb.get_double(c + 3), qb.get_double(c + 4)};
-    }
-    b.lod = building_lod(db, b.id, qb.get_text(21));
-    b.lod_note = qb.get_text(22);
-    lods.read(qb.get_int(0), frame.origin, b);
-    qe.bind(qb.get_int(0));
-    while (qe.step()) {
-      Element e;
-      e.faces = read_faces(qe, 0, frame.origin);
-      e.type = element_type_from(qe.get_text(1));
-      e.area = qe.get_double(2);
-      e.plan_area = qe.get_double(3);
-      e.slope_deg = qe.get_double(4);
-      e.azimuth_deg = qe.get_double(5);
-      e.sigma_area = qe.get_double(6);
-      e.support_points = int(qe.get_int(7));
-      e.rmse = qe.get_double(8);
-      e.evidence = evidence_from(qe.get_text(9));
-      e.sigma_shared = qe.is_null(10) ? 0.0 : qe.get_double(10);
-      b.elements.push_back(std::move(e));
-    }
+    Building b = read_building(db, qb, frame);
+    lods.read(qb.get_int("fid"), frame.origin, b);
+    qe.bind(qb.get_int("fid"));
+    while (qe.step()) b.elements.push_back(read_element(db, qe, b, frame.origin));
     qe.reset();
     out.push_back(std::move(b));
   }
@@ -234,36 +235,34 @@ std::vector<T> permuted(std::vector<T>& v, const std::vector<size_t>& order) {
 
 // Appends the parcels the query with this filter gives (ids bound in order).
 void read_parcels(const sql::Db& db, const std::string& filter, const std::vector<std::string>& ids, BatchModel& m) {
-  // The layer's own name of the right; a store written before kept it in rrr_type.
-  const std::string right =
-      store_schema::has_column(db, "la_rrr", "local_type") ? "coalesce(r.local_type, r.rrr_type)" : "r.rrr_type";
-  sql::Stmt q(db,
-              "SELECT su.fid, su.geom, su.parcel_id, su.layer_index, su.official_area, "
-              "su.repair_note, " + right + ", j.status, j.reason, j.roof_points, j.wall_points, "
-              "j.timings FROM la_spatialunit su "
-              "LEFT JOIN la_rrr r ON r.baunit_id = su.baunit_id "
-              "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id" + filter +
-              " ORDER BY su.layer_index, su.parcel_id");
+  sql::Stmt q(db, "SELECT " + select_list(db, kSpatialUnit, "su") + ", " +
+                      select_list(db, kRrr, "r", {"rrr_type", "local_type"}) + ", " +
+                      select_list(db, kJob, "j", {"status", "reason", "roof_points", "wall_points", "timings"}) +
+                      " FROM la_spatialunit su "
+                      "LEFT JOIN la_rrr r ON r.baunit_id = su.baunit_id "
+                      "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id" + filter +
+                      " ORDER BY su.layer_index, su.parcel_id");
   for (const std::string& id : ids) q.bind(id);
   while (q.step()) {
     Parcel p;
     std::size_t n;
-    const std::uint8_t* b = q.blob(1, &n);
+    const std::uint8_t* b = q.blob("geom", &n);
     p.shape = gpkg_read_multipolygon(b, n);
-    p.id = q.get_text(2);
-    p.index = int(q.get_int(3));
-    p.official_area = q.get_double(4);
-    p.repair_note = q.get_text(5);
-    p.right_type = q.get_text(6);
+    p.id = q.get_text("parcel_id");
+    p.index = int(q.get_int("layer_index"));
+    p.official_area = q.get_double("official_area");
+    p.repair_note = q.get_text("repair_note");
+    // The layer's own name of the right; a store written before kept it in rrr_type.
+    p.right_type = q.get_text(q.is_null("local_type") ? "rrr_type" : "local_type");
     ParcelResult r;
     r.parcel_index = p.index;
     r.parcel_id = p.id;
-    r.status = job_status(db, p.id, q.get_text(7)).value_or(ParcelStatus::Empty);  // rewritten now: empty till done
-    r.reason = q.get_text(8);
-    r.roof_points = long(q.get_int(9));
-    r.wall_points = long(q.get_int(10));
-    r.timings = parse_timings(q.get_text(11));
-    r.buildings = read_buildings(db, q.get_int(0), m.frame);
+    r.status = job_status(db, p.id, q.get_text("status")).value_or(ParcelStatus::Empty);  // rewritten now: empty till done
+    r.reason = q.get_text("reason");
+    r.roof_points = long(q.get_int("roof_points"));
+    r.wall_points = long(q.get_int("wall_points"));
+    r.timings = parse_timings(q.get_text("timings"));
+    r.buildings = read_buildings(db, q.get_int("fid"), m.frame);
     m.parcels.push_back(std::move(p));
     m.results.push_back(std::move(r));
   }
@@ -293,53 +292,59 @@ BatchModel read_batch_model(const std::string& path, const std::vector<std::stri
   return m;
 }
 
+CostItem read_cost_item(const sql::Stmt& q) {
+  CostItem c;
+  c.building_id = q.get_text("building_id");
+  c.element_index = q.is_null("element_index") ? -1 : int(q.get_int("element_index"));
+  c.element_type = q.get_text("element_type");
+  c.quality = q.get_text("quality");
+  c.area = q.get_double("area");
+  c.sigma_area = q.get_double("sigma_area");
+  c.unit_cost = q.get_double("unit_cost");
+  c.amount = q.get_double("amount");
+  c.sigma_amount = q.get_double("sigma_amount");
+  c.support_points = int(q.get_int("support_points"));
+  c.rmse = q.get_double("rmse");
+  return c;
+}
+
+ParcelValuation read_valuation(const sql::Stmt& q) {
+  ParcelValuation v;
+  v.parcel_id = q.get_text("parcel_id");
+  v.currency = q.get_text("currency");
+  v.zone = q.get_text("zone");
+  v.quality = q.get_text("quality");
+  v.note = q.get_text("note");
+  v.land_area = q.get_double("land_area");
+  v.land_area_source = q.get_text("land_area_source");
+  const std::pair<double*, const char*> numbers[] = {
+      {&v.land_price_per_m2, "land_price_per_m2"}, {&v.land_value, "land_value"},
+      {&v.building_cost, "building_cost"},         {&v.sigma_building_cost, "sigma_building_cost"},
+      {&v.age_years, "age_years"},                 {&v.depreciation_share, "depreciation_share"},
+      {&v.depreciation, "depreciation"},           {&v.building_value, "building_value"},
+      {&v.sigma_building_value, "sigma_building_value"}, {&v.njop, "njop"},
+      {&v.sigma_njop, "sigma_njop"},               {&v.tax_rate, "tax_rate"},
+      {&v.njoptkp, "njoptkp"},                     {&v.taxable, "taxable"},
+      {&v.tax, "tax"},                             {&v.sigma_tax, "sigma_tax"}};
+  for (const auto& [field, name] : numbers) *field = q.get_double(name);
+  return v;
+}
+
 // Appends the valuations the query with this filter gives (ids bound in order).
 void read_valuation_rows(const sql::Db& db, const std::string& filter, const std::vector<std::string>& ids,
                          std::vector<ParcelValuation>& out) {
-  sql::Stmt q(db,
-              "SELECT v.fid, u.parcel_id, v.currency, u.zone, u.quality, v.note, u.land_area, "
-              "u.land_area_source, v.land_price_per_m2, v.land_value, v.building_cost, "
-              "v.sigma_building_cost, v.age_years, v.depreciation_share, v.depreciation, "
-              "v.building_value, v.sigma_building_value, v.njop, v.sigma_njop, v.tax_rate, "
-              "v.njoptkp, v.taxable, v.tax, v.sigma_tax "
-              "FROM la_spatialunit su JOIN vm_valuationunit u ON u.spatialunit_id = su.fid "
-              "JOIN vm_valuation v ON v.valuationunit_id = u.fid" + filter +
-              " ORDER BY su.layer_index, su.parcel_id");
-  sql::Stmt qi(db,
-               "SELECT building_id, element_index, element_type, quality, area, sigma_area, "
-               "unit_cost, amount, sigma_amount, support_points, rmse FROM vm_cost_item "
-               "WHERE valuation_id=? ORDER BY fid");
+  sql::Stmt q(db, "SELECT " + select_list(db, kValuation, "v") + ", " +
+                      select_list(db, kValuationUnit, "u",
+                                  {"parcel_id", "zone", "quality", "land_area", "land_area_source"}) +
+                      " FROM la_spatialunit su JOIN vm_valuationunit u ON u.spatialunit_id = su.fid "
+                      "JOIN vm_valuation v ON v.valuationunit_id = u.fid" + filter +
+                      " ORDER BY su.layer_index, su.parcel_id");
+  sql::Stmt qi(db, "SELECT " + select_list(db, kCostItem) + " FROM vm_cost_item WHERE valuation_id=? ORDER BY fid");
   for (const std::string& id : ids) q.bind(id);
   while (q.step()) {
-    ParcelValuation v;
-    v.parcel_id = q.get_text(1);
-    v.currency = q.get_text(2);
-    v.zone = q.get_text(3);
-    v.quality = q.get_text(4);
-    v.note = q.get_text(5);
-    v.land_area = q.get_double(6);
-    v.land_area_source = q.get_text(7);
-    double* nums[] = {&v.land_price_per_m2, &v.land_value, &v.building_cost,
-                      &v.sigma_building_cost, &v.age_years, &v.depreciation_share,
-                      &v.depreciation, &v.building_value, &v.sigma_building_value, &v.njop,
-                      &v.sigma_njop, &v.tax_rate, &v.njoptkp, &v.taxable, &v.tax, &v.sigma_tax};
-    for (int k = 0; k < 16; ++k) *nums[k] = q.get_double(8 + k);
-    qi.bind(q.get_int(0));
-    while (qi.step()) {
-      CostItem c;
-      c.building_id = qi.get_text(0);
-      c.element_index = qi.is_null(1) ? -1 : int(qi.get_int(1));
-      c.element_type = qi.get_text(2);
-      c.quality = qi.get_text(3);
-      c.area = qi.get_double(4);
-      c.sigma_area = qi.get_double(5);
-      c.unit_cost = qi.get_double(6);
-      c.amount = qi.get_double(7);
-      c.sigma_amount = qi.get_double(8);
-      c.support_points = int(qi.get_int(9));
-      c.rmse = qi.get_double(10);
-      v.items.push_back(std::move(c));
-    }
+    ParcelValuation v = read_valuation(q);
+    qi.bind(q.get_int("fid"));
+    while (qi.step()) v.items.push_back(read_cost_item(qi));
     qi.reset();
     out.push_back(std::move(v));
   }
@@ -392,44 +397,43 @@ std::vector<ParcelValuation> load_valuations(const std::string& path, const std:
 
 std::vector<JobRecord> load_jobs(const std::string& path) {
   sql::Db db = open_store(path);
-  sql::Stmt q(db,
-              "SELECT parcel_id, layer_index, status, reason, inputs_key, updated, run_id "
-              "FROM parcel_job ORDER BY layer_index, parcel_id");
+  sql::Stmt q(db, "SELECT " + select_list(db, kJob) + " FROM parcel_job ORDER BY layer_index, parcel_id");
   std::vector<JobRecord> out;
-  while (q.step())
-    out.push_back({q.get_text(0), int(q.get_int(1)), job_status(db, q.get_text(0), q.get_text(2)), q.get_text(3),
-                   q.get_text(4), q.get_text(5), q.get_int(6)});
+  while (q.step()) {
+    const std::string id = q.get_text("parcel_id");
+    out.push_back({id, int(q.get_int("layer_index")), job_status(db, id, q.get_text("status")),
+                   q.get_text("reason"), q.get_text("inputs_key"), q.get_text("updated"), q.get_int("run_id")});
+  }
   return out;
+}
+
+RunRecord read_run(const sql::Stmt& q) {
+  RunRecord r;
+  r.id = q.get_int("fid");
+  r.tool_version = q.get_text("tool_version");
+  r.parameters = q.get_text("parameters");
+  r.started = q.get_text("started");
+  r.finished = q.get_text("finished");
+  r.epsg = int(q.get_int("crs_epsg"));
+  r.origin = Vec3(q.get_double("origin_x"), q.get_double("origin_y"), q.get_double("origin_z"));
+  r.parcels_ok = int(q.get_int("parcels_ok"));
+  r.parcels_empty = int(q.get_int("parcels_empty"));
+  r.parcels_failed = int(q.get_int("parcels_failed"));
+  r.parcels_suspect = int(q.get_int("parcels_suspect"));
+  r.shard = q.get_text("shard");
+  return r;
 }
 
 std::vector<RunRecord> load_runs(const std::string& path) {
   sql::Db db = open_store(path);
-  const std::string shard = store_schema::has_column(db, "run", "shard") ? "shard" : "NULL";
-  const std::string suspect = store_schema::has_column(db, "run", "parcels_suspect") ? "parcels_suspect" : "0";
-  sql::Stmt q(db,
-              "SELECT fid, tool_version, parameters, started, finished, crs_epsg, origin_x, "
-              "origin_y, origin_z, parcels_ok, parcels_empty, parcels_failed, " + shard + ", " + suspect +
-              " FROM run ORDER BY fid");
-  // A store from before roles has none: "" (merge judges those by the file's name).
-  const std::string role = store_schema::has_column(db, "run_input", "role") ? "role" : "NULL";
-  sql::Stmt qi(db, "SELECT path, sha256, bytes, " + role + " FROM run_input WHERE run_id=? ORDER BY fid");
+  sql::Stmt q(db, "SELECT " + select_list(db, kRun) + " FROM run ORDER BY fid");
+  sql::Stmt qi(db, "SELECT " + select_list(db, kRunInput) + " FROM run_input WHERE run_id=? ORDER BY fid");
   std::vector<RunRecord> out;
   while (q.step()) {
-    RunRecord r;
-    r.id = q.get_int(0);
-    r.tool_version = q.get_text(1);
-    r.parameters = q.get_text(2);
-    r.started = q.get_text(3);
-    r.finished = q.get_text(4);
-    r.epsg = int(q.get_int(5));
-    r.origin = Vec3(q.get_double(6), q.get_double(7), q.get_double(8));
-    r.parcels_ok = int(q.get_int(9));
-    r.parcels_empty = int(q.get_int(10));
-    r.parcels_failed = int(q.get_int(11));
-    r.shard = q.get_text(12);
-    r.parcels_suspect = int(q.get_int(13));
+    RunRecord r = read_run(q);
     qi.bind(r.id);
-    while (qi.step()) r.inputs.push_back({qi.get_text(0), qi.get_text(1), qi.get_int(2), qi.get_text(3)});
+    while (qi.step())
+      r.inputs.push_back({qi.get_text("path"), qi.get_text("sha256"), qi.get_int("bytes"), qi.get_text("role")});
     qi.reset();
     out.push_back(std::move(r));
   }

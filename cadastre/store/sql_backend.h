@@ -25,6 +25,8 @@ class Cursor {
   virtual std::int64_t get_int(int col) const = 0;
   virtual std::string get_text(int col) const = 0;
   virtual const std::uint8_t* blob(int col, std::size_t* n) const = 0;
+  // The result's column names (a SELECT's `AS` names); PostgreSQL knows them once a step ran.
+  virtual std::vector<std::string> column_names() const = 0;
 };
 
 class Backend {

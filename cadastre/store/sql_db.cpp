@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "cadastre/store/sql_backend.h"
 #include "core/error.h"
@@ -95,6 +96,13 @@ const std::uint8_t* Stmt::blob(int col, std::size_t* n) const {
     return nullptr;
   }
   return c_->blob(col, n);
+}
+
+int Stmt::col(const std::string& name) const {
+  if (names_.empty()) names_ = c_->column_names();
+  for (size_t i = 0; i < names_.size(); ++i)
+    if (names_[i] == name) return int(i);
+  throw std::logic_error("no column '" + name + "' in this statement's result");
 }
 
 Transaction::Transaction(Db& db) : db_(db) { db_.backend().begin(); }

@@ -78,8 +78,18 @@ class Stmt {
   std::string get_text(int col) const;  // NULL -> ""
   const std::uint8_t* blob(int col, std::size_t* n) const;
 
+  // The same, by the column's name in the result (after a step); a name the
+  // result lacks is a programming error (std::logic_error).
+  int col(const std::string& name) const;
+  bool is_null(const std::string& name) const { return is_null(col(name)); }
+  double get_double(const std::string& name) const { return get_double(col(name)); }
+  std::int64_t get_int(const std::string& name) const { return get_int(col(name)); }
+  std::string get_text(const std::string& name) const { return get_text(col(name)); }
+  const std::uint8_t* blob(const std::string& name, std::size_t* n) const { return blob(col(name), n); }
+
  private:
   std::unique_ptr<Cursor> c_;
+  mutable std::vector<std::string> names_;  // the result's column names, read once
   int next_ = 1;
 };
 

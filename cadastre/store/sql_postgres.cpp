@@ -175,6 +175,11 @@ class PgCursor : public Cursor {
     blobs_.clear();
   }
 
+  std::vector<std::string> column_names() const override {
+    std::vector<std::string> out;
+    for (int i = 0; res_ && i < PQnfields(res_); ++i) out.emplace_back(PQfname(res_, i));
+    return out;
+  }
   bool is_null(int col) const override { return PQgetisnull(res_, row_, col) != 0; }
   double get_double(int col) const override { return std::strtod(PQgetvalue(res_, row_, col), nullptr); }
   std::int64_t get_int(int col) const override {

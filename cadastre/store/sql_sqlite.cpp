@@ -46,6 +46,11 @@ class SqliteCursor : public Cursor {
     sqlite3_clear_bindings(s_);
   }
 
+  std::vector<std::string> column_names() const override {
+    std::vector<std::string> out;
+    for (int i = 0; i < sqlite3_column_count(s_); ++i) out.emplace_back(sqlite3_column_name(s_, i));
+    return out;
+  }
   bool is_null(int col) const override { return sqlite3_column_type(s_, col) == SQLITE_NULL; }
   double get_double(int col) const override { return sqlite3_column_double(s_, col); }
   std::int64_t get_int(int col) const override { return sqlite3_column_int64(s_, col); }

@@ -5,6 +5,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "cadastre/store/columns.h"
 #include "cadastre/store/gis.h"
 #include "cadastre/store/gpkg_geometry.h"
 #include "cadastre/store/gpkg_rtree.h"
@@ -128,53 +129,22 @@ void Store::open(const std::string& path, const std::string& crs_wkt, int epsg) 
 void Store::Impl::prepare() {
   const std::string now = store_schema::now(db);
   del_baunit = sql::Stmt(db, "DELETE FROM la_baunit WHERE parcel_id=?");
-  ins_baunit = sql::Stmt(db, "INSERT INTO la_baunit (parcel_id, name, baunit_type) VALUES (?,?,?)");
-  ins_rrr = sql::Stmt(db,
-                      "INSERT INTO la_rrr (baunit_id, party_id, rrr_class, rrr_type, share, local_type) "
-                      "VALUES (?,NULL,'right',?,1.0,?)");
-  ins_su = sql::Stmt(db,
-                     "INSERT INTO la_spatialunit (geom, baunit_id, parcel_id, layer_index, "
-                     "official_area, computed_area, repair_note) VALUES (?,?,?,?,?,?,?)");
-  ins_building = sql::Stmt(
-      db,
-      "INSERT INTO building (geom, spatialunit_id, building_id, building_index, geom_kind, volume, "
-      "eave_height, ridge_height, terrain_z, storeys, solid_valid, solid_problem, lod, lod_note, roof_area, "
-      "roof_plan_area, wall_area, party_wall_area, ground_area, outer_ceiling_area, roof_dev_n, "
-      "roof_dev_max, roof_dev_mean, roof_dev_std, roof_dev_rmse, wall_dev_n, wall_dev_max, "
-      "wall_dev_mean, wall_dev_std, wall_dev_rmse) "
-      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  ins_element = sql::Stmt(
-      db,
-      "INSERT INTO building_element (geom, building_fid, element_index, element_type, area, "
-      "plan_area, slope_deg, azimuth_deg, sigma_area, support_points, rmse, wall_evidence, sigma_shared) "
-      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  ins_vu = sql::Stmt(db,
-                     "INSERT INTO vm_valuationunit (baunit_id, spatialunit_id, parcel_id, zone, "
-                     "quality, land_area, land_area_source) VALUES (?,?,?,?,?,?,?)");
-  ins_val = sql::Stmt(
-      db,
-      "INSERT INTO vm_valuation (valuationunit_id, run_id, approach, currency, land_price_per_m2, "
-      "land_value, building_cost, sigma_building_cost, age_years, depreciation_share, "
-      "depreciation, building_value, sigma_building_value, njop, sigma_njop, tax_rate, njoptkp, "
-      "taxable, tax, sigma_tax, note, valued) "
-      "VALUES (?,?,'cost',?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?," + now + ")");
-  ins_item = sql::Stmt(
-      db,
-      "INSERT INTO vm_cost_item (valuation_id, element_fid, building_id, element_index, "
-      "element_type, quality, area, sigma_area, unit_cost, amount, sigma_amount, support_points, "
-      "rmse) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  upsert_job = sql::Stmt(
-      db,
-      "INSERT INTO parcel_job (parcel_id, layer_index, status, reason, inputs_key, run_id, "
-      "roof_points, wall_points, timings, updated) VALUES (?,?,?,?,?,?,?,?,?," + now + ") "
-      "ON CONFLICT(parcel_id) DO UPDATE SET layer_index=excluded.layer_index, "
-      "status=excluded.status, reason=excluded.reason, inputs_key=excluded.inputs_key, "
-      "run_id=excluded.run_id, roof_points=excluded.roof_points, "
-      "wall_points=excluded.wall_points, timings=excluded.timings, updated=excluded.updated");
+  using namespace store_columns;
+  ins_baunit = sql::Stmt(db, insert_sql(kBaunit));
+  ins_rrr = sql::Stmt(db, insert_sql(kRrr, {{"party_id", "NULL"}, {"rrr_class", "'right'"}, {"share", "1.0"}}));
+  ins_su = sql::Stmt(db, insert_sql(kSpatialUnit));
+  ins_building = sql::Stmt(db, insert_sql(kBuilding));
+  ins_element = sql::Stmt(db, insert_sql(kElement));
+  ins_vu = sql::Stmt(db, insert_sql(kValuationUnit));
+  ins_val = sql::Stmt(db, insert_sql(kValuation, {{"approach", "'cost'"}, {"valued", now}}));
+  ins_item = sql::Stmt(db, insert_sql(kCostItem));
+  upsert_job = sql::Stmt(db, upsert_sql(kJob, "parcel_id", {{"updated", now}}));
+  // A pending row keeps what an earlier run measured until the parcel is written again.
   pending_job = sql::Stmt(
       db,
-      "INSERT INTO parcel_job (parcel_id, layer_index, status, inputs_key, run_id, updated) "
-      "VALUES (?,?,'pending',?,?," + now + ") ON CONFLICT(parcel_id) DO UPDATE SET "
+      insert_sql(kJob, {{"status", "'pending'"}, {"reason", "NULL"}, {"roof_points", "NULL"}, {"wall_points", "NULL"},
+                        {"timings", "NULL"}, {"updated", now}}) +
+      " ON CONFLICT(parcel_id) DO UPDATE SET "
       "status='pending', reason=NULL, layer_index=excluded.layer_index, "
       "inputs_key=excluded.inputs_key, run_id=excluded.run_id, updated=excluded.updated "
       "WHERE parcel_job.status NOT IN ('ok','empty') OR parcel_job.inputs_key IS DISTINCT FROM excluded.inputs_key");
@@ -190,15 +160,20 @@ std::int64_t Store::begin_run(const std::string& params_json, const std::vector<
   if (!impl_) throw InputError("store", "begin_run before open");
   auto& db = impl_->db;
   sql::Transaction tx(db);
-  sql::Stmt run(db, std::string("INSERT INTO run (tool_version, parameters, crs_epsg, origin_x, "
-                                "origin_y, origin_z, shard, started) VALUES (?,?,?,?,?,?,?,") + store_schema::now(db) + ")");
+  // The parcel counts are written when the run ends.
+  sql::Stmt run(db, store_columns::insert_sql(store_columns::kRun, {{"started", store_schema::now(db)},
+                                                                    {"finished", "NULL"},
+                                                                    {"parcels_ok", "NULL"},
+                                                                    {"parcels_empty", "NULL"},
+                                                                    {"parcels_failed", "NULL"},
+                                                                    {"parcels_suspect", "NULL"}}));
   run.bind(std::string("cadastre3d ") + C3D_VERSION).bind(params_json).bind(impl_->srs)
       .bind(frame.origin.x()).bind(frame.origin.y()).bind(frame.origin.z());
   if (shard.empty()) run.bind_null();
   else run.bind(shard);
   run.run();
   impl_->run_id = db.last_id();
-  sql::Stmt in(db, "INSERT INTO run_input (run_id, path, sha256, bytes, role) VALUES (?,?,?,?,?)");
+  sql::Stmt in(db, store_columns::insert_sql(store_columns::kRunInput));
   for (const auto& f : inputs) {
     in.bind(impl_->run_id).bind(f.path).bind(f.sha256).bind(f.bytes);
     if (f.role.empty()) in.bind_null();  // a merged record from before roles
