@@ -80,6 +80,8 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_flag("--curved", a->opt.curved,
+                "Curved buildings (vaults, domes, cones, an onion dome, a dome on a flat roof) and a gable house");
   cmd->add_option("--format", a->format, "Parcel file format")
       ->capture_default_str()
       ->check(CLI::IsMember({"gpkg", "geojson"}));

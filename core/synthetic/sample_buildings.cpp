@@ -426,6 +426,7 @@ Group sample_detail::build_group(const BuildingParams& p) {
 }
 
 std::vector<TruthBuilding> make_truth_buildings(const BuildingParams& p) {
+  if (is_curved(p.layout)) return {make_curved_building(p)};
   auto out = assemble(build_group(p));
   for (auto& b : out) b.params = p;
   return out;

@@ -3,6 +3,7 @@
 // building groups the truth is built from, and the steps the town is made of.
 //   sample_geometry.cpp  convex polygons in the building frame, shell checks
 //   sample_buildings.cpp building groups -> exact truth buildings
+//   sample_curved.cpp    curved truth buildings (vaults, domes, cones)
 //   sample_town.cpp      the town: parcels, terrain, placing the buildings
 //   sample_scan.cpp      the simulated UAV / handheld point cloud
 //   sample_trees.cpp     trees and garden sheds on open land (options, for the classifier)
@@ -110,6 +111,14 @@ Group build_group(const BuildingParams& p);
 std::vector<TruthBuilding> assemble(const Group& g);
 // Area, plan area, slope, azimuth from the faces (same rules as core/measure.h).
 void measure(Element& e);
+
+// ---- Curved buildings (sample_curved.cpp) ----
+
+bool is_curved(SampleLayout l);
+// One curved building in its frame: footprint in [0,length] x [0,width] (round
+// ones: a circle of diameter min(length, width)), ground floor at z = 0, no
+// overhang; exact areas and volume (TruthBuilding::exact_areas).
+TruthBuilding make_curved_building(const BuildingParams& p);
 
 // ---- The town (sample_town.cpp) and its point cloud (sample_scan.cpp) ----
 

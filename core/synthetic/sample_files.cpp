@@ -30,7 +30,8 @@ nlohmann::ordered_json building_json(const TruthBuilding& tb, const LocalFrame& 
   j["building_id"] = m.id;
   j["roof_type"] = tb.roof_type;
   j["overhang_m"] = r6(tb.params.overhang);
-  j["pitch_deg"] = r6(tb.params.layout == SampleLayout::Flat ? 0.0 : tb.params.pitch_deg);
+  j["pitch_deg"] = r6(tb.params.layout == SampleLayout::Flat || tb.exact_areas ? 0.0 : tb.params.pitch_deg);
+  if (tb.exact_areas) j["rise_m"] = r6(tb.params.rise);
   j["ground_level_m"] = r6(tb.ground_level);
   j["roof_area_m2"] = r6(t.roof);
   j["roof_plan_area_m2"] = r6(t.roof_plan);
@@ -130,6 +131,13 @@ std::string truth_json(const SampleTown& town) {
       {"outer_ceiling", "roof plan area minus footprint"},
       {"eave_height", "lowest roof vertex above ground level (overhang edge)"},
       {"wall_top_height", "lowest point where an exterior wall meets the roof"}};
+  bool curved = false;
+  for (const auto& p : town.truth)
+    for (const auto& tb : p) curved = curved || tb.exact_areas;
+  if (curved)
+    j["conventions"]["curved_roof"] =
+        "areas and volume of the exact surface (cylinder, sphere, cone, onion profile); the points lie on a "
+        "tessellation within 2 mm of it; a roof bulging past its walls has no outer ceiling, its underside is roof";
   auto parcels = nlohmann::ordered_json::array();
   for (size_t i = 0; i < town.parcels.size(); ++i) {
     const Parcel& p = town.parcels[i];

@@ -98,8 +98,10 @@ Key key_of(const Vec3& p) {
 }  // namespace
 
 bool shell_is_closed(const std::vector<Face>& shell, std::string* problem) {
-  std::vector<Vec3> verts;
+  std::vector<Vec3> verts;  // sorted by x: an edge looks only at those within its x range
   for (const auto& f : shell) verts.insert(verts.end(), f.ring.begin(), f.ring.end());
+  std::sort(verts.begin(), verts.end(), [](const Vec3& p, const Vec3& q) { return p.x() < q.x(); });
+  auto by_x = [](const Vec3& p, double x) { return p.x() < x; };
   std::map<std::pair<Key, Key>, int> edges;
   for (const auto& f : shell) {
     const Ring3 r = dedupe(f.ring);
@@ -109,7 +111,9 @@ bool shell_is_closed(const std::vector<Face>& shell, std::string* problem) {
       double len2 = d.squaredNorm();
       // Split the edge at every shell vertex lying inside it (T-junctions).
       std::vector<std::pair<double, Vec3>> cuts{{0, a}, {1, b}};
-      for (const auto& v : verts) {
+      const auto from = std::lower_bound(verts.begin(), verts.end(), std::min(a.x(), b.x()) - 1e-6, by_x);
+      for (auto it = from; it != verts.end() && it->x() <= std::max(a.x(), b.x()) + 1e-6; ++it) {
+        const Vec3& v = *it;
         double t = (v - a).dot(d) / len2;
         if (t > 1e-9 && t < 1 - 1e-9 && (a + d * t - v).norm() < 1e-6) cuts.push_back({t, v});
       }

@@ -47,6 +47,7 @@ class Sampler {
               std::uint8_t cls, double outlier_share) {
     int n = 0;
     for (const auto& f : e.faces) {
+      if (per_plan && unit_normal(f).z() < 0) continue;  // the underside of a bulging roof: unseen from above
       long k = r_.count(density_per_plan_or_area * (per_plan ? plan_area(f) : area(f)));
       if (k > 0) fan(f.ring);
       for (long i = 0; i < k; ++i, ++n) {

@@ -27,6 +27,13 @@ const char* to_string(SampleLayout l) {
     case SampleLayout::TwoLevel: return "two_level";
     case SampleLayout::RowHouse: return "row_gable";
     case SampleLayout::Empty: return "empty";
+    case SampleLayout::Vault: return "vault";
+    case SampleLayout::GroundVault: return "ground_vault";
+    case SampleLayout::Dome: return "dome";
+    case SampleLayout::ShallowDome: return "shallow_dome";
+    case SampleLayout::Cone: return "cone";
+    case SampleLayout::OnionDome: return "onion";
+    case SampleLayout::DomeOnFlat: return "dome_on_flat";
   }
   return "?";
 }
@@ -81,12 +88,18 @@ std::vector<TownParcel> lay_out_parcels(int n, Rng& rng) {
 }
 
 // Which layout each parcel gets; a row of attached houses spans 2-3 parcels of one
-// block side. Every layout appears within the first 10 parcels.
-std::vector<std::pair<SampleLayout, int>> assign_layouts(int n) {
-  static const SampleLayout cycle[] = {SampleLayout::Gable,    SampleLayout::Hip,
-                                       SampleLayout::CrossGable, SampleLayout::Shed,
-                                       SampleLayout::Flat,     SampleLayout::TwoLevel,
-                                       SampleLayout::RowHouse, SampleLayout::Empty};
+// block side. Every layout appears within the first 10 parcels. A curved town
+// cycles through the curved layouts and a gable house, the planar control.
+std::vector<std::pair<SampleLayout, int>> assign_layouts(int n, bool curved) {
+  static const SampleLayout planar[] = {SampleLayout::Gable,    SampleLayout::Hip,
+                                        SampleLayout::CrossGable, SampleLayout::Shed,
+                                        SampleLayout::Flat,     SampleLayout::TwoLevel,
+                                        SampleLayout::RowHouse, SampleLayout::Empty};
+  static const SampleLayout round[] = {SampleLayout::Vault,       SampleLayout::Dome,
+                                       SampleLayout::GroundVault, SampleLayout::Cone,
+                                       SampleLayout::DomeOnFlat,  SampleLayout::ShallowDome,
+                                       SampleLayout::OnionDome,   SampleLayout::Gable};
+  const SampleLayout* cycle = curved ? round : planar;
   std::vector<std::pair<SampleLayout, int>> out;  // (layout, houses in the row starting here)
   int slot = 0, rows = 0;
   for (int i = 0; i < n;) {
@@ -110,6 +123,32 @@ std::vector<std::pair<SampleLayout, int>> assign_layouts(int n) {
     ++slot;
   }
   return out;
+}
+
+// Sizes of the curved layouts (no overhang: the roof meets the walls).
+void curved_params(BuildingParams& p, Rng& r) {
+  p.overhang = 0;
+  p.eave_height = r.uniform(3.5, 6.5);
+  const double d = r.uniform(8, 12);  // round ones: the drum's diameter
+  switch (p.layout) {
+    case SampleLayout::Vault:
+      p.length = r.uniform(12, 18), p.width = r.uniform(8, 11), p.rise = p.width * r.uniform(0.2, 0.5);
+      break;
+    case SampleLayout::GroundVault:
+      p.length = r.uniform(14, 20), p.width = r.uniform(9, 12), p.eave_height = 0, p.rise = p.width / 2;
+      break;
+    case SampleLayout::Dome: p.length = p.width = d, p.rise = d / 2 * r.uniform(0.7, 1.0); break;
+    case SampleLayout::ShallowDome:
+      p.length = p.width = d + 2, p.rise = (d + 2) / 2 * r.uniform(0.2, 0.35);
+      break;
+    case SampleLayout::Cone: p.length = p.width = d - 2, p.rise = (d - 2) / 2 * r.uniform(0.7, 1.5); break;
+    case SampleLayout::OnionDome: p.length = p.width = d - 2, p.rise = (d - 2) * r.uniform(1.0, 1.4); break;
+    case SampleLayout::DomeOnFlat:
+      p.length = p.width = r.uniform(12, 16), p.dome_radius = p.length * r.uniform(0.25, 0.35);
+      p.rise = p.dome_radius * r.uniform(0.7, 1.0);
+      break;
+    default: break;
+  }
 }
 
 BuildingParams random_params(SampleLayout l, Rng& r) {
@@ -137,12 +176,15 @@ BuildingParams random_params(SampleLayout l, Rng& r) {
       break;
     default: break;
   }
+  if (is_curved(l)) curved_params(p, r);
   return p;
 }
 
 void scale_lengths(BuildingParams& p, double s) {
-  for (double* x : {&p.length, &p.width, &p.wing_length, &p.annex_length, &p.annex_inset}) *x *= s;
+  for (double* x : {&p.length, &p.width, &p.wing_length, &p.annex_length, &p.annex_inset, &p.rise, &p.dome_radius})
+    *x *= s;
 }
+
 
 Rect bbox(const Group& g, bool regions) {
   Rect b{1e300, -1e300, 1e300, -1e300};
@@ -153,17 +195,32 @@ Rect bbox(const Group& g, bool regions) {
   return b;
 }
 
+// The footprint's (regions: the roof's) box in the building frame.
+Rect plan_box(const BuildingParams& p, bool regions) {
+  if (is_curved(p.layout)) {
+    const Ring2 f = make_curved_building(p).footprint;
+    Rect b{1e300, -1e300, 1e300, -1e300};
+    for (const Vec2& q : f) b = {std::min(b.u0, q.x()), std::max(b.u1, q.x()), std::min(b.v0, q.y()), std::max(b.v1, q.y())};
+    if (regions && p.layout == SampleLayout::OnionDome) {  // the bulge reaches past the drum
+      const double grow = 0.1 * (b.u1 - b.u0);
+      b = {b.u0 - grow, b.u1 + grow, b.v0 - grow, b.v1 + grow};
+    }
+    return b;
+  }
+  return bbox(build_group(p), regions);
+}
+
 // A detached building: arbitrary rotation, shrunk until it fits its parcel with
 // a 1 m margin, placed off-centre by chance. town_angle rotates town -> local.
 Placement place_detached(BuildingParams& p, const Rect& parcel, double town_angle, Rng& r) {
   double th = r.uniform(0, kPi);
   double c = std::abs(std::cos(th)), s = std::abs(std::sin(th));
-  Rect f = bbox(build_group(p), false);
+  Rect f = plan_box(p, false);
   double du = f.u1 - f.u0, dv = f.v1 - f.v0, oo = 2 * p.overhang * (c + s);
   double aw = parcel.u1 - parcel.u0 - 2, ad = parcel.v1 - parcel.v0 - 2;
   double k = std::min({1.0, (aw - oo) / (du * c + dv * s), (ad - oo) / (du * s + dv * c)});
   if (k < 1) scale_lengths(p, k * 0.999);
-  Rect rg = bbox(build_group(p), true);
+  Rect rg = plan_box(p, true);
   double ru = rg.u1 - rg.u0, rv = rg.v1 - rg.v0;
   double ex = ru * c + rv * s, ey = ru * s + rv * c;
   Vec2 mid((parcel.u0 + parcel.u1) / 2, (parcel.v0 + parcel.v1) / 2);
@@ -226,7 +283,9 @@ void transform(TruthBuilding& tb, const Placement& pl, double dz) {
   };
   for (auto& e : tb.model.elements) {
     for (auto& f : e.faces) tf(f);
+    const double exact_area = e.area, exact_plan = e.plan_area;
     measure(e);
+    if (tb.exact_areas) e.area = exact_area, e.plan_area = exact_plan;
   }
   for (auto& f : tb.model.solid) tf(f);
   for (auto& p : tb.footprint) p = pl.to_local(p);
@@ -256,35 +315,59 @@ Dtm make_dtm(const std::vector<Parcel>& parcels, const LocalFrame& frame, const 
   return d;
 }
 
-// Mean DTM value over the cells whose centres fall in the footprints of the
-// group's blocks owned by `owner` (-1: all blocks), world z; marks those cells NoData.
-double ground_level(const Group& g, const Placement& pl, const LocalFrame& frame, const Dtm& d,
-                    std::vector<std::uint8_t>& nodata, int owner = -1) {
+// Mean DTM value over the cells whose centres fall inside (building frame),
+// world z; marks those cells NoData. `corners` bound the footprint; with no
+// cell inside, the height at the first corner.
+template <class Inside>
+double ground_level_in(const std::vector<Vec2>& corners, Inside inside, const Placement& pl, const LocalFrame& frame,
+                       const Dtm& d, std::vector<std::uint8_t>& nodata) {
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (const auto& B : g.blocks)
-    for (const auto& q : B.footprint.ring()) {
-      Vec2 w = frame.to_world(pl.to_local(q));
-      x0 = std::min(x0, w.x()), x1 = std::max(x1, w.x()), y0 = std::min(y0, w.y()), y1 = std::max(y1, w.y());
-    }
+  for (const auto& q : corners) {
+    Vec2 w = frame.to_world(pl.to_local(q));
+    x0 = std::min(x0, w.x()), x1 = std::max(x1, w.x()), y0 = std::min(y0, w.y()), y1 = std::max(y1, w.y());
+  }
   int i0 = std::max(0, int(std::floor(x0 - d.x0))), i1 = std::min(d.nx - 1, int(std::ceil(x1 - d.x0)));
   int j0 = std::max(0, int(std::floor(d.y0 - y1))), j1 = std::min(d.ny - 1, int(std::ceil(d.y0 - y0)));
   double sum = 0;
   long n = 0;
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i) {
-      Vec2 q = pl.to_group(frame.to_local(Vec2(d.x0 + i, d.y0 - j)));
-      for (const auto& B : g.blocks)
-        if ((owner < 0 || B.owner == owner) && B.footprint.contains(q)) {
-          size_t idx = size_t(j) * d.nx + i;
-          sum += d.z[idx];
-          ++n;
-          nodata[idx] = 1;
-          break;
-        }
+      if (!inside(pl.to_group(frame.to_local(Vec2(d.x0 + i, d.y0 - j))))) continue;
+      size_t idx = size_t(j) * d.nx + i;
+      sum += d.z[idx];
+      ++n;
+      nodata[idx] = 1;
     }
   if (n > 0) return sum / n;
-  Vec2 c = frame.to_world(pl.to_local(g.blocks.front().footprint.ring().front()));
+  Vec2 c = frame.to_world(pl.to_local(corners.front()));
   return d.height_at(c.x(), c.y());
+}
+
+// The same over the footprints of the group's blocks owned by `owner` (-1: all blocks).
+double ground_level(const Group& g, const Placement& pl, const LocalFrame& frame, const Dtm& d,
+                    std::vector<std::uint8_t>& nodata, int owner = -1) {
+  std::vector<Vec2> corners;
+  for (const auto& B : g.blocks)
+    for (const auto& q : B.footprint.ring()) corners.push_back(q);
+  auto inside = [&](const Vec2& q) {
+    for (const auto& B : g.blocks)
+      if ((owner < 0 || B.owner == owner) && B.footprint.contains(q)) return true;
+    return false;
+  };
+  return ground_level_in(corners, inside, pl, frame, d, nodata);
+}
+
+// The same under a convex counter-clockwise footprint.
+double ground_level(const Ring2& footprint, const Placement& pl, const LocalFrame& frame, const Dtm& d,
+                    std::vector<std::uint8_t>& nodata) {
+  auto inside = [&](const Vec2& q) {
+    for (size_t i = 0, n = footprint.size(); i < n; ++i) {
+      const Vec2 a = footprint[i], e = footprint[(i + 1) % n] - a;
+      if (e.x() * (q - a).y() - e.y() * (q - a).x() < 0) return false;
+    }
+    return true;
+  };
+  return ground_level_in(footprint, inside, pl, frame, d, nodata);
 }
 
 std::string nib(int k) {
@@ -317,7 +400,7 @@ SampleTown make_sample_town(const SampleOptions& opt) {
   const double town_angle = rng.uniform(-25, 25) * kPi / 180;
   town.frame.origin = Vec3(opt.origin_easting, opt.origin_northing, std::round(terrain.z0));
   const auto tp = lay_out_parcels(opt.parcels, rng);
-  const auto layouts = assign_layouts(opt.parcels);
+  const auto layouts = assign_layouts(opt.parcels, opt.curved);
   Placement toloc{Vec2::Zero(), town_angle};
   for (size_t i = 0; i < tp.size(); ++i) {
     Parcel p;
@@ -342,6 +425,15 @@ SampleTown make_sample_town(const SampleOptions& opt) {
     Placement pl = layout == SampleLayout::RowHouse
                        ? place_row(bp, tp, int(i), houses, town_angle, rng)
                        : place_detached(bp, tp[i].rect, town_angle, rng);
+    if (is_curved(layout)) {
+      TruthBuilding tb = make_curved_building(bp);
+      const double level = ground_level(tb.footprint, pl, town.frame, town.dtm, town.dtm_nodata);
+      tb.ground_level = level;
+      transform(tb, pl, level - town.frame.origin.z());
+      tb.model.id = nib(int(i)) + "_b0";
+      town.truth[i].push_back(std::move(tb));
+      continue;
+    }
     Group g = build_group(bp);
     double level = ground_level(g, pl, town.frame, town.dtm, town.dtm_nodata);
     auto buildings = assemble(g);

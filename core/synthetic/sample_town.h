@@ -42,7 +42,13 @@
 
 namespace c3d {
 
-enum class SampleLayout { Gable, Hip, CrossGable, Shed, Flat, TwoLevel, RowHouse, Empty };
+enum class SampleLayout {
+  Gable, Hip, CrossGable, Shed, Flat, TwoLevel, RowHouse, Empty,
+  // Curved roofs (SampleOptions::curved): a barrel vault on walls, one springing
+  // from the ground (end walls only), domes, a shallow dome, a cone and an onion
+  // dome on round drums, a square hall with a dome on its flat roof.
+  Vault, GroundVault, Dome, ShallowDome, Cone, OnionDome, DomeOnFlat
+};
 const char* to_string(SampleLayout l);
 
 // Dimensions of one truth building (group of attached houses for RowHouse), in the
@@ -59,6 +65,8 @@ struct BuildingParams {
   double annex_height = 3.0;        //   its roof height at the step wall
   double annex_pitch_deg = 0;       //   0 = flat, else shed falling away from the step
   std::vector<double> house_widths; // RowHouse: widths along the ridge, one per house
+  double rise = 0;                  // curved: height of the vault, dome or cone above its rim
+  double dome_radius = 0;           // DomeOnFlat: rim radius of the dome on the flat roof
 };
 
 struct TruthBuilding {
@@ -69,10 +77,15 @@ struct TruthBuilding {
   double wall_top_height = 0;
   Ring2 footprint;           // counter-clockwise, same frame as model
   std::vector<std::string> attached_to;  // building ids sharing a party wall
+  // Curved: element areas and the volume are the exact surface's; the faces
+  // are a tessellation within 2 mm of it (the points are drawn on them).
+  bool exact_areas = false;
 };
 
 // Exact truth buildings for one parameter set in the building frame (ground floor
 // at z = 0). One Building per house (RowHouse: house_widths.size(), else 1).
+// Curved layouts: one building, its footprint in [0,length] x [0,width] (round
+// ones: a circle of diameter min(length, width)), no overhang.
 std::vector<TruthBuilding> make_truth_buildings(const BuildingParams& p);
 
 enum class PointTag : std::uint8_t { Surface = 0, Outlier = 1, Clutter = 2, Vegetation = 3 };
@@ -94,6 +107,9 @@ struct SampleOptions {
   // Garden sheds on open land (2-3 m high boxes: roof class 6, facade returns
   // class 64; not in the truth), drawn like the trees from a stream of their own.
   double sheds_per_parcel = 0;
+  // A town of curved buildings (every curved layout and a gable house as the
+  // planar control) instead of the planar layouts.
+  bool curved = false;
   int epsg = 32748;
   double origin_easting = 781000, origin_northing = 9240000;  // south-west of the town
   bool with_points = true;          // false: parcels, DTM and truth only
