@@ -37,8 +37,7 @@ void run_sample(const SampleArgs& a) {
   write_obj_per_parcel(truth_model(town), truth_obj);
   auto t2 = clock::now();
   auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
-  std::cout << sample_town_text(town, files, truth_obj);
-  std::cout << "  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
+  std::cout << sample_town_text(town, files, truth_obj) << "  time      " << secs(t1 - t0) << " s generate, " << secs(t2 - t1) << " s write\n";
 }
 
 }  // namespace
@@ -80,8 +79,7 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_flag("--curved", a->opt.curved,
-                "Curved buildings (vaults, domes, cones, an onion dome, a dome on a flat roof) and a gable house");
+  cmd->add_flag("--curved", a->opt.curved, "Vaults, domes, cones (docs/curved.md) and a gable house");
   cmd->add_option("--format", a->format, "Parcel file format")
       ->capture_default_str()
       ->check(CLI::IsMember({"gpkg", "geojson"}));

@@ -15,7 +15,7 @@ three towns.
 
 `diff` lists what moved between two such files: buildings that appear, vanish
 or change validity, areas or volumes off by more than the tolerance (m2, m3),
-and every changed summary figure.
+parcels whose status changes, and every changed summary figure.
 
 Needs python3-gdal (a project dependency). Times on 2 cores: 2 min 20 s
 (`--quick` 50 s).
@@ -216,6 +216,7 @@ def batch(c3d, out, cloud, parcels, dtm, walls=None):
     return {
         "buildings": buildings,
         "failed": s["parcels_failed"],
+        "statuses": {p["parcel_id"]: p["status"] for p in s["parcels"]},
         "invalid": sum(not b["valid"] for b in buildings.values()),
         "roof_std": round(s["pooled_roof_deviation"]["std"], 4),
         "wall_std": round(s["pooled_wall_deviation"]["std"], 4),
@@ -233,7 +234,9 @@ def run(a):
             print(f"{name:28s} ERROR {r['error']}")
         else:
             extra = f"  worst {r['worst']}" if "worst" in r else ""
+            suspect = sum(v == "suspect" for v in r["statuses"].values())
             print(f"{name:28s} {len(r['buildings']):4d} buildings, {r['invalid']} invalid, {r['failed']} failed, "
+                  f"{suspect} suspect, "
                   f"roof std {r['roof_std']:.3f}, wall std {r['wall_std']:.3f}, "
                   f"roof overlap {r['roof_overlap_m2']:.2f} m2{extra}", flush=True)
 
@@ -321,6 +324,10 @@ def diff(a):
                     changes.append(f"valid {ob[bid]['valid']} -> {nb[bid]['valid']}")
                 if changes:
                     lines.append(f"{bid}: " + ", ".join(changes))
+            os_, ns = o.get("statuses", {}), n.get("statuses", {})  # files from before statuses have none
+            for pid in sorted(set(os_) & set(ns)):
+                if os_[pid] != ns[pid]:
+                    lines.append(f"parcel {pid}: {os_[pid]} -> {ns[pid]}")
         if lines:
             moved_any = True
             print(name)
