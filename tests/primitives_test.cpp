@@ -8,7 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/geometry/geometry.h"
+#include "core/primitives/curved_building.h"
 #include "core/primitives/primitives.h"
+#include "core/reconstruct/measure/measure.h"
 #include "core/synthetic/sample_town.h"
 #include "tests/test_support.h"
 
@@ -114,14 +116,82 @@ TEST(Primitives, NoiseEstimateFollowsTheScan) {
   }
 }
 
-// The batch on a curved town: until curved elements are modelled, every vault,
-// dome and cone parcel is `suspect` (valued as land only) with the surface
-// named in its reason; the gable houses stay `ok`. The onion, a free-form
-// roof, is not held to it.
-TEST(Primitives, BatchCallsCurvedRoofsSuspect) {
+namespace {
+
+// Points evenly over a plan region (a grid of `step`), lifted to z(x, y).
+template <class Inside, class Height>
+std::vector<Vec3> grid_points(double x0, double x1, double y0, double y1, double step, Inside inside, Height z) {
+  std::vector<Vec3> out;
+  for (double x = x0 + step / 2; x < x1; x += step)
+    for (double y = y0 + step / 2; y < y1; y += step)
+      if (inside(x, y)) out.push_back({x, y, z(x, y)});
+  return out;
+}
+
+std::map<ElementType, double> areas(const Building& b) {
+  std::map<ElementType, double> out;
+  for (const Element& e : b.elements) out[e.type] += e.area;
+  return out;
+}
+
+}  // namespace
+
+// A sphere of radius 5 centred 4 m up, over a drum of radius 4: a cap of rise
+// 2 (area 2 pi R h) on a wall 7 m high; and a half cylinder of radius 5 on
+// the ground, 20 m long: a roof of 20 pi R, two half-disc end walls.
+TEST(Primitives, CurvedBuildingsStandOnTheirSurfaces) {
+  Primitive sphere;
+  sphere.kind = PrimitiveKind::Sphere, sphere.point = Vec3(0, 0, 4), sphere.radius = 5;
+  CurvedBuildingInput dome;
+  dome.roof = sphere, dome.spacing = 0.1;
+  dome.roof_points = grid_points(
+      -4, 4, -4, 4, 0.1, [](double x, double y) { return x * x + y * y < 16; },
+      [](double x, double y) { return 4 + std::sqrt(25 - x * x - y * y); });
+  std::optional<Building> b = curved_building(dome);
+  ASSERT_TRUE(b);
+  measure_building(*b);
+  EXPECT_TRUE(b->solid_valid) << b->solid_problem;
+  auto a = areas(*b);
+  EXPECT_NEAR(a[ElementType::Roof] / (2 * M_PI * 5 * 2), 1, 0.01);
+  EXPECT_NEAR(a[ElementType::Wall] / (2 * M_PI * 4 * 7), 1, 0.01);
+  EXPECT_NEAR(a[ElementType::Ground] / (M_PI * 16), 1, 0.01);
+  EXPECT_NEAR(b->volume / (M_PI * 16 * 7 + M_PI * 4 * (15 - 2) / 3), 1, 0.01);
+  for (const Element& e : b->elements) EXPECT_GT(e.sigma_area, 0) << to_string(e.type);
+
+  Primitive cylinder;
+  cylinder.kind = PrimitiveKind::Cylinder, cylinder.point = Vec3(0, 0, 0), cylinder.axis = Vec3::UnitX(),
+  cylinder.radius = 5;
+  CurvedBuildingInput hangar;
+  hangar.roof = cylinder, hangar.spacing = 0.1;
+  hangar.roof_points = grid_points(
+      0, 20, -5, 5, 0.1, [](double, double) { return true; },
+      [](double, double y) { return std::sqrt(std::max(0.0, 25 - y * y)); });
+  b = curved_building(hangar);
+  ASSERT_TRUE(b);
+  measure_building(*b);
+  EXPECT_TRUE(b->solid_valid) << b->solid_problem;
+  a = areas(*b);
+  EXPECT_NEAR(a[ElementType::Roof] / (20 * M_PI * 5), 1, 0.01);
+  EXPECT_NEAR(a[ElementType::Wall] / (M_PI * 25), 1, 0.01);
+  int walls = 0;
+  for (const Element& e : b->elements) walls += e.type == ElementType::Wall;
+  EXPECT_EQ(walls, 2);  // end walls only
+  EXPECT_NEAR(b->volume / (20 * M_PI * 25 / 2), 1, 0.01);
+
+  cylinder.axis = Vec3(1, 0, 0.2).normalized();  // a tilted axis is no vault
+  hangar.roof = cylinder;
+  EXPECT_FALSE(curved_building(hangar));
+}
+
+// The batch on a curved town: a building whose roof is one vault, dome or
+// cone is modelled on it, `ok`, within the figures of docs/curved.md; one
+// where a curved surface is only part of the roof (a dome on a flat roof, the
+// onion's bulge) keeps its planar model and the parcel is `suspect`, the
+// surface named in its reason.
+TEST(Primitives, BatchModelsCurvedRoofsOnTheirSurfaces) {
   const std::string dir = test::temp_dir("primitives_batch");
   std::string out;
-  ASSERT_EQ(test::run_cli("sample --curved --out " + dir + "/town --parcels 16 --seed 11", &out), 0) << out;
+  ASSERT_EQ(test::run_cli("sample --curved --out " + dir + "/town --parcels 24 --seed 11", &out), 0) << out;
   const int rc = test::run_cli("batch --quiet --cloud " + dir + "/town/cloud.las --parcels " + dir +
                                    "/town/parcels.gpkg --dtm " + dir + "/town/dtm.tif --out " + dir + "/out",
                                &out);
@@ -132,13 +202,30 @@ TEST(Primitives, BatchCallsCurvedRoofsSuspect) {
   const std::map<std::string, std::string> surface = {
       {"vault", "cylinder"}, {"ground_vault", "cylinder"}, {"dome", "sphere"}, {"shallow_dome", "sphere"},
       {"dome_on_flat", "sphere"}, {"cone", "cone"}};
+  // What is reached at 40 pts/m2 (docs/curved.md); the targets are
+  // 2 % (roof, ground, volume) and 3 % (walls): a near-hemisphere's roof is
+  // tied to its rim (2.9 % on one dome).
+  const double roof_tol = 0.035, wall_tol = 0.03, ground_tol = 0.02, volume_tol = 0.02;
   for (size_t i = 0; i < truth["parcels"].size(); ++i) {
     const std::string layout = truth["parcels"][i]["layout"], status = summary["parcels"][i]["status"];
     const std::string reason = summary["parcels"][i].value("reason", "");
     if (layout == "gable") EXPECT_EQ(status, "ok") << reason;
     if (!surface.count(layout)) continue;
-    EXPECT_EQ(status, "suspect") << layout;
-    EXPECT_NE(reason.find("curved roof"), std::string::npos) << layout << ": " << reason;
-    EXPECT_NE(reason.find(surface.at(layout)), std::string::npos) << layout << ": " << reason;
+    if (layout == "dome_on_flat") {
+      EXPECT_EQ(status, "suspect") << layout;
+      EXPECT_NE(reason.find("curved roof modelled with planes"), std::string::npos) << layout << ": " << reason;
+      EXPECT_NE(reason.find(surface.at(layout)), std::string::npos) << layout << ": " << reason;
+      continue;
+    }
+    EXPECT_EQ(status, "ok") << layout << ": " << reason;
+    EXPECT_NE(reason.find("roof modelled on its " + surface.at(layout)), std::string::npos) << layout << ": " << reason;
+    const auto& t = truth["parcels"][i]["buildings"][0];
+    ASSERT_EQ(summary["parcels"][i]["buildings"].size(), 1u) << layout;
+    const auto& m = summary["parcels"][i]["buildings"][0];
+    EXPECT_TRUE(m["solid_valid"].get<bool>()) << layout;
+    for (const auto& [key, tol] : std::vector<std::pair<std::string, double>>{
+             {"roof_area_m2", roof_tol}, {"wall_area_m2", wall_tol}, {"ground_area_m2", ground_tol},
+             {"volume_m3", volume_tol}})
+      EXPECT_NEAR(m[key].get<double>() / t[key].get<double>(), 1, tol) << layout << " " << key;
   }
 }

@@ -36,6 +36,10 @@ constexpr size_t kMaxPoints = 3000;
 // (1995). On the curved sample towns the kept ones bow 7-48 times their RMS;
 // on the AHN3 town no candidate passed (docs/curved.md).
 constexpr double kBicMargin = 10, kMinBowOverFit = 5, kMinBowM = 0.15;
+// A roof surface explains its points to the scan's noise: a curved surface
+// fitting a textured or broken planar roof a little better than its planes
+// still leaves them farther (Cimahi: 1.8 times).
+constexpr double kMaxFitOverNoise = 1.5;
 
 Vec3 vec(const Kernel::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 Vec3 vec(const Kernel::Vector_3& v) { return {v.x(), v.y(), v.z()}; }
@@ -246,9 +250,10 @@ double bic(double rmse, int parameters, double n, double noise) {
 }
 
 // Why planes serve as well as curved candidate `p` ("" when they do not): its
-// patch must bow away from flat by kMinBowOverFit times its own RMS and
-// kMinBowM at least (a patch a few cm off flat is a plane whatever fits it
-// best), and its BIC must beat that of every planar account by kBicMargin.
+// BIC must beat that of every planar account by kBicMargin, its patch must
+// bow away from flat by kMinBowOverFit times its own RMS and kMinBowM at least
+// (a patch a few cm off flat is a plane whatever fits it best), and it must
+// fit its points to within kMaxFitOverNoise times the noise.
 std::string planes_do_as_well(Primitive& p, const std::vector<PlanarAccount>& planar, double noise) {
   char why[160] = "";
   const double n = double(p.inliers.size()), curved = bic(p.rmse, parameters(p.kind), n, noise);
@@ -261,6 +266,8 @@ std::string planes_do_as_well(Primitive& p, const std::vector<PlanarAccount>& pl
   }
   if (!*why && (p.bow < kMinBowM || p.bow < kMinBowOverFit * p.rmse))
     std::snprintf(why, sizeof why, "nearly flat: %.3f m off its best plane, fitted to %.3f m", p.bow, p.rmse);
+  if (!*why && p.rmse > kMaxFitOverNoise * noise)
+    std::snprintf(why, sizeof why, "fits its points to %.3f m, the scan's noise is %.3f m", p.rmse, noise);
   return why;
 }
 

@@ -18,8 +18,8 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/optimizer/optimizer.h"
-#include "core/primitives/primitives.h"
 #include "core/reconstruct/building_plan.h"
+#include "core/reconstruct/curved_roofs.h"
 #include "core/reconstruct/envelope/envelope.h"
 #include "core/reconstruct/lod12/lod12.h"
 #include "core/reconstruct/lod13/lod13.h"
@@ -451,51 +451,16 @@ void evaluate_on_parcel(const ParcelScene& s, std::vector<Building>& buildings) 
   evaluate_buildings(buildings, inside_roof, near_wall);
 }
 
-// The building's roof faces, each tagged with its roof element (a plane).
-FaceIndex roof_plane_index(const Building& b) {
-  std::vector<Face> faces;
-  std::vector<int> plane;
-  for (size_t k = 0; k < b.elements.size(); ++k)
-    if (b.elements[k].type == ElementType::Roof)
-      for (const Face& f : b.elements[k].faces) faces.push_back(f), plane.push_back(int(k));
-  return FaceIndex(faces, plane);
-}
-
-// How the modelled roof planes explain some points: their RMS distance to the
-// nearest roof face, and how many planes take at least 2 % of them.
-PlanarAccount planar_account(const FaceIndex& roof, const std::vector<Vec3>& pts) {
-  PlanarAccount a;
-  if (roof.empty() || pts.empty()) return a;
-  std::map<int, size_t> taken;
-  double rss = 0;
-  for (const Vec3& q : pts) {
-    const SurfaceHit hit = roof.nearest(q);
-    rss += hit.distance * hit.distance;
-    ++taken[hit.owner];
-  }
-  a.rmse = std::sqrt(rss / double(pts.size()));
-  for (const auto& [plane, n] : taken) a.planes += n * 50 >= pts.size();
-  return a;
-}
-
-// Until curved elements are modelled, a building whose roof holds a curved
-// surface (a vault, a dome, a cone) has planar areas that may be tens of
-// percent off: what the parcel's reason says of it ("" for none).
-std::string curved_roof_note(const ParcelContext& c, const ModelledParcel& m) {
+// Buildings whose roof is one curved surface modelled on it; what the parcel's
+// reason says of curved surfaces the planar models stand for ("" for none).
+std::string curved_roofs(const ParcelContext& c, ModelledParcel& m) {
   std::string note;
   for (size_t k = 0; k < m.buildings.size(); ++k) {
-    const Building& b = m.buildings[k];
-    const std::vector<Vec3> own = prism_source(c, m.plans[k], b.id, true, true).own;
-    PrimitiveSearch search;
-    const FaceIndex roof = roof_plane_index(b);
-    search.planar_model = [&](const std::vector<Vec3>& pts) { return planar_account(roof, pts); };
-    const PrimitiveFit fit = find_curved_surfaces(own, search);
-    log::debug(b.id + ": " + std::to_string(fit.curved.size() + fit.rejected.size()) + " curved candidates among " +
-               std::to_string(own.size()) + " roof points");
-    for (size_t j = 0; j < fit.rejected.size(); ++j)
-      log::debug(b.id + ": not a curved roof: " + fit.rejected[j].describe() + ": " + fit.why_rejected[j]);
-    for (const Primitive& p : fit.curved)
-      note += (note.empty() ? "" : ", ") + b.id + " " + p.describe() + " (" + std::to_string(p.share) + " % of its roof points)";
+    Building& b = m.buildings[k];
+    // All its roof's points: a curved roof's planar footprint may fall short of its rim.
+    const std::vector<Vec3> own = prism_source(c, m.plans[k], b.id, true, false).own;
+    const std::string why = model_curved_roof(b, own, c.scene.roof_points, c.roofs.spacing, c.p.storey_height_m);
+    if (!why.empty()) note += (note.empty() ? "" : ", ") + why;
   }
   c.clock.lap("curved surfaces");
   return note.empty() ? "" : "curved roof modelled with planes, areas unreliable: " + note;
@@ -530,13 +495,13 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     remodel_defective(c, m);
     fall_back_to_lower_lod(c, m);
     const int dropped = drop_unmodellable(m);
+    const std::string curved = curved_roofs(c, m);
     describe_buildings(c, m);
     if (m.buildings.empty()) {
       r.status = dropped > 0 ? ParcelStatus::Failed : ParcelStatus::Empty;
       r.reason = dropped > 0 ? m.notes : "roof points form no roof plane large enough for a building";
       return r;
     }
-    const std::string curved = curved_roof_note(c, m);
     r.reason = m.notes;
     r.buildings = std::move(m.buildings);
     evaluate_on_parcel(s, r.buildings);

@@ -1,0 +1,263 @@
+#include "core/primitives/curved_building.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/geometry.h"
+#include "core/log.h"
+
+namespace c3d {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// A wall lower than this under the roof's rim is no wall: the roof meets the ground.
+constexpr double kMinWallM = 0.05;
+// A vault whose arc ends this close to the ground springs from it.
+constexpr double kSpringsM = 0.5;
+// The rim is placed from this quantile of the points (vault_outline).
+constexpr double kRimQuantile = 0.95;
+
+// Steps that keep an arc of `radius` over `angle` within `chord` of its chords.
+int arc_steps(double radius, double angle, double chord) {
+  const double step = 2 * std::acos(std::max(-1.0, 1 - chord / std::max(radius, chord)));
+  return std::max(8, int(std::ceil(std::abs(angle) / step)));
+}
+
+Element element(ElementType t, std::vector<Face> faces) {
+  Element e;
+  e.type = t;
+  e.faces = std::move(faces);
+  for (const Face& f : e.faces) e.area += area(f), e.plan_area += plan_area(f);
+  return e;
+}
+
+// The shape a curved building stands on, in numbers: what the uncertainty
+// of its rim moves.
+struct Outline {
+  double a = 0, b = 0;  // cylinder: extent along the axis; revolution: unused
+  double half = 0;      // cylinder: half-width across the axis; revolution: the drum's radius
+};
+
+// q-quantile of v (0 <= q <= 1).
+double quantile(std::vector<double> v, double q) {
+  const size_t k = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return v[k];
+}
+
+// ---- Revolution: a sphere or cone over a round drum ----
+
+// Height of the surface at plan distance rho from its axis.
+double revolved_z(const Primitive& p, double rho) {
+  if (p.kind == PrimitiveKind::Sphere) return p.point.z() + std::sqrt(std::max(0.0, p.radius * p.radius - rho * rho));
+  return p.point.z() - rho / std::tan(p.angle);  // a cone with its apex on top
+}
+
+// The drum's radius: roof points seen from the air lie evenly over the disc,
+// so rho^2 is uniform on [0, r^2]; from its 95 % quantile (see vault_outline).
+double drum_radius(const CurvedBuildingInput& in) {
+  std::vector<double> rho2;
+  for (const Vec3& q : in.roof_points) rho2.push_back((q.head<2>() - in.roof.point.head<2>()).squaredNorm());
+  return std::sqrt(quantile(rho2, kRimQuantile) / kRimQuantile);
+}
+
+Building revolved(const CurvedBuildingInput& in, const Outline& o) {
+  const Primitive& p = in.roof;
+  const Vec2 c = p.point.head<2>();
+  const double r = o.half, rim = revolved_z(p, r);
+  const int n = arc_steps(r, 2 * kPi, in.chord);
+  const int rings = p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, std::asin(std::min(1.0, r / p.radius)), in.chord) : 1;
+  auto at = [&](double rho, int i) {
+    const double a = 2 * kPi * i / n;
+    return Vec3(c.x() + rho * std::cos(a), c.y() + rho * std::sin(a), revolved_z(p, rho));
+  };
+  auto rho_of = [&](int j) {  // rings evenly in polar angle on a sphere, in radius on a cone
+    if (p.kind != PrimitiveKind::Sphere) return r * (1 - double(j) / rings);
+    return p.radius * std::sin(std::asin(std::min(1.0, r / p.radius)) * (1 - double(j) / rings));
+  };
+  std::vector<Face> roof, drum;
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (j + 1 == rings) roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(0, 0)}, {}});
+      else roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(rho_of(j + 1), i + 1), at(rho_of(j + 1), i)}, {}});
+    }
+  Ring3 ground;
+  for (int i = n; i > 0; --i) ground.push_back({c.x() + r * std::cos(2 * kPi * i / n), c.y() + r * std::sin(2 * kPi * i / n), in.ground_z});
+  if (rim - in.ground_z >= kMinWallM)
+    for (int i = 0; i < n; ++i) {
+      const Vec3 a = at(r, i), b = at(r, i + 1);
+      drum.push_back({{{a.x(), a.y(), in.ground_z}, {b.x(), b.y(), in.ground_z}, b, a}, {}});
+    }
+  Building out;
+  out.elements.push_back(element(ElementType::Roof, std::move(roof)));
+  if (!drum.empty()) out.elements.push_back(element(ElementType::Wall, std::move(drum)));
+  out.elements.push_back(element(ElementType::Ground, {{ground, {}}}));
+  return out;
+}
+
+// ---- A cylinder with a level axis over a rectangle ----
+
+struct Frame {  // plan frame of the vault: t along the axis, s across
+  Vec2 origin, along, across;
+  double zc = 0;  // the axis' height
+  Vec3 world(double t, double s, double z) const {
+    const Vec2 xy = origin + t * along + s * across;
+    return {xy.x(), xy.y(), z};
+  }
+};
+
+// The axis is taken level at its height over the middle of the vault
+// (within 2 degrees of level: curved_building refuses others).
+Frame vault_frame(const Primitive& p, double t_mid = 0) {
+  Frame f;
+  const Vec2 h(p.axis.x(), p.axis.y());
+  f.along = h.normalized();
+  f.across = Vec2(-f.along.y(), f.along.x());
+  f.origin = p.point.head<2>();
+  f.zc = p.point.z() + t_mid * p.axis.z() / h.norm();
+  return f;
+}
+
+// Its extent from the points, which lie evenly over its plan (as seen from
+// the air): along the axis from the 5 % and 95 % quantiles, across it from
+// the 95 % quantile of the distance to the axis, each scaled to where 100 %
+// would lie. Quantiles, not extremes: the noise and the odd stray point push
+// extremes out, and points at the terrain may be missing.
+Outline vault_outline(const CurvedBuildingInput& in, const Frame& f) {
+  std::vector<double> t, s;
+  for (const Vec3& q : in.roof_points) {
+    const Vec2 d = q.head<2>() - f.origin;
+    t.push_back(d.dot(f.along));
+    s.push_back(std::abs(d.dot(f.across)));
+  }
+  const double lo = quantile(t, 1 - kRimQuantile), hi = quantile(t, kRimQuantile);
+  const double pad = (hi - lo) * (1 - kRimQuantile) / (2 * kRimQuantile - 1);
+  Outline o{lo - pad, hi + pad, quantile(s, kRimQuantile) / kRimQuantile};
+  // The roof is the upper half of the circle, down to the ground at most; an
+  // arc that ends within kSpringsM of the ground springs from it (a hangar).
+  const double R = in.roof.radius, zc = vault_frame(in.roof, (o.a + o.b) / 2).zc;
+  const double to_ground = std::sqrt(std::max(0.0, R * R - std::pow(std::max(0.0, in.ground_z - zc), 2)));
+  o.half = std::min(o.half, to_ground);
+  const double end_z = zc + std::sqrt(std::max(0.0, R * R - o.half * o.half));
+  if (end_z - in.ground_z < kSpringsM && zc - in.ground_z < kSpringsM) o.half = to_ground;
+  return o;
+}
+
+Building vault(const CurvedBuildingInput& in, const Outline& o) {
+  const Frame f = vault_frame(in.roof, (o.a + o.b) / 2);
+  const double R = in.roof.radius, phi = std::asin(std::min(1.0, o.half / R));
+  const int n = arc_steps(R, 2 * phi, in.chord);
+  std::vector<Vec2> arc;  // (s, z) across the roof
+  for (int k = 0; k <= n; ++k) {
+    const double beta = -phi + 2 * phi * k / n;
+    arc.push_back({R * std::sin(beta), std::max(in.ground_z, f.zc + R * std::cos(beta))});
+  }
+  if (arc.front().y() - in.ground_z < kMinWallM) arc.front().y() = arc.back().y() = in.ground_z;  // springs from the ground
+  std::vector<Face> roof;
+  for (int k = 0; k < n; ++k) {
+    const Vec2 p = arc[size_t(k)], q = arc[size_t(k) + 1];
+    roof.push_back({{f.world(o.a, p.x(), p.y()), f.world(o.a, q.x(), q.y()), f.world(o.b, q.x(), q.y()),
+                     f.world(o.b, p.x(), p.y())}, {}});
+  }
+  Building out;
+  out.elements.push_back(element(ElementType::Roof, std::move(roof)));
+  const double wall = arc.front().y() - in.ground_z;
+  for (double t : {o.a, o.b}) {  // end walls up to the arc
+    Ring3 end;
+    if (wall >= kMinWallM) end.push_back(f.world(t, o.half, in.ground_z)), end.push_back(f.world(t, -o.half, in.ground_z));
+    for (const Vec2& q : arc) end.push_back(f.world(t, q.x(), q.y()));
+    if (t == o.b) std::reverse(end.begin(), end.end());
+    out.elements.push_back(element(ElementType::Wall, {{end, {}}}));
+  }
+  if (wall >= kMinWallM)
+    for (double s : {-o.half, o.half}) {  // side walls up to the springing
+      Ring3 side{f.world(o.a, s, in.ground_z), f.world(o.b, s, in.ground_z), f.world(o.b, s, arc.front().y()),
+                 f.world(o.a, s, arc.front().y())};
+      if (s > 0) std::reverse(side.begin(), side.end());
+      out.elements.push_back(element(ElementType::Wall, {{side, {}}}));
+    }
+  Ring3 ground{f.world(o.a, -o.half, in.ground_z), f.world(o.a, o.half, in.ground_z), f.world(o.b, o.half, in.ground_z),
+               f.world(o.b, -o.half, in.ground_z)};
+  out.elements.push_back(element(ElementType::Ground, {{ground, {}}}));
+  return out;
+}
+
+// ---- Common: orientation, the solid, sigma ----
+
+// Every face turned away from the inside. These solids are convex, so the
+// mean of their vertices is inside and every face looks away from it.
+void face_outward(Building& b) {
+  Vec3 inside = Vec3::Zero();
+  size_t n = 0;
+  for (const Element& e : b.elements)
+    for (const Face& f : e.faces)
+      for (const Vec3& q : f.ring) inside += q, ++n;
+  inside /= double(n);
+  for (Element& e : b.elements)
+    for (Face& f : e.faces) {
+      Vec3 c = Vec3::Zero(), normal = Vec3::Zero();
+      for (const Vec3& q : f.ring) c += q;
+      c /= double(f.ring.size());
+      for (size_t i = 0; i < f.ring.size(); ++i) normal += f.ring[i].cross(f.ring[(i + 1) % f.ring.size()]);
+      if (normal.dot(c - inside) < 0) std::reverse(f.ring.begin(), f.ring.end());
+    }
+}
+
+Building build(const CurvedBuildingInput& in, const Outline& o) {
+  Building b = in.roof.kind == PrimitiveKind::Cylinder ? vault(in, o) : revolved(in, o);
+  face_outward(b);
+  for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
+  b.id = in.building_id;
+  b.terrain_z = in.ground_z;
+  b.lod = Lod::Lod22;
+  return b;
+}
+
+// Moving the rim by its uncertainty (half a point spacing, at least a
+// millimetre) out and in moves each element's area; half the spread is its
+// sigma.
+void add_sigma(const CurvedBuildingInput& in, const Outline& o, Building& b) {
+  const double rim = std::max(0.001, in.spacing / 2);
+  Outline lo = o, hi = o;
+  lo.half -= rim, hi.half += rim;
+  lo.a += rim, lo.b -= rim, hi.a -= rim, hi.b += rim;
+  const Building small = build(in, lo), large = build(in, hi);
+  for (size_t k = 0; k < b.elements.size() && k < small.elements.size() && k < large.elements.size(); ++k) {
+    b.elements[k].sigma_area = std::abs(large.elements[k].area - small.elements[k].area) / 2;
+    b.elements[k].support_points = b.elements[k].type == ElementType::Roof ? int(in.roof_points.size()) : 0;
+    b.elements[k].rmse = b.elements[k].type == ElementType::Roof ? in.roof.rmse : 0;
+  }
+}
+
+}  // namespace
+
+std::optional<Building> curved_building(const CurvedBuildingInput& in) {
+  const Primitive& p = in.roof;
+  if (in.roof_points.size() < 10) return std::nullopt;
+  Outline o;
+  if (p.kind == PrimitiveKind::Cylinder) {
+    if (std::abs(p.axis.z()) > std::sin(2 * kPi / 180)) return std::nullopt;  // a vault's axis is level
+    o = vault_outline(in, vault_frame(p));
+    if (o.b - o.a < 1 || o.half < 0.5) return std::nullopt;
+  } else if (p.kind == PrimitiveKind::Sphere || p.kind == PrimitiveKind::Cone) {
+    if (p.kind == PrimitiveKind::Cone && std::abs(p.axis.z()) < std::cos(5 * kPi / 180)) return std::nullopt;
+    o.half = drum_radius(in);
+    if (p.kind == PrimitiveKind::Sphere) {  // a hemisphere's rim is its equator; beyond it, no dome
+      if (o.half > 1.05 * p.radius) return std::nullopt;
+      o.half = std::min(o.half, p.radius);
+    }
+    if (revolved_z(p, o.half) <= in.ground_z) return std::nullopt;
+  } else {
+    return std::nullopt;
+  }
+  log::debug(in.building_id + ": curved outline " + std::to_string(o.a) + " " + std::to_string(o.b) + " " +
+             std::to_string(o.half) + " from " + std::to_string(in.roof_points.size()) + " points, ground " +
+             std::to_string(in.ground_z) + ", " + p.describe() + " at " + std::to_string(p.point.x()) + " " +
+             std::to_string(p.point.y()) + " " + std::to_string(p.point.z()));
+  Building b = build(in, o);
+  add_sigma(in, o, b);
+  return b;
+}
+
+}  // namespace c3d
