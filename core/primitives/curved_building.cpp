@@ -67,7 +67,8 @@ Building revolved(const CurvedBuildingInput& in, const Outline& o) {
   const Vec2 c = p.point.head<2>();
   const double r = o.half, rim = revolved_z(p, r);
   const int n = arc_steps(r, 2 * kPi, in.chord);
-  const int rings = p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, std::asin(std::min(1.0, r / p.radius)), in.chord) : 1;
+  const int rings =
+      p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, std::asin(std::min(1.0, r / p.radius)), in.chord) : 1;
   auto at = [&](double rho, int i) {
     const double a = 2 * kPi * i / n;
     return Vec3(c.x() + rho * std::cos(a), c.y() + rho * std::sin(a), revolved_z(p, rho));
@@ -79,11 +80,14 @@ Building revolved(const CurvedBuildingInput& in, const Outline& o) {
   std::vector<Face> roof, drum;
   for (int j = 0; j < rings; ++j)
     for (int i = 0; i < n; ++i) {
-      if (j + 1 == rings) roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(0, 0)}, {}});
-      else roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(rho_of(j + 1), i + 1), at(rho_of(j + 1), i)}, {}});
+      if (j + 1 == rings)
+        roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(0, 0)}, {}});
+      else
+        roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(rho_of(j + 1), i + 1), at(rho_of(j + 1), i)}, {}});
     }
   Ring3 ground;
-  for (int i = n; i > 0; --i) ground.push_back({c.x() + r * std::cos(2 * kPi * i / n), c.y() + r * std::sin(2 * kPi * i / n), in.ground_z});
+  for (int i = n; i > 0; --i)
+    ground.push_back({c.x() + r * std::cos(2 * kPi * i / n), c.y() + r * std::sin(2 * kPi * i / n), in.ground_z});
   if (rim - in.ground_z >= kMinWallM)
     for (int i = 0; i < n; ++i) {
       const Vec3 a = at(r, i), b = at(r, i + 1);
@@ -153,19 +157,22 @@ Building vault(const CurvedBuildingInput& in, const Outline& o) {
     const double beta = -phi + 2 * phi * k / n;
     arc.push_back({R * std::sin(beta), std::max(in.ground_z, f.zc + R * std::cos(beta))});
   }
-  if (arc.front().y() - in.ground_z < kMinWallM) arc.front().y() = arc.back().y() = in.ground_z;  // springs from the ground
+  if (arc.front().y() - in.ground_z < kMinWallM)
+    arc.front().y() = arc.back().y() = in.ground_z;  // springs from the ground
   std::vector<Face> roof;
   for (int k = 0; k < n; ++k) {
     const Vec2 p = arc[size_t(k)], q = arc[size_t(k) + 1];
     roof.push_back({{f.world(o.a, p.x(), p.y()), f.world(o.a, q.x(), q.y()), f.world(o.b, q.x(), q.y()),
-                     f.world(o.b, p.x(), p.y())}, {}});
+                     f.world(o.b, p.x(), p.y())},
+                    {}});
   }
   Building out;
   out.elements.push_back(element(ElementType::Roof, std::move(roof)));
   const double wall = arc.front().y() - in.ground_z;
   for (double t : {o.a, o.b}) {  // end walls up to the arc
     Ring3 end;
-    if (wall >= kMinWallM) end.push_back(f.world(t, o.half, in.ground_z)), end.push_back(f.world(t, -o.half, in.ground_z));
+    if (wall >= kMinWallM)
+      end.push_back(f.world(t, o.half, in.ground_z)), end.push_back(f.world(t, -o.half, in.ground_z));
     for (const Vec2& q : arc) end.push_back(f.world(t, q.x(), q.y()));
     if (t == o.b) std::reverse(end.begin(), end.end());
     out.elements.push_back(element(ElementType::Wall, {{end, {}}}));

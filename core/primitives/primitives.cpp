@@ -24,8 +24,9 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 // A point, its normal and its index: RANSAC reorders its input.
 using Pwn = std::tuple<Kernel::Point_3, Kernel::Vector_3, int>;
 using PwnVector = std::vector<Pwn>;
-using Traits = CGAL::Shape_detection::Efficient_RANSAC_traits<Kernel, PwnVector, CGAL::Nth_of_tuple_property_map<0, Pwn>,
-                                                              CGAL::Nth_of_tuple_property_map<1, Pwn>>;
+using Traits =
+    CGAL::Shape_detection::Efficient_RANSAC_traits<Kernel, PwnVector, CGAL::Nth_of_tuple_property_map<0, Pwn>,
+                                                   CGAL::Nth_of_tuple_property_map<1, Pwn>>;
 using Ransac = CGAL::Shape_detection::Efficient_RANSAC<Traits>;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -47,8 +48,8 @@ Vec3 vec(const Kernel::Vector_3& v) { return {v.x(), v.y(), v.z()}; }
 // Per point: the normal of its neighbours' best plane and their spread off it.
 struct LocalShape {
   std::vector<Vec3> normal;
-  std::vector<double> spread;    // sqrt of the smallest eigenvalue, m
-  std::vector<double> spacing;   // distance to the nearest other point, m
+  std::vector<double> spread;   // sqrt of the smallest eigenvalue, m
+  std::vector<double> spacing;  // distance to the nearest other point, m
 };
 
 LocalShape local_shape(const std::vector<Vec3>& points) {
@@ -208,8 +209,8 @@ std::string implausible(const Primitive& s, const std::vector<Vec3>& points) {
     std::snprintf(why, sizeof why, "a bowl (centre above its points)");
   else if (s.kind == PrimitiveKind::Cylinder && tilt < 60)
     std::snprintf(why, sizeof why, "axis %.0f deg from upright: a wall, not a vault", tilt);
-  else if (s.kind == PrimitiveKind::Cone && (tilt > 20 || s.point.z() < top - 0.5 || s.angle < 10 * kPi / 180 ||
-                                             s.angle > 80 * kPi / 180))
+  else if (s.kind == PrimitiveKind::Cone &&
+           (tilt > 20 || s.point.z() < top - 0.5 || s.angle < 10 * kPi / 180 || s.angle > 80 * kPi / 180))
     std::snprintf(why, sizeof why, "a cone not standing on its base (axis %.0f deg, half-angle %.0f deg)", tilt,
                   s.angle * 180 / kPi);
   return why;

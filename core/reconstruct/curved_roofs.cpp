@@ -100,7 +100,8 @@ std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const s
     return "";
   std::string note;
   for (const Primitive& q : fit.curved)
-    note += (note.empty() ? "" : ", ") + b.id + " " + q.describe() + " (" + std::to_string(q.share) + " % of its roof points)";
+    note += (note.empty() ? "" : ", ") + b.id + " " + q.describe() + " (" + std::to_string(q.share) +
+            " % of its roof points)";
   return note;
 }
 

@@ -90,7 +90,8 @@ std::vector<Face> revolved_faces(const Profile& p, const Vec2& centre, const std
     const double t0 = double(j) / rings, t1 = double(j + 1) / rings;
     for (size_t i = 0; i < n; ++i) {
       const double a0 = angles[i], a1 = angles[(i + 1) % n];
-      Ring3 r = j + 1 == rings ? Ring3{at(t0, a0), at(t0, a1), at(t1, 0)} : Ring3{at(t0, a0), at(t0, a1), at(t1, a1), at(t1, a0)};
+      Ring3 r = j + 1 == rings ? Ring3{at(t0, a0), at(t0, a1), at(t1, 0)}
+                               : Ring3{at(t0, a0), at(t0, a1), at(t1, a1), at(t1, a0)};
       const Vec3 mid = (r[0] + r[1]) / 2;
       out.push_back(facing_away(r, Vec3(centre.x(), centre.y(), mid.z())));
     }
@@ -115,8 +116,7 @@ Profile cone(double r, double h, double z0) {
 
 // An onion: widens past the drum to about 1.08 r, then closes to a point.
 Profile onion(double r, double h, double z0) {
-  return {[=](double t) { return r * std::pow(1 - t, 1.5) * (1 + 2.5 * t); },
-          [=](double t) { return z0 + h * t; },
+  return {[=](double t) { return r * std::pow(1 - t, 1.5) * (1 + 2.5 * t); }, [=](double t) { return z0 + h * t; },
           [=](double t) { return r * (-1.5 * std::sqrt(1 - t) * (1 + 2.5 * t) + 2.5 * std::pow(1 - t, 1.5)); },
           [=](double) { return h; }};
 }
@@ -158,7 +158,8 @@ TruthBuilding on_drum(double r, double H, const Profile& roof, int roof_rings, d
   for (double a : angles) foot.push_back(c + r * Vec2(std::cos(a), std::sin(a)));
   TruthBuilding tb;
   const double plan = kPi * std::pow(std::max(r, widest(roof)), 2);
-  tb.model.elements.push_back(element_of(ElementType::Roof, revolved_faces(roof, c, angles, roof_rings), roof_area, plan));
+  tb.model.elements.push_back(
+      element_of(ElementType::Roof, revolved_faces(roof, c, angles, roof_rings), roof_area, plan));
   std::vector<Face> drum;
   for (size_t i = 0; i < foot.size(); ++i) {
     const Vec2 a = foot[i], b = foot[(i + 1) % foot.size()];
@@ -200,8 +201,8 @@ TruthBuilding vault(double L, double W, double H, double h) {
   }
   if (H > 0)
     for (double v : {0.0, W})  // side walls up to the springing line
-      tb.model.elements.push_back(element_of(
-          ElementType::Wall, {facing_away({{0, v, 0}, {L, v, 0}, {L, v, H}, {0, v, H}}, mid)}, L * H, 0));
+      tb.model.elements.push_back(
+          element_of(ElementType::Wall, {facing_away({{0, v, 0}, {L, v, 0}, {L, v, H}, {0, v, H}}, mid)}, L * H, 0));
   tb.model.elements.push_back(
       element_of(ElementType::Ground, {{{{0, 0, 0}, {0, W, 0}, {L, W, 0}, {L, 0, 0}}, {}}}, L * W, L * W));
   return finish(std::move(tb), {{0, 0}, {L, 0}, {L, W}, {0, W}}, H > 0 ? "vault" : "ground_vault",
@@ -237,10 +238,11 @@ TruthBuilding dome_on_flat(double s, double H, double a, double h) {
   const Ring2 foot{{0, 0}, {s, 0}, {s, s}, {0, s}};
   for (size_t i = 0; i < 4; ++i) {
     const Vec2 p = foot[i], q = foot[(i + 1) % 4];
-    tb.model.elements.push_back(element_of(
-        ElementType::Wall, {facing_away({{p.x(), p.y(), 0}, {q.x(), q.y(), 0}, {q.x(), q.y(), H}, {p.x(), p.y(), H}},
-                                        Vec3(c.x(), c.y(), H / 2))},
-        s * H, 0));
+    tb.model.elements.push_back(
+        element_of(ElementType::Wall,
+                   {facing_away({{p.x(), p.y(), 0}, {q.x(), q.y(), 0}, {q.x(), q.y(), H}, {p.x(), p.y(), H}},
+                                Vec3(c.x(), c.y(), H / 2))},
+                   s * H, 0));
   }
   tb.model.elements.push_back(
       element_of(ElementType::Ground, {{{{0, 0, 0}, {0, s, 0}, {s, s, 0}, {s, 0, 0}}, {}}}, s * s, s * s));
