@@ -2,6 +2,7 @@
 // domes and cones with their radii, and no curved surface on planar roofs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -157,6 +158,21 @@ TEST(Primitives, CurvedBuildingsStandOnTheirSurfaces) {
   EXPECT_NEAR(a[ElementType::Ground] / (M_PI * 16), 1, 0.01);
   EXPECT_NEAR(b->volume / (M_PI * 16 * 7 + M_PI * 4 * (15 - 2) / 3), 1, 0.01);
   for (const Element& e : b->elements) EXPECT_GT(e.sigma_area, 0) << to_string(e.type);
+
+  // Roof points that stop short of the rim (a scan's gap) shrink the drum;
+  // the drum's wall points put it back where the wall scan saw it.
+  CurvedBuildingInput gap = dome;
+  gap.roof_points.erase(std::remove_if(gap.roof_points.begin(), gap.roof_points.end(),
+                                       [](const Vec3& q) { return q.head<2>().norm() > 3.6; }),
+                        gap.roof_points.end());
+  b = curved_building(gap);
+  ASSERT_TRUE(b);
+  EXPECT_LT(areas(*b)[ElementType::Ground], 0.9 * M_PI * 16);
+  for (int i = 0; i < 400; ++i)
+    gap.wall_points.push_back({4 * std::cos(i * 0.0157), 4 * std::sin(i * 0.0157), 0.5 + 6.0 * (i % 20) / 20});
+  b = curved_building(gap);
+  ASSERT_TRUE(b);
+  EXPECT_NEAR(areas(*b)[ElementType::Ground] / (M_PI * 16), 1, 0.01);
 
   Primitive cylinder;
   cylinder.kind = PrimitiveKind::Cylinder, cylinder.point = Vec3(0, 0, 0), cylinder.axis = Vec3::UnitX(),

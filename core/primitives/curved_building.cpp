@@ -17,6 +17,12 @@ constexpr double kMinWallM = 0.05;
 constexpr double kSpringsM = 0.5;
 // The rim is placed from this quantile of the points (vault_outline).
 constexpr double kRimQuantile = 0.95;
+// Wall points this near the wall the roof points place count for it; this
+// many of them place it instead.
+constexpr double kWallReachM = 0.5;
+constexpr size_t kMinWallPoints = 30;
+// Side walls further off centre than this about a vault's axis are not taken.
+constexpr double kMaxAxisOffsetM = 0.1;
 
 // Steps that keep an arc of `radius` over `angle` within `chord` of its chords.
 int arc_steps(double radius, double angle, double chord) {
@@ -237,6 +243,54 @@ void add_sigma(const CurvedBuildingInput& in, const Outline& o, Building& b) {
   }
 }
 
+// ---- Wall points, where a wall scan saw the walls ----
+
+// Median of v; NaN with fewer than `least` values.
+double median_of(std::vector<double> v, size_t least) {
+  if (v.size() < least || v.empty()) return kNaN;
+  return quantile(std::move(v), 0.5);
+}
+
+// The drum's radius from wall points within kWallReachM of the roof's rim
+// and under it, where they lie around at least a quarter of it.
+void drum_from_walls(const CurvedBuildingInput& in, Outline& o) {
+  const Vec2 c = in.roof.point.head<2>();
+  const double rim = revolved_z(in.roof, o.half);
+  std::vector<double> rho;
+  std::vector<bool> sector(12, false);
+  for (const Vec3& q : in.wall_points) {
+    const Vec2 d = q.head<2>() - c;
+    if (std::abs(d.norm() - o.half) > kWallReachM || q.z() > rim - 0.1 || q.z() < in.ground_z + 0.3) continue;
+    rho.push_back(d.norm());
+    sector[size_t(std::fmod(std::atan2(d.y(), d.x()) + 2 * kPi, 2 * kPi) / (2 * kPi) * 12) % 12] = true;
+  }
+  const double r = median_of(rho, kMinWallPoints);
+  if (!std::isnan(r) && std::count(sector.begin(), sector.end(), true) >= 3) o.half = r;
+}
+
+// A vault's side walls (half-width) and end walls (extent along the axis)
+// from the wall points that see them. The side walls only where both are
+// seen and stand evenly about the axis (the model's arc is symmetric).
+void vault_from_walls(const CurvedBuildingInput& in, const Frame& f, Outline& o) {
+  const double R = in.roof.radius, spring = f.zc + std::sqrt(std::max(0.0, R * R - o.half * o.half));
+  std::vector<double> left, right, lo, hi;
+  for (const Vec3& q : in.wall_points) {
+    const Vec2 d = q.head<2>() - f.origin;
+    const double t = d.dot(f.along), s = d.dot(f.across);
+    if (q.z() < in.ground_z + 0.3) continue;
+    const bool between_ends = t > o.a + kWallReachM && t < o.b - kWallReachM;  // not an end wall's corner
+    if (std::abs(std::abs(s) - o.half) < kWallReachM && between_ends && q.z() < spring - 0.1)
+      (s < 0 ? left : right).push_back(std::abs(s));
+    if (std::abs(s) < o.half - kWallReachM && std::abs(t - o.a) < kWallReachM) lo.push_back(t);
+    if (std::abs(s) < o.half - kWallReachM && std::abs(t - o.b) < kWallReachM) hi.push_back(t);
+  }
+  const double l = median_of(left, kMinWallPoints / 2), r = median_of(right, kMinWallPoints / 2);
+  if (!std::isnan(l) && !std::isnan(r) && std::abs(l - r) < 2 * kMaxAxisOffsetM) o.half = std::min((l + r) / 2, R);
+  const double a = median_of(lo, kMinWallPoints), b = median_of(hi, kMinWallPoints);
+  if (!std::isnan(a)) o.a = a;
+  if (!std::isnan(b)) o.b = b;
+}
+
 }  // namespace
 
 std::optional<Building> curved_building(const CurvedBuildingInput& in) {
@@ -246,10 +300,12 @@ std::optional<Building> curved_building(const CurvedBuildingInput& in) {
   if (p.kind == PrimitiveKind::Cylinder) {
     if (std::abs(p.axis.z()) > std::sin(2 * kPi / 180)) return std::nullopt;  // a vault's axis is level
     o = vault_outline(in, vault_frame(p));
+    vault_from_walls(in, vault_frame(p, (o.a + o.b) / 2), o);
     if (o.b - o.a < 1 || o.half < 0.5) return std::nullopt;
   } else if (p.kind == PrimitiveKind::Sphere || p.kind == PrimitiveKind::Cone) {
     if (p.kind == PrimitiveKind::Cone && std::abs(p.axis.z()) < std::cos(5 * kPi / 180)) return std::nullopt;
     o.half = drum_radius(in);
+    drum_from_walls(in, o);
     if (p.kind == PrimitiveKind::Sphere) {  // a hemisphere's rim is its equator; beyond it, no dome
       if (o.half > 1.05 * p.radius) return std::nullopt;
       o.half = std::min(o.half, p.radius);

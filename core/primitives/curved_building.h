@@ -18,6 +18,7 @@ struct CurvedBuildingInput {
   std::string building_id;
   Primitive roof;                // a cylinder with a level axis, a sphere or a cone standing upright
   std::vector<Vec3> roof_points; // the points it explains (local coordinates)
+  std::vector<Vec3> wall_points; // wall points near it, if any: they place the walls where they see them
   double ground_z = 0;           // ground floor level (local)
   double spacing = 0.2;          // typical point spacing in plan, m
   double chord = 0.01;           // largest distance of the tessellation from the surface, m

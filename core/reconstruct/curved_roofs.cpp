@@ -69,11 +69,13 @@ std::vector<Vec3> on_surface(const Primitive& p, const std::vector<Vec3>& own, c
 }
 
 // b modelled on surface p, if valid.
-bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, double spacing, double storey_height) {
+bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, const std::vector<Vec3>& walls,
+                double spacing, double storey_height) {
   CurvedBuildingInput in;
   in.building_id = b.id;
   in.roof = p;
   in.roof_points = std::move(points);
+  in.wall_points = walls;
   in.ground_z = b.terrain_z;
   in.spacing = spacing;
   std::optional<Building> curved = curved_building(in);
@@ -91,12 +93,12 @@ bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, doubl
 }  // namespace
 
 std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
-                              double spacing, double storey_height) {
+                              const std::vector<Vec3>& walls, double spacing, double storey_height) {
   const PrimitiveFit fit = curved_surfaces(b, own);
   if (fit.curved.empty()) return "";
   const Primitive& p = fit.curved.front();
   if (fit.curved.size() == 1 && p.share >= kWholeRoofShare &&
-      remodel_on(b, p, on_surface(p, own, nearby, 2.5 * fit.noise), spacing, storey_height))
+      remodel_on(b, p, on_surface(p, own, nearby, 2.5 * fit.noise), walls, spacing, storey_height))
     return "";
   std::string note;
   for (const Primitive& q : fit.curved)

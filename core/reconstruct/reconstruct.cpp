@@ -459,7 +459,8 @@ std::string curved_roofs(const ParcelContext& c, ModelledParcel& m) {
     Building& b = m.buildings[k];
     // All its roof's points: a curved roof's planar footprint may fall short of its rim.
     const std::vector<Vec3> own = prism_source(c, m.plans[k], b.id, true, false).own;
-    const std::string why = model_curved_roof(b, own, c.scene.roof_points, c.roofs.spacing, c.p.storey_height_m);
+    const std::string why = model_curved_roof(b, own, c.scene.roof_points, c.scene.wall_points, c.roofs.spacing,
+                                              c.p.storey_height_m);
     if (!why.empty()) note += (note.empty() ? "" : ", ") + why;
   }
   c.clock.lap("curved surfaces");
