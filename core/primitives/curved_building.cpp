@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/geometry/geometry.h"
+#include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 
 namespace c3d {
@@ -68,40 +69,65 @@ double drum_radius(const CurvedBuildingInput& in) {
   return std::sqrt(quantile(rho2, kRimQuantile) / kRimQuantile);
 }
 
-Building revolved(const CurvedBuildingInput& in, const Outline& o) {
-  const Primitive& p = in.roof;
-  const Vec2 c = p.point.head<2>();
-  const double r = o.half, rim = revolved_z(p, r);
-  const int n = arc_steps(r, 2 * kPi, in.chord);
-  const int rings =
-      p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, std::asin(std::min(1.0, r / p.radius)), in.chord) : 1;
-  auto at = [&](double rho, int i) {
-    const double a = 2 * kPi * i / n;
-    return Vec3(c.x() + rho * std::cos(a), c.y() + rho * std::sin(a), revolved_z(p, rho));
-  };
-  auto rho_of = [&](int j) {  // rings evenly in polar angle on a sphere, in radius on a cone
+// A surface of revolution from radius r in to its axis: its roof faces
+// (rings evenly in polar angle on a sphere, in radius on a cone) and its rim,
+// counter-clockwise in plan. The rim's points are those of `rim_point`, so
+// that a drum or a flat roof around it shares them exactly.
+struct Cap {
+  std::vector<Face> roof;
+  Ring3 rim;
+};
+
+Vec3 rim_point(const Primitive& p, double r, int i, int n) {
+  const double a = 2 * kPi * i / n;
+  return {p.point.x() + r * std::cos(a), p.point.y() + r * std::sin(a), revolved_z(p, r)};
+}
+
+Cap cap_faces(const Primitive& p, double r, double chord) {
+  const int n = arc_steps(r, 2 * kPi, chord);
+  const double top_angle = std::asin(std::min(1.0, r / std::max(p.radius, r)));
+  const int rings = p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, top_angle, chord) : 1;
+  auto rho_of = [&](int j) {
     if (p.kind != PrimitiveKind::Sphere) return r * (1 - double(j) / rings);
-    return p.radius * std::sin(std::asin(std::min(1.0, r / p.radius)) * (1 - double(j) / rings));
+    return j == 0 ? r : p.radius * std::sin(top_angle * (1 - double(j) / rings));
   };
-  std::vector<Face> roof, drum;
+  auto at = [&](int j, int i) { return j == 0 ? rim_point(p, r, i % n, n) : rim_point(p, rho_of(j), i % n, n); };
+  Cap cap;
   for (int j = 0; j < rings; ++j)
     for (int i = 0; i < n; ++i) {
       if (j + 1 == rings)
-        roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(0, 0)}, {}});
+        cap.roof.push_back({{at(j, i), at(j, i + 1), rim_point(p, 0, 0, n)}, {}});
       else
-        roof.push_back({{at(rho_of(j), i), at(rho_of(j), i + 1), at(rho_of(j + 1), i + 1), at(rho_of(j + 1), i)}, {}});
+        cap.roof.push_back({{at(j, i), at(j, i + 1), at(j + 1, i + 1), at(j + 1, i)}, {}});
     }
-  Ring3 ground;
-  for (int i = n; i > 0; --i)
-    ground.push_back({c.x() + r * std::cos(2 * kPi * i / n), c.y() + r * std::sin(2 * kPi * i / n), in.ground_z});
-  if (rim - in.ground_z >= kMinWallM)
-    for (int i = 0; i < n; ++i) {
-      const Vec3 a = at(r, i), b = at(r, i + 1);
-      drum.push_back({{{a.x(), a.y(), in.ground_z}, {b.x(), b.y(), in.ground_z}, b, a}, {}});
-    }
+  for (int i = 0; i < n; ++i) cap.rim.push_back(at(0, i));
+  return cap;
+}
+
+// The drum under a rim (counter-clockwise in plan), down to `floor_z`.
+std::vector<Face> drum_faces(const Ring3& rim, double floor_z) {
+  std::vector<Face> drum;
+  for (size_t i = 0; i < rim.size(); ++i) {
+    const Vec3 a = rim[i], b = rim[(i + 1) % rim.size()];
+    drum.push_back({{{a.x(), a.y(), floor_z}, {b.x(), b.y(), floor_z}, b, a}, {}});
+  }
+  return drum;
+}
+
+// A ring lowered to height z.
+Ring3 at_height(Ring3 ring, double z) {
+  for (Vec3& q : ring) q.z() = z;
+  return ring;
+}
+
+Building revolved(const CurvedBuildingInput& in, const Outline& o) {
+  Cap cap = cap_faces(in.roof, o.half, in.chord);
   Building out;
-  out.elements.push_back(element(ElementType::Roof, std::move(roof)));
-  if (!drum.empty()) out.elements.push_back(element(ElementType::Wall, std::move(drum)));
+  out.elements.push_back(element(ElementType::Roof, std::move(cap.roof)));
+  if (cap.rim.front().z() - in.ground_z >= kMinWallM)
+    out.elements.push_back(element(ElementType::Wall, drum_faces(cap.rim, in.ground_z)));
+  Ring3 ground = at_height(cap.rim, in.ground_z);
+  std::reverse(ground.begin(), ground.end());
   out.elements.push_back(element(ElementType::Ground, {{ground, {}}}));
   return out;
 }
@@ -291,6 +317,154 @@ void vault_from_walls(const CurvedBuildingInput& in, const Frame& f, Outline& o)
   if (!std::isnan(b)) o.b = b;
 }
 
+// ---- A flat roof carrying domes or cones ----
+
+// The radius at which surface p comes down to height z, NaN where it does
+// not (a sphere's rim lies at most on its equator).
+double meeting_radius(const Primitive& p, double z) {
+  if (p.kind == PrimitiveKind::Sphere) {
+    const double dz = z - p.point.z();
+    return dz >= 0 && dz < p.radius ? std::sqrt(p.radius * p.radius - dz * dz) : kNaN;
+  }
+  const double h = p.point.z() - z;
+  return h > 0 ? h * std::tan(p.angle) : kNaN;
+}
+
+// A cap's rim on a flat roof at roof_z: where its surface meets the roof,
+// unless its points end a drum's height (kMinDrumM) above it; NaN where the
+// cap cannot stand on the roof.
+double rim_on_roof(const Primitive& p, const std::vector<Vec3>& points, double roof_z) {
+  if (points.size() < 10) return kNaN;
+  std::vector<double> rho2;
+  for (const Vec3& q : points) rho2.push_back((q.head<2>() - p.point.head<2>()).squaredNorm());
+  double r = std::sqrt(quantile(rho2, kRimQuantile) / kRimQuantile);  // as drum_radius
+  if (p.kind == PrimitiveKind::Sphere) r = std::min(r, p.radius);
+  const double meet = meeting_radius(p, roof_z);
+  if (!std::isnan(meet) && (r >= meet || revolved_z(p, r) - roof_z < kMinDrumM)) return meet;
+  return revolved_z(p, r) > roof_z ? r : kNaN;
+}
+
+// Plan distance from c to the segment ab.
+double segment_distance(const Vec2& c, const Vec2& a, const Vec2& b) {
+  const Vec2 d = b - a;
+  const double t = std::clamp((c - a).dot(d) / std::max(d.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (a + t * d - c).norm();
+}
+
+// Whether the discs (centre, radius) lie inside the footprint, clear of its
+// edges and of each other by `margin`.
+bool discs_fit(const Polygon2& foot, const std::vector<std::pair<Vec2, double>>& discs, double margin) {
+  for (size_t k = 0; k < discs.size(); ++k) {
+    const auto& [c, r] = discs[k];
+    if (!in_polygon_plan(foot, c)) return false;
+    std::vector<const Ring2*> rings{&foot.outer};
+    for (const Ring2& h : foot.holes) rings.push_back(&h);
+    for (const Ring2* ring : rings)
+      for (size_t i = 0; i < ring->size(); ++i)
+        if (segment_distance(c, (*ring)[i], (*ring)[(i + 1) % ring->size()]) < r + margin) return false;
+    for (size_t j = 0; j < k; ++j)
+      if ((c - discs[j].first).norm() < r + discs[j].second + margin) return false;
+  }
+  return true;
+}
+
+// The footprint's rings as the walls need them: outer counter-clockwise,
+// holes clockwise.
+Polygon2 oriented(Polygon2 p) {
+  auto signed_area = [](const Ring2& r) {
+    double a = 0;
+    for (size_t i = 0; i < r.size(); ++i) a += r[i].x() * r[(i + 1) % r.size()].y() - r[(i + 1) % r.size()].x() * r[i].y();
+    return a / 2;
+  };
+  if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
+  for (Ring2& h : p.holes)
+    if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
+  return p;
+}
+
+Ring3 lifted(const Ring2& r, double z) {
+  Ring3 out;
+  for (const Vec2& q : r) out.push_back({q.x(), q.y(), z});
+  return out;
+}
+
+// One wall per edge of `ring` from z0 to z1, facing right of its direction
+// (out of a counter-clockwise outer ring, into a clockwise hole).
+void add_edge_walls(const Ring2& ring, double z0, double z1, Building& b) {
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 p = ring[i], q = ring[(i + 1) % ring.size()];
+    if ((q - p).norm() < 1e-6) continue;
+    b.elements.push_back(element(ElementType::Wall, {{{{p.x(), p.y(), z0}, {q.x(), q.y(), z0}, {q.x(), q.y(), z1},
+                                                        {p.x(), p.y(), z1}},
+                                                       {}}}));
+  }
+}
+
+// Half the change of a cap's and its drum's areas when its rim moves by
+// +-sigma: their sigma_area, as curved_building's.
+void rim_sigma(const Primitive& p, double rim, double roof_z, double sigma, double chord, Element& cap,
+               Element* drum) {
+  auto areas = [&](double r) {
+    if (p.kind == PrimitiveKind::Sphere) r = std::min(r, p.radius);
+    const Cap c = cap_faces(p, r, chord);
+    double roof = 0, wall = 0;
+    for (const Face& f : c.roof) roof += area(f);
+    for (const Face& f : drum_faces(c.rim, roof_z)) wall += area(f);
+    return std::pair(roof, wall);
+  };
+  const auto [roof_lo, wall_lo] = areas(rim - sigma);
+  const auto [roof_hi, wall_hi] = areas(rim + sigma);
+  cap.sigma_area = std::abs(roof_hi - roof_lo) / 2;
+  if (drum) drum->sigma_area = std::abs(wall_hi - wall_lo) / 2;
+}
+
+// A plan polygon lifted to height z, facing up or down.
+Face face_at(const Polygon2& p, double z, bool up) {
+  auto ring = [&](const Ring2& r) { return up ? lifted(r, z) : lifted(Ring2(r.rbegin(), r.rend()), z); };
+  Face f{ring(p.outer), {}};
+  for (const Ring2& h : p.holes) f.holes.push_back(ring(h));
+  return f;
+}
+
+Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector<double>& rims, double sigma) {
+  Building b;
+  Face flat = face_at(foot, in.roof_z, true), roof = flat;  // the solid's roof; the element's, overhang included
+  const bool overhang = in.roof_outline.outer.size() >= 3;
+  if (overhang) roof = face_at(oriented(in.roof_outline), in.roof_z, true);
+  std::vector<Element> caps, drums;
+  for (size_t k = 0; k < in.caps.size(); ++k) {
+    Cap cap = cap_faces(in.caps[k], rims[k], in.chord);
+    Ring3 hole = at_height(cap.rim, in.roof_z);
+    const bool on_drum = cap.rim.front().z() - in.roof_z > 1e-9;
+    if (on_drum) drums.push_back(element(ElementType::Wall, drum_faces(cap.rim, in.roof_z)));
+    else hole = cap.rim;  // the cap meets the roof: its own rim, vertex for vertex
+    std::reverse(hole.begin(), hole.end());
+    flat.holes.push_back(hole);
+    roof.holes.push_back(hole);
+    caps.push_back(element(ElementType::Roof, std::move(cap.roof)));
+    caps.back().support_points = int(in.cap_points[k].size());
+    caps.back().rmse = in.caps[k].rmse;
+    rim_sigma(in.caps[k], rims[k], in.roof_z, sigma, in.chord, caps.back(), on_drum ? &drums.back() : nullptr);
+  }
+  b.elements.push_back(element(ElementType::Roof, {roof}));
+  b.elements.insert(b.elements.end(), caps.begin(), caps.end());
+  b.elements.insert(b.elements.end(), drums.begin(), drums.end());
+  add_edge_walls(foot.outer, in.ground_z, in.roof_z, b);
+  for (const Ring2& h : foot.holes) add_edge_walls(h, in.ground_z, in.roof_z, b);
+  b.elements.push_back(element(ElementType::Ground, {face_at(foot, in.ground_z, false)}));
+  for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
+  b.solid.front() = flat;
+  b.id = in.building_id;
+  b.terrain_z = in.ground_z;
+  b.lod = Lod::Lod22;
+  if (!overhang) return b;
+  std::vector<Face> soffits;  // the outer ceiling, not in the solid (docs/design.md)
+  for (const Polygon2& p : poly::subtract({in.roof_outline}, {foot}))
+    if (area(p) > 0.01) soffits.push_back(face_at(oriented(p), in.roof_z, false));
+  if (!soffits.empty()) b.elements.push_back(element(ElementType::OuterCeiling, std::move(soffits)));
+  return b;
+}
+
 }  // namespace
 
 std::optional<Building> curved_building(const CurvedBuildingInput& in) {
@@ -321,6 +495,27 @@ std::optional<Building> curved_building(const CurvedBuildingInput& in) {
   Building b = build(in, o);
   add_sigma(in, o, b);
   return b;
+}
+
+std::optional<Building> domed_roof_building(const DomedRoofInput& in) {
+  if (in.caps.empty() || in.caps.size() != in.cap_points.size() || in.roof_z - in.ground_z < kMinWallM)
+    return std::nullopt;
+  const Polygon2 foot = oriented(in.footprint);
+  if (foot.outer.size() < 3) return std::nullopt;
+  std::vector<double> rims;
+  std::vector<std::pair<Vec2, double>> discs;
+  for (size_t k = 0; k < in.caps.size(); ++k) {
+    const Primitive& p = in.caps[k];
+    const bool upright = p.kind == PrimitiveKind::Sphere ||
+                         (p.kind == PrimitiveKind::Cone && std::abs(p.axis.z()) >= std::cos(5 * kPi / 180));
+    const double rim = upright ? rim_on_roof(p, in.cap_points[k], in.roof_z) : kNaN;
+    if (std::isnan(rim) || rim < 0.5) return std::nullopt;
+    rims.push_back(rim);
+    discs.push_back({p.point.head<2>(), rim});
+  }
+  const double sigma = std::max(0.001, in.spacing / 2);
+  if (!discs_fit(foot, discs, sigma)) return std::nullopt;
+  return domed(in, foot, rims, sigma);
 }
 
 }  // namespace c3d

@@ -30,4 +30,26 @@ struct CurvedBuildingInput {
 // the ground, a cylinder whose axis is not level).
 std::optional<Building> curved_building(const CurvedBuildingInput& in);
 
+// A flat roof carrying domes or cones (a mosque's hall, a church's crossing):
+// the footprint's prism up to the flat roof, each cap rising from it (or
+// from a drum on it where its rim stands at least kMinDrumM above it).
+struct DomedRoofInput {
+  std::string building_id;
+  Polygon2 footprint;                         // the hall's, from its planar model
+  Polygon2 roof_outline;                      // the flat roof's, overhang included; empty: the footprint
+  double ground_z = 0, roof_z = 0;            // ground floor and flat roof levels (local)
+  std::vector<Primitive> caps;                // spheres, cones standing upright
+  std::vector<std::vector<Vec3>> cap_points;  // the points each explains, in step with caps
+  double spacing = 0.2;
+  double chord = 0.01;
+};
+constexpr double kMinDrumM = 0.3;
+
+// The building: elements [flat roof, each cap, each drum, one wall per
+// footprint edge (outer ring, then holes), ground, outer ceiling where the
+// roof outline reaches past the footprint], caps' sigma_area from
+// moving their rims as curved_building's; none when a cap does not stand on
+// the flat roof inside the footprint clear of the others.
+std::optional<Building> domed_roof_building(const DomedRoofInput& in);
+
 }  // namespace c3d

@@ -1,11 +1,15 @@
 #include "core/reconstruct/curved_roofs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "core/evaluate/evaluate.h"
+#include "core/geometry/geometry.h"
+#include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/primitives/curved_building.h"
+#include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
 
 namespace c3d {
@@ -90,6 +94,126 @@ bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, const
   return true;
 }
 
+// The plan segment of a vertical face: its two extreme points along `dir`.
+std::pair<Vec2, Vec2> plan_extent(const Face& f, const Vec2& dir) {
+  Vec2 lo = f.ring.front().head<2>(), hi = lo;
+  for (const Vec3& q : f.ring) {
+    if (q.head<2>().dot(dir) < lo.dot(dir)) lo = q.head<2>();
+    if (q.head<2>().dot(dir) > hi.dot(dir)) hi = q.head<2>();
+  }
+  return {lo, hi};
+}
+
+// The planar model's wall element that stands along the edge a-b the
+// longest (within kSameWallM of its line): -1 for none.
+int wall_along(const Building& planar, const Vec2& a, const Vec2& b) {
+  constexpr double kSameWallM = 0.2;
+  const Vec2 dir = (b - a).normalized(), across(-dir.y(), dir.x());
+  int best = -1;
+  double longest = 0.1;
+  for (size_t k = 0; k < planar.elements.size(); ++k) {
+    const Element& e = planar.elements[k];
+    if (e.type != ElementType::Wall && e.type != ElementType::PartyWall) continue;
+    double along = 0;
+    for (const Face& f : e.faces) {
+      const auto [p, q] = plan_extent(f, dir);
+      if (std::abs((p - a).dot(across)) > kSameWallM || std::abs((q - a).dot(across)) > kSameWallM) continue;
+      along += std::max(0.0, std::min(q.dot(dir), b.dot(dir)) - std::max(p.dot(dir), a.dot(dir)));
+    }
+    if (along > longest) longest = along, best = int(k);
+  }
+  return best;
+}
+
+// The domed model's walls and ground take what the planar model knew of the
+// same walls, ground and outer ceiling: party or exterior, the evidence,
+// sigma per m2.
+void inherit_walls(const Building& planar, Building& domed, double boundary_sigma) {
+  for (Element& e : domed.elements) {
+    const bool edge_wall = e.type == ElementType::Wall && e.faces.size() == 1 && e.faces[0].ring.size() == 4;
+    int from = -1;
+    if (edge_wall) from = wall_along(planar, e.faces[0].ring[0].head<2>(), e.faces[0].ring[1].head<2>());
+    if (e.type == ElementType::Ground || e.type == ElementType::OuterCeiling)
+      for (size_t k = 0; k < planar.elements.size(); ++k)
+        if (planar.elements[k].type == e.type) from = int(k);
+    if (from >= 0) {
+      const Element& old = planar.elements[size_t(from)];
+      e.type = old.type;
+      e.evidence = old.evidence;
+      e.sigma_area = old.area > 0 ? old.sigma_area * e.area / old.area : 0;
+    } else if (edge_wall) {
+      e.sigma_area = sigma_area_from_plane(e.faces, 0, 0, boundary_sigma);
+    }
+  }
+}
+
+// The planar model's roof outline in plan where its roof reaches past the
+// footprint by more than kMinOverhangM2 (an overhang); empty otherwise.
+Polygon2 overhanging_outline(const Building& b, const Polygon2& footprint) {
+  constexpr double kMinOverhangM2 = 0.5;
+  std::vector<MultiPolygon2> parts{{footprint}};
+  for (const Element& e : b.elements)
+    if (e.type == ElementType::Roof)
+      for (const Face& f : e.faces) parts.push_back(poly::make_valid({Polygon2{to_2d(f.ring), {}}}));
+  const Polygon2 outline = poly::largest(poly::unite_all(parts));
+  return area(outline) - area(footprint) > kMinOverhangM2 ? outline : Polygon2{};
+}
+
+// The median height of the points on no curved surface, and how many lie
+// within `tol` of it: a flat roof's level.
+std::pair<double, size_t> flat_level(const std::vector<Vec3>& own, const std::vector<Primitive>& caps, double tol) {
+  std::vector<double> z;
+  for (const Vec3& q : own)
+    if (std::none_of(caps.begin(), caps.end(), [&](const Primitive& p) { return std::abs(p.distance(q)) <= tol; }))
+      z.push_back(q.z());
+  if (z.size() < 10) return {kNaN, 0};
+  std::nth_element(z.begin(), z.begin() + long(z.size() / 2), z.end());
+  const double level = z[z.size() / 2];
+  return {level, size_t(std::count_if(z.begin(), z.end(), [&](double v) { return std::abs(v - level) <= tol; }))};
+}
+
+// b modelled as a flat roof carrying its curved surfaces (domes, cones),
+// where those and one level hold kWholeRoofShare of its roof points and the
+// model is valid.
+bool remodel_domed(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>& own,
+                   const std::vector<Vec3>& nearby, double spacing, double storey_height) {
+  const double tol = 2.5 * fit.noise;
+  const auto [level, on_level] = flat_level(own, fit.curved, tol);
+  if (std::isnan(level)) return false;
+  size_t on_caps = 0;
+  for (const Vec3& q : own)
+    on_caps += std::any_of(fit.curved.begin(), fit.curved.end(),
+                           [&](const Primitive& p) { return std::abs(p.distance(q)) <= tol; });
+  if ((on_caps + on_level) * 100 < own.size() * size_t(kWholeRoofShare)) return false;
+  DomedRoofInput in;
+  in.building_id = b.id;
+  in.footprint = ground_footprint(b);
+  in.roof_outline = overhanging_outline(b, in.footprint);
+  in.ground_z = b.terrain_z;
+  in.roof_z = level;
+  in.spacing = spacing;
+  in.caps = fit.curved;
+  for (const Primitive& p : fit.curved) in.cap_points.push_back(on_surface(p, own, nearby, tol));
+  std::optional<Building> domed = domed_roof_building(in);
+  if (!domed) return false;
+  Element& flat = domed->elements.front();
+  flat.support_points = int(on_level);
+  flat.rmse = fit.noise;
+  flat.sigma_area = sigma_area_from_plane(flat.faces, flat.rmse, flat.support_points, spacing / 2);
+  inherit_walls(b, *domed, spacing / 2);
+  measure_building(*domed, storey_height);
+  std::string caps;
+  for (const Primitive& p : fit.curved) caps += (caps.empty() ? "" : ", ") + p.describe();
+  if (!domed->solid_valid) {
+    log::info(b.id + ": a flat roof carrying its " + caps + ", but the model on it fails (" + domed->solid_problem +
+              ")");
+    return false;
+  }
+  domed->lod_note = "roof modelled as a flat roof carrying its " + caps;
+  b = std::move(*domed);
+  return true;
+}
+
 }  // namespace
 
 std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
@@ -100,6 +224,7 @@ std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const s
   if (fit.curved.size() == 1 && p.share >= kWholeRoofShare &&
       remodel_on(b, p, on_surface(p, own, nearby, 2.5 * fit.noise), walls, spacing, storey_height))
     return "";
+  if (remodel_domed(b, fit, own, nearby, spacing, storey_height)) return "";
   std::string note;
   for (const Primitive& q : fit.curved)
     note += (note.empty() ? "" : ", ") + b.id + " " + q.describe() + " (" + std::to_string(q.share) +
