@@ -6,6 +6,7 @@
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
+#include "core/primitives/revolution_faces.h"
 
 namespace c3d {
 
@@ -24,12 +25,6 @@ constexpr double kWallReachM = 0.5;
 constexpr size_t kMinWallPoints = 30;
 // Side walls further off centre than this about a vault's axis are not taken.
 constexpr double kMaxAxisOffsetM = 0.1;
-
-// Steps that keep an arc of `radius` over `angle` within `chord` of its chords.
-int arc_steps(double radius, double angle, double chord) {
-  const double step = 2 * std::acos(std::max(-1.0, 1 - chord / std::max(radius, chord)));
-  return std::max(8, int(std::ceil(std::abs(angle) / step)));
-}
 
 Element element(ElementType t, std::vector<Face> faces) {
   Element e;
@@ -69,49 +64,18 @@ double drum_radius(const CurvedBuildingInput& in) {
   return std::sqrt(quantile(rho2, kRimQuantile) / kRimQuantile);
 }
 
-// A surface of revolution from radius r in to its axis: its roof faces
-// (rings evenly in polar angle on a sphere, in radius on a cone) and its rim,
-// counter-clockwise in plan. The rim's points are those of `rim_point`, so
-// that a drum or a flat roof around it shares them exactly.
-struct Cap {
-  std::vector<Face> roof;
-  Ring3 rim;
-};
-
-Vec3 rim_point(const Primitive& p, double r, int i, int n) {
-  const double a = 2 * kPi * i / n;
-  return {p.point.x() + r * std::cos(a), p.point.y() + r * std::sin(a), revolved_z(p, r)};
-}
-
-Cap cap_faces(const Primitive& p, double r, double chord) {
-  const int n = arc_steps(r, 2 * kPi, chord);
+// A sphere's or cone's surface from radius r in to its axis (rings evenly
+// in polar angle on a sphere; a cone needs none between rim and apex).
+RevolvedFaces cap_faces(const Primitive& p, double r, double chord) {
   const double top_angle = std::asin(std::min(1.0, r / std::max(p.radius, r)));
   const int rings = p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, top_angle, chord) : 1;
-  auto rho_of = [&](int j) {
-    if (p.kind != PrimitiveKind::Sphere) return r * (1 - double(j) / rings);
-    return j == 0 ? r : p.radius * std::sin(top_angle * (1 - double(j) / rings));
-  };
-  auto at = [&](int j, int i) { return j == 0 ? rim_point(p, r, i % n, n) : rim_point(p, rho_of(j), i % n, n); };
-  Cap cap;
-  for (int j = 0; j < rings; ++j)
-    for (int i = 0; i < n; ++i) {
-      if (j + 1 == rings)
-        cap.roof.push_back({{at(j, i), at(j, i + 1), rim_point(p, 0, 0, n)}, {}});
-      else
-        cap.roof.push_back({{at(j, i), at(j, i + 1), at(j + 1, i + 1), at(j + 1, i)}, {}});
-    }
-  for (int i = 0; i < n; ++i) cap.rim.push_back(at(0, i));
-  return cap;
-}
-
-// The drum under a rim (counter-clockwise in plan), down to `floor_z`.
-std::vector<Face> drum_faces(const Ring3& rim, double floor_z) {
-  std::vector<Face> drum;
-  for (size_t i = 0; i < rim.size(); ++i) {
-    const Vec3 a = rim[i], b = rim[(i + 1) % rim.size()];
-    drum.push_back({{{a.x(), a.y(), floor_z}, {b.x(), b.y(), floor_z}, b, a}, {}});
+  std::vector<Vec2> profile{{r, revolved_z(p, r)}};
+  for (int j = 1; j <= rings; ++j) {
+    const double rho = p.kind == PrimitiveKind::Sphere ? p.radius * std::sin(top_angle * (1 - double(j) / rings))
+                                                       : r * (1 - double(j) / rings);
+    profile.push_back({j == rings ? 0.0 : rho, revolved_z(p, j == rings ? 0.0 : rho)});
   }
-  return drum;
+  return revolution_faces(p.point.head<2>(), profile, arc_steps(r, 2 * kPi, chord));
 }
 
 // A ring lowered to height z.
@@ -121,7 +85,7 @@ Ring3 at_height(Ring3 ring, double z) {
 }
 
 Building revolved(const CurvedBuildingInput& in, const Outline& o) {
-  Cap cap = cap_faces(in.roof, o.half, in.chord);
+  RevolvedFaces cap = cap_faces(in.roof, o.half, in.chord);
   Building out;
   out.elements.push_back(element(ElementType::Roof, std::move(cap.roof)));
   if (cap.rim.front().z() - in.ground_z >= kMinWallM)
@@ -406,7 +370,7 @@ void rim_sigma(const Primitive& p, double rim, double roof_z, double sigma, doub
                Element* drum) {
   auto areas = [&](double r) {
     if (p.kind == PrimitiveKind::Sphere) r = std::min(r, p.radius);
-    const Cap c = cap_faces(p, r, chord);
+    const RevolvedFaces c = cap_faces(p, r, chord);
     double roof = 0, wall = 0;
     for (const Face& f : c.roof) roof += area(f);
     for (const Face& f : drum_faces(c.rim, roof_z)) wall += area(f);
@@ -433,7 +397,7 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
   if (overhang) roof = face_at(oriented(in.roof_outline), in.roof_z, true);
   std::vector<Element> caps, drums;
   for (size_t k = 0; k < in.caps.size(); ++k) {
-    Cap cap = cap_faces(in.caps[k], rims[k], in.chord);
+    RevolvedFaces cap = cap_faces(in.caps[k], rims[k], in.chord);
     Ring3 hole = at_height(cap.rim, in.roof_z);
     const bool on_drum = cap.rim.front().z() - in.roof_z > 1e-9;
     if (on_drum) drums.push_back(element(ElementType::Wall, drum_faces(cap.rim, in.roof_z)));

@@ -1,0 +1,49 @@
+#include "core/primitives/revolution_faces.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace c3d {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+Vec3 ring_point(const Vec2& axis, const Vec2& rho_z, int i, int n) {
+  const double a = 2 * kPi * (i % n) / n;
+  return {axis.x() + rho_z.x() * std::cos(a), axis.y() + rho_z.x() * std::sin(a), rho_z.y()};
+}
+}  // namespace
+
+RevolvedFaces revolution_faces(const Vec2& axis, const std::vector<Vec2>& profile, int n) {
+  RevolvedFaces out;
+  if (profile.size() < 2) return out;
+  for (size_t j = 0; j + 1 < profile.size(); ++j) {
+    const Vec2 lo = profile[j], hi = profile[j + 1];
+    for (int i = 0; i < n; ++i) {
+      if (hi.x() <= 0)
+        out.roof.push_back({{ring_point(axis, lo, i, n), ring_point(axis, lo, i + 1, n), ring_point(axis, hi, 0, n)}, {}});
+      else
+        out.roof.push_back({{ring_point(axis, lo, i, n), ring_point(axis, lo, i + 1, n), ring_point(axis, hi, i + 1, n),
+                             ring_point(axis, hi, i, n)},
+                            {}});
+    }
+  }
+  for (int i = 0; i < n; ++i) out.rim.push_back(ring_point(axis, profile.front(), i, n));
+  return out;
+}
+
+std::vector<Face> drum_faces(const Ring3& rim, double floor_z) {
+  std::vector<Face> drum;
+  for (size_t i = 0; i < rim.size(); ++i) {
+    const Vec3 a = rim[i], b = rim[(i + 1) % rim.size()];
+    drum.push_back({{{a.x(), a.y(), floor_z}, {b.x(), b.y(), floor_z}, b, a}, {}});
+  }
+  return drum;
+}
+
+int arc_steps(double radius, double angle, double chord) {
+  const double step = 2 * std::acos(std::max(-1.0, 1 - chord / std::max(radius, chord)));
+  return std::max(8, int(std::ceil(std::abs(angle) / step)));
+}
+
+}  // namespace c3d

@@ -1,0 +1,28 @@
+#pragma once
+// Faces of a surface of revolution about a vertical axis, shared by the
+// curved buildings: rings of planar trapezoids from its rim up to its apex.
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+struct RevolvedFaces {
+  std::vector<Face> roof;  // facing out and up
+  Ring3 rim;               // the lowest ring, counter-clockwise in plan
+};
+
+// The surface through `profile`, (rho, z) from the rim (first) to the apex
+// (last, rho 0), with n steps around the axis at plan position `axis`.
+// Ring vertices are computed one way only, so a drum or a flat roof built on
+// the rim shares them exactly.
+RevolvedFaces revolution_faces(const Vec2& axis, const std::vector<Vec2>& profile, int n);
+
+// The drum under a rim (counter-clockwise in plan), down to `floor_z`.
+std::vector<Face> drum_faces(const Ring3& rim, double floor_z);
+
+// Steps that keep an arc of `radius` over `angle` within `chord` of its
+// chords (at least 8).
+int arc_steps(double radius, double angle, double chord);
+
+}  // namespace c3d
