@@ -32,15 +32,8 @@ using Ransac = CGAL::Shape_detection::Efficient_RANSAC<Traits>;
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kNeighbours = 16;
 constexpr size_t kMaxPoints = 3000;
-// What a curved surface must do better than planes (planes_do_as_well). A
-// BIC lower by 10 is "very strong" evidence on Kass and Raftery's scale
-// (1995). On the curved sample towns the kept ones bow 7-48 times their RMS;
-// on the AHN3 town no candidate passed (docs/curved.md).
-constexpr double kBicMargin = 10, kMinBowOverFit = 5, kMinBowM = 0.15;
-// A roof surface explains its points to the scan's noise: a curved surface
-// fitting a textured or broken planar roof a little better than its planes
-// still leaves them farther (Cimahi: 1.8 times).
-constexpr double kMaxFitOverNoise = 1.5;
+// On the curved sample towns the kept surfaces bow 7-48 times their RMS.
+constexpr double kMinBowOverFit = 5;
 
 Vec3 vec(const Kernel::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 Vec3 vec(const Kernel::Vector_3& v) { return {v.x(), v.y(), v.z()}; }
@@ -244,11 +237,13 @@ double bow(const std::vector<Vec3>& points, const std::vector<int>& idx) {
   return std::sqrt(sum_squares(plane, points, idx) / double(idx.size()));
 }
 
-// Bayesian information criterion of a model with `parameters` leaving n
-// points at `rmse` when their noise is `noise`.
+}  // namespace
+
 double bic(double rmse, int parameters, double n, double noise) {
   return n * (rmse * rmse) / (noise * noise) + parameters * std::log(n);
 }
+
+namespace {
 
 // Why planes serve as well as curved candidate `p` ("" when they do not): its
 // BIC must beat that of every planar account by kBicMargin, its patch must

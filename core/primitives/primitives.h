@@ -51,6 +51,20 @@ struct PrimitiveSearch {
   std::function<PlanarAccount(const std::vector<Vec3>&)> planar_model;
 };
 
+// What a curved surface must do better than planes. A BIC lower by 10 is
+// "very strong" evidence on Kass and Raftery's scale (1995); a patch a few
+// cm off flat is a plane whatever fits it best (on the AHN3 town no
+// candidate passed, docs/curved.md).
+constexpr double kBicMargin = 10, kMinBowM = 0.15;
+// A roof surface explains its points to the scan's noise: a curved surface
+// fitting a textured or broken planar roof a little better than its planes
+// still leaves them farther (Cimahi: 1.8 times).
+constexpr double kMaxFitOverNoise = 1.5;
+
+// Bayesian information criterion of a model with `parameters` leaving n
+// points at `rmse` when their noise is `noise`.
+double bic(double rmse, int parameters, double n, double noise);
+
 // What the search found in one set of points.
 struct PrimitiveFit {
   double noise = 0;                // the noise used (given or estimated), m

@@ -9,6 +9,7 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/primitives/curved_building.h"
+#include "core/primitives/revolved_roof.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
 
@@ -214,22 +215,118 @@ bool remodel_domed(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>
   return true;
 }
 
+// The axis a sphere or an upright cone among the candidates stands on, if
+// one bows like a roof: where a surface of revolution may be.
+std::optional<Vec2> upright_axis(const PrimitiveFit& fit) {
+  for (const auto* list : {&fit.curved, &fit.rejected})
+    for (const Primitive& p : *list)
+      if (p.bow >= kMinBowM && (p.kind == PrimitiveKind::Sphere ||
+                                (p.kind == PrimitiveKind::Cone && std::abs(p.axis.z()) >= std::cos(0.35))))
+        return Vec2(p.point.head<2>());
+  return std::nullopt;
+}
+
+// A free profile has many parameters: it replaces a sphere or cone only
+// where it fits the points materially closer (an onion's cone leaves them
+// 1.5-1.9 times as far), not by the little it gains on any surface.
+constexpr double kMaterialGain = 1.2;
+
+// Why the surface of revolution is not b's roof ("" when it is): it must
+// hold kWholeRoofShare of the roof points, fit them to the noise and beat
+// the modelled planes by the criterion, as a curved primitive must.
+std::string revolution_falls_short(const Building& b, const RevolvedRoof& roof, const std::vector<Vec3>& own,
+                                   double noise, const Primitive* rival) {
+  std::vector<Vec3> inliers;
+  for (int i : roof.inliers) inliers.push_back(own[size_t(i)]);
+  const double n = double(inliers.size());
+  const PlanarAccount planes = planar_account(roof_plane_index(b), inliers);
+  const double curved = bic(roof.rmse, roof.parameters, n, noise), flat = bic(planes.rmse, 3 * planes.planes, n, noise);
+  char why[200] = "";
+  if (n * 100 < double(own.size()) * kWholeRoofShare)
+    std::snprintf(why, sizeof why, "holds %.0f %% of the roof points", 100 * n / double(own.size()));
+  else if (roof.rmse > kMaxFitOverNoise * noise)
+    std::snprintf(why, sizeof why, "fits its points to %.3f m, the scan's noise is %.3f m", roof.rmse, noise);
+  else if (curved + kBicMargin >= flat)
+    std::snprintf(why, sizeof why, "%d planes at %.3f m do as well (BIC %.0f, %.0f)", planes.planes, planes.rmse,
+                  flat, curved);
+  if (*why || !rival) return why;
+  double rss = 0;  // the sphere or cone that would be the whole roof, on the same points
+  for (const Vec3& q : inliers) rss += rival->distance(q) * rival->distance(q);
+  const double rival_rmse = std::sqrt(rss / n);
+  const double other = bic(rival_rmse, rival->kind == PrimitiveKind::Sphere ? 4 : 6, n, noise);
+  if (curved + kBicMargin >= other || rival_rmse < kMaterialGain * roof.rmse)
+    std::snprintf(why, sizeof why, "its %s at %.3f m does as well (BIC %.0f, %.0f)", to_string(rival->kind),
+                  rival_rmse, other, curved);
+  return why;
+}
+
+// b modelled on a surface of revolution about a vertical axis (an onion
+// dome, a bell-shaped roof), where a candidate points to one and it is b's
+// roof by revolution_falls_short, better than `rival` (a sphere or cone
+// holding the whole roof) where given. `unsure` says why its areas are not
+// to be trusted ("" when they are): an overhanging roof over an unseen drum.
+bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>& own,
+                      const std::vector<Vec3>& nearby, const std::vector<Vec3>& walls, double spacing, double storey_height, const Primitive* rival,
+                      std::string& unsure) {
+  const std::optional<Vec2> axis = upright_axis(fit);
+  if (!axis) return false;
+  std::optional<RevolvedRoof> roof = fit_revolved_roof(own, *axis, fit.noise);
+  if (!roof) return false;
+  // Fitted again on the parcel's roof points around its axis (to half a
+  // metre past its widest ring): the planar plan's own points may stop short
+  // of that ring.
+  std::vector<Vec3> disc;
+  for (const Vec3& q : nearby)
+    if ((q.head<2>() - roof->axis).norm() <= roof->profile.front().x() + 0.5) disc.push_back(q);
+  if (std::optional<RevolvedRoof> again = fit_revolved_roof(disc, roof->axis, fit.noise)) roof = std::move(again);
+  else disc = own;
+  const std::string why = revolution_falls_short(b, *roof, disc, fit.noise, rival);
+  if (!why.empty()) {
+    log::debug(b.id + ": not a roof of revolution: " + roof->describe() + ": " + why);
+    return false;
+  }
+  RevolvedBuildingInput in;
+  in.building_id = b.id;
+  in.roof = *roof;
+  in.wall_points = walls;
+  in.ground_z = b.terrain_z;
+  in.spacing = spacing;
+  std::optional<Building> revolved = revolved_roof_building(in);
+  if (!revolved) return false;
+  measure_building(*revolved, storey_height);
+  if (!revolved->solid_valid) {
+    log::info(b.id + ": its roof is a " + roof->describe() + " but the model on it fails (" +
+              revolved->solid_problem + ")");
+    return false;
+  }
+  revolved->lod_note = "roof modelled on its " + roof->describe();
+  if (roof->may_overhang() && !drum_seen(in))
+    unsure = b.id + ": no wall point shows the drum under its roof, which is plumb where the points stop and may "
+                    "overhang it: drum and the roof's underside unknown";
+  b = std::move(*revolved);
+  return true;
+}
+
 }  // namespace
 
 std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
                               const std::vector<Vec3>& walls, double spacing, double storey_height) {
   const PrimitiveFit fit = curved_surfaces(b, own);
-  if (fit.curved.empty()) return "";
-  const Primitive& p = fit.curved.front();
-  if (fit.curved.size() == 1 && p.share >= kWholeRoofShare &&
-      remodel_on(b, p, on_surface(p, own, nearby, 2.5 * fit.noise), walls, spacing, storey_height))
+  std::string unsure;
+  const Primitive* whole =
+      fit.curved.size() == 1 && fit.curved.front().share >= kWholeRoofShare ? &fit.curved.front() : nullptr;
+  const bool round = whole && whole->kind != PrimitiveKind::Cylinder;
+  if (round && remodel_revolved(b, fit, own, nearby, walls, spacing, storey_height, whole, unsure)) return unsure;
+  if (whole && remodel_on(b, *whole, on_surface(*whole, own, nearby, 2.5 * fit.noise), walls, spacing, storey_height))
     return "";
-  if (remodel_domed(b, fit, own, nearby, spacing, storey_height)) return "";
+  if (!fit.curved.empty() && remodel_domed(b, fit, own, nearby, spacing, storey_height)) return "";
+  if (!round && remodel_revolved(b, fit, own, nearby, walls, spacing, storey_height, nullptr, unsure)) return unsure;
+  if (fit.curved.empty()) return "";
   std::string note;
   for (const Primitive& q : fit.curved)
     note += (note.empty() ? "" : ", ") + b.id + " " + q.describe() + " (" + std::to_string(q.share) +
             " % of its roof points)";
-  return note;
+  return "curved roof modelled with planes, areas unreliable: " + note;
 }
 
 }  // namespace c3d

@@ -461,10 +461,10 @@ std::string curved_roofs(const ParcelContext& c, ModelledParcel& m) {
     const std::vector<Vec3> own = prism_source(c, m.plans[k], b.id, true, false).own;
     const std::string why = model_curved_roof(b, own, c.scene.roof_points, c.scene.wall_points, c.roofs.spacing,
                                               c.p.storey_height_m);
-    if (!why.empty()) note += (note.empty() ? "" : ", ") + why;
+    if (!why.empty()) note += (note.empty() ? "" : "; ") + why;
   }
   c.clock.lap("curved surfaces");
-  return note.empty() ? "" : "curved roof modelled with planes, areas unreliable: " + note;
+  return note;
 }
 
 }  // namespace
