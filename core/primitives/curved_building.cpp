@@ -26,14 +26,6 @@ constexpr size_t kMinWallPoints = 30;
 // Side walls further off centre than this about a vault's axis are not taken.
 constexpr double kMaxAxisOffsetM = 0.1;
 
-Element element(ElementType t, std::vector<Face> faces) {
-  Element e;
-  e.type = t;
-  e.faces = std::move(faces);
-  for (const Face& f : e.faces) e.area += area(f), e.plan_area += plan_area(f);
-  return e;
-}
-
 // The shape a curved building stands on, in numbers: what the uncertainty
 // of its rim moves.
 struct Outline {
@@ -87,12 +79,12 @@ Ring3 at_height(Ring3 ring, double z) {
 Building revolved(const CurvedBuildingInput& in, const Outline& o) {
   RevolvedFaces cap = cap_faces(in.roof, o.half, in.chord);
   Building out;
-  out.elements.push_back(element(ElementType::Roof, std::move(cap.roof)));
+  out.elements.push_back(element_of(ElementType::Roof, std::move(cap.roof)));
   if (cap.rim.front().z() - in.ground_z >= kMinWallM)
-    out.elements.push_back(element(ElementType::Wall, drum_faces(cap.rim, in.ground_z)));
+    out.elements.push_back(element_of(ElementType::Wall, drum_faces(cap.rim, in.ground_z)));
   Ring3 ground = at_height(cap.rim, in.ground_z);
   std::reverse(ground.begin(), ground.end());
-  out.elements.push_back(element(ElementType::Ground, {{ground, {}}}));
+  out.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
   return out;
 }
 
@@ -163,7 +155,7 @@ Building vault(const CurvedBuildingInput& in, const Outline& o) {
                     {}});
   }
   Building out;
-  out.elements.push_back(element(ElementType::Roof, std::move(roof)));
+  out.elements.push_back(element_of(ElementType::Roof, std::move(roof)));
   const double wall = arc.front().y() - in.ground_z;
   for (double t : {o.a, o.b}) {  // end walls up to the arc
     Ring3 end;
@@ -171,18 +163,18 @@ Building vault(const CurvedBuildingInput& in, const Outline& o) {
       end.push_back(f.world(t, o.half, in.ground_z)), end.push_back(f.world(t, -o.half, in.ground_z));
     for (const Vec2& q : arc) end.push_back(f.world(t, q.x(), q.y()));
     if (t == o.b) std::reverse(end.begin(), end.end());
-    out.elements.push_back(element(ElementType::Wall, {{end, {}}}));
+    out.elements.push_back(element_of(ElementType::Wall, {{end, {}}}));
   }
   if (wall >= kMinWallM)
     for (double s : {-o.half, o.half}) {  // side walls up to the springing
       Ring3 side{f.world(o.a, s, in.ground_z), f.world(o.b, s, in.ground_z), f.world(o.b, s, arc.front().y()),
                  f.world(o.a, s, arc.front().y())};
       if (s > 0) std::reverse(side.begin(), side.end());
-      out.elements.push_back(element(ElementType::Wall, {{side, {}}}));
+      out.elements.push_back(element_of(ElementType::Wall, {{side, {}}}));
     }
   Ring3 ground{f.world(o.a, -o.half, in.ground_z), f.world(o.a, o.half, in.ground_z), f.world(o.b, o.half, in.ground_z),
                f.world(o.b, -o.half, in.ground_z)};
-  out.elements.push_back(element(ElementType::Ground, {{ground, {}}}));
+  out.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
   return out;
 }
 
@@ -358,7 +350,7 @@ void add_edge_walls(const Ring2& ring, double z0, double z1, Building& b) {
   for (size_t i = 0; i < ring.size(); ++i) {
     const Vec2 p = ring[i], q = ring[(i + 1) % ring.size()];
     if ((q - p).norm() < 1e-6) continue;
-    b.elements.push_back(element(ElementType::Wall, {{{{p.x(), p.y(), z0}, {q.x(), q.y(), z0}, {q.x(), q.y(), z1},
+    b.elements.push_back(element_of(ElementType::Wall, {{{{p.x(), p.y(), z0}, {q.x(), q.y(), z0}, {q.x(), q.y(), z1},
                                                         {p.x(), p.y(), z1}},
                                                        {}}}));
   }
@@ -400,22 +392,22 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
     RevolvedFaces cap = cap_faces(in.caps[k], rims[k], in.chord);
     Ring3 hole = at_height(cap.rim, in.roof_z);
     const bool on_drum = cap.rim.front().z() - in.roof_z > 1e-9;
-    if (on_drum) drums.push_back(element(ElementType::Wall, drum_faces(cap.rim, in.roof_z)));
+    if (on_drum) drums.push_back(element_of(ElementType::Wall, drum_faces(cap.rim, in.roof_z)));
     else hole = cap.rim;  // the cap meets the roof: its own rim, vertex for vertex
     std::reverse(hole.begin(), hole.end());
     flat.holes.push_back(hole);
     roof.holes.push_back(hole);
-    caps.push_back(element(ElementType::Roof, std::move(cap.roof)));
+    caps.push_back(element_of(ElementType::Roof, std::move(cap.roof)));
     caps.back().support_points = int(in.cap_points[k].size());
     caps.back().rmse = in.caps[k].rmse;
     rim_sigma(in.caps[k], rims[k], in.roof_z, sigma, in.chord, caps.back(), on_drum ? &drums.back() : nullptr);
   }
-  b.elements.push_back(element(ElementType::Roof, {roof}));
+  b.elements.push_back(element_of(ElementType::Roof, {roof}));
   b.elements.insert(b.elements.end(), caps.begin(), caps.end());
   b.elements.insert(b.elements.end(), drums.begin(), drums.end());
   add_edge_walls(foot.outer, in.ground_z, in.roof_z, b);
   for (const Ring2& h : foot.holes) add_edge_walls(h, in.ground_z, in.roof_z, b);
-  b.elements.push_back(element(ElementType::Ground, {face_at(foot, in.ground_z, false)}));
+  b.elements.push_back(element_of(ElementType::Ground, {face_at(foot, in.ground_z, false)}));
   for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
   b.solid.front() = flat;
   b.id = in.building_id;
@@ -425,7 +417,7 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
   std::vector<Face> soffits;  // the outer ceiling, not in the solid (docs/design.md)
   for (const Polygon2& p : poly::subtract({in.roof_outline}, {foot}))
     if (area(p) > 0.01) soffits.push_back(face_at(oriented(p), in.roof_z, false));
-  if (!soffits.empty()) b.elements.push_back(element(ElementType::OuterCeiling, std::move(soffits)));
+  if (!soffits.empty()) b.elements.push_back(element_of(ElementType::OuterCeiling, std::move(soffits)));
   return b;
 }
 

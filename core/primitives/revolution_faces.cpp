@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/geometry.h"
+
 namespace c3d {
 
 namespace {
@@ -39,6 +41,14 @@ std::vector<Face> drum_faces(const Ring3& rim, double floor_z) {
     drum.push_back({{{a.x(), a.y(), floor_z}, {b.x(), b.y(), floor_z}, b, a}, {}});
   }
   return drum;
+}
+
+Element element_of(ElementType type, std::vector<Face> faces) {
+  Element e;
+  e.type = type;
+  e.faces = std::move(faces);
+  for (const Face& f : e.faces) e.area += area(f), e.plan_area += plan_area(f);
+  return e;
 }
 
 int arc_steps(double radius, double angle, double chord) {

@@ -21,6 +21,9 @@ RevolvedFaces revolution_faces(const Vec2& axis, const std::vector<Vec2>& profil
 // The drum under a rim (counter-clockwise in plan), down to `floor_z`.
 std::vector<Face> drum_faces(const Ring3& rim, double floor_z);
 
+// An element of these faces, measured on them (area, plan area).
+Element element_of(ElementType type, std::vector<Face> faces);
+
 // Steps that keep an arc of `radius` over `angle` within `chord` of its
 // chords (at least 8).
 int arc_steps(double radius, double angle, double chord);

@@ -114,14 +114,6 @@ double polyline_distance(const std::vector<Vec2>& line, const Vec2& q) {
   return best;
 }
 
-Element element(ElementType t, std::vector<Face> faces) {
-  Element e;
-  e.type = t;
-  e.faces = std::move(faces);
-  for (const Face& f : e.faces) e.area += area(f), e.plan_area += plan_area(f);
-  return e;
-}
-
 // Where a wall scan saw the drum: the median distance to the axis of the
 // wall points under the roof's widest ring, near it, and the height they
 // reach (from their 2 and 98 % quantiles, as points spread evenly up it),
@@ -153,12 +145,12 @@ Building on_drum(const RevolvedBuildingInput& in, const std::vector<Vec2>& profi
   const std::vector<Vec2> rings = poly::simplify_line(profile, in.chord);
   RevolvedFaces roof = revolution_faces(in.roof.axis, rings, arc_steps(rings.front().x(), 2 * kPi, in.chord));
   Building b;
-  b.elements.push_back(element(ElementType::Roof, std::move(roof.roof)));
-  b.elements.push_back(element(ElementType::Wall, drum_faces(roof.rim, in.ground_z)));
+  b.elements.push_back(element_of(ElementType::Roof, std::move(roof.roof)));
+  b.elements.push_back(element_of(ElementType::Wall, drum_faces(roof.rim, in.ground_z)));
   Ring3 ground = roof.rim;
   for (Vec3& q : ground) q.z() = in.ground_z;
   std::reverse(ground.begin(), ground.end());
-  b.elements.push_back(element(ElementType::Ground, {{ground, {}}}));
+  b.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
   for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
   b.id = in.building_id;
   b.terrain_z = in.ground_z;
