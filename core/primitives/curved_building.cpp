@@ -77,15 +77,7 @@ Ring3 at_height(Ring3 ring, double z) {
 }
 
 Building revolved(const CurvedBuildingInput& in, const Outline& o) {
-  RevolvedFaces cap = cap_faces(in.roof, o.half, in.chord);
-  Building out;
-  out.elements.push_back(element_of(ElementType::Roof, std::move(cap.roof)));
-  if (cap.rim.front().z() - in.ground_z >= kMinWallM)
-    out.elements.push_back(element_of(ElementType::Wall, drum_faces(cap.rim, in.ground_z)));
-  Ring3 ground = at_height(cap.rim, in.ground_z);
-  std::reverse(ground.begin(), ground.end());
-  out.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
-  return out;
+  return on_round_drum(cap_faces(in.roof, o.half, in.chord), in.ground_z, kMinWallM);
 }
 
 // ---- A cylinder with a level axis over a rectangle ----
@@ -202,10 +194,7 @@ void face_outward(Building& b) {
 Building build(const CurvedBuildingInput& in, const Outline& o) {
   Building b = in.roof.kind == PrimitiveKind::Cylinder ? vault(in, o) : revolved(in, o);
   face_outward(b);
-  for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
-  b.id = in.building_id;
-  b.terrain_z = in.ground_z;
-  b.lod = Lod::Lod22;
+  close_curved(b, in.building_id, in.ground_z);
   return b;
 }
 
@@ -327,11 +316,6 @@ bool discs_fit(const Polygon2& foot, const std::vector<std::pair<Vec2, double>>&
 // The footprint's rings as the walls need them: outer counter-clockwise,
 // holes clockwise.
 Polygon2 oriented(Polygon2 p) {
-  auto signed_area = [](const Ring2& r) {
-    double a = 0;
-    for (size_t i = 0; i < r.size(); ++i) a += r[i].x() * r[(i + 1) % r.size()].y() - r[(i + 1) % r.size()].x() * r[i].y();
-    return a / 2;
-  };
   if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
   for (Ring2& h : p.holes)
     if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
@@ -408,11 +392,8 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
   add_edge_walls(foot.outer, in.ground_z, in.roof_z, b);
   for (const Ring2& h : foot.holes) add_edge_walls(h, in.ground_z, in.roof_z, b);
   b.elements.push_back(element_of(ElementType::Ground, {face_at(foot, in.ground_z, false)}));
-  for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
+  close_curved(b, in.building_id, in.ground_z);
   b.solid.front() = flat;
-  b.id = in.building_id;
-  b.terrain_z = in.ground_z;
-  b.lod = Lod::Lod22;
   if (!overhang) return b;
   std::vector<Face> soffits;  // the outer ceiling, not in the solid (docs/design.md)
   for (const Polygon2& p : poly::subtract({in.roof_outline}, {foot}))

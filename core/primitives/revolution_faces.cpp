@@ -51,6 +51,24 @@ Element element_of(ElementType type, std::vector<Face> faces) {
   return e;
 }
 
+Building on_round_drum(RevolvedFaces roof, double ground_z, double min_wall) {
+  Building b;
+  b.elements.push_back(element_of(ElementType::Roof, std::move(roof.roof)));
+  if (roof.rim.front().z() - ground_z >= min_wall)
+    b.elements.push_back(element_of(ElementType::Wall, drum_faces(roof.rim, ground_z)));
+  Ring3 ground(roof.rim.rbegin(), roof.rim.rend());
+  for (Vec3& q : ground) q.z() = ground_z;
+  b.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
+  return b;
+}
+
+void close_curved(Building& b, const std::string& id, double ground_z) {
+  for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
+  b.id = id;
+  b.terrain_z = ground_z;
+  b.lod = Lod::Lod22;
+}
+
 int arc_steps(double radius, double angle, double chord) {
   const double step = 2 * std::acos(std::max(-1.0, 1 - chord / std::max(radius, chord)));
   return std::max(8, int(std::ceil(std::abs(angle) / step)));

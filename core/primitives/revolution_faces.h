@@ -1,6 +1,8 @@
 #pragma once
 // Faces of a surface of revolution about a vertical axis, shared by the
-// curved buildings: rings of planar trapezoids from its rim up to its apex.
+// curved buildings: rings of planar trapezoids from its rim up to its apex,
+// and what every curved building is assembled with.
+#include <string>
 #include <vector>
 
 #include "core/types.h"
@@ -23,6 +25,14 @@ std::vector<Face> drum_faces(const Ring3& rim, double floor_z);
 
 // An element of these faces, measured on them (area, plan area).
 Element element_of(ElementType type, std::vector<Face> faces);
+
+// A round building's elements: the roof, the drum under its rim down to
+// ground_z where the rim stands at least min_wall above it, the ground disc.
+Building on_round_drum(RevolvedFaces roof, double ground_z, double min_wall);
+
+// b's solid made of all its elements' faces so far, its id, ground level and
+// LoD 2.2: what every curved building ends with.
+void close_curved(Building& b, const std::string& id, double ground_z);
 
 // Steps that keep an arc of `radius` over `angle` within `chord` of its
 // chords (at least 8).

@@ -22,6 +22,8 @@ constexpr size_t kMinPoints = 50;
 constexpr size_t kMinBinPoints = 3;
 constexpr int kDenseSamples = 256;
 constexpr double kRimQuantile = 0.95;
+// A roof whose rim is lower over the ground than this stands on no drum.
+constexpr double kMinDrumWallM = 0.05;
 
 double quantile_of(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
@@ -143,18 +145,9 @@ std::pair<double, double> seen_drum(const RevolvedBuildingInput& in) {
 // The building on `profile` (rho, z from the drum's top to the apex).
 Building on_drum(const RevolvedBuildingInput& in, const std::vector<Vec2>& profile) {
   const std::vector<Vec2> rings = poly::simplify_line(profile, in.chord);
-  RevolvedFaces roof = revolution_faces(in.roof.axis, rings, arc_steps(rings.front().x(), 2 * kPi, in.chord));
-  Building b;
-  b.elements.push_back(element_of(ElementType::Roof, std::move(roof.roof)));
-  b.elements.push_back(element_of(ElementType::Wall, drum_faces(roof.rim, in.ground_z)));
-  Ring3 ground = roof.rim;
-  for (Vec3& q : ground) q.z() = in.ground_z;
-  std::reverse(ground.begin(), ground.end());
-  b.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
-  for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
-  b.id = in.building_id;
-  b.terrain_z = in.ground_z;
-  b.lod = Lod::Lod22;
+  Building b = on_round_drum(revolution_faces(in.roof.axis, rings, arc_steps(rings.front().x(), 2 * kPi, in.chord)),
+                             in.ground_z, kMinDrumWallM);
+  close_curved(b, in.building_id, in.ground_z);
   return b;
 }
 
@@ -173,7 +166,7 @@ std::vector<Vec2> drum_profile(const RevolvedBuildingInput& in, double drum_r, d
 }  // namespace
 
 std::optional<Building> revolved_roof_building(const RevolvedBuildingInput& in) {
-  if (in.roof.profile.size() < 3 || in.roof.profile.front().y() - in.ground_z < 0.05) return std::nullopt;
+  if (in.roof.profile.size() < 3 || in.roof.profile.front().y() - in.ground_z < kMinDrumWallM) return std::nullopt;
   const auto [drum_r, drum_top] = seen_drum(in);
   Building b = on_drum(in, drum_profile(in, drum_r, drum_top, 0));
   const double sigma = std::max(0.001, in.spacing / 2);

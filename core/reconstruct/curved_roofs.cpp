@@ -73,6 +73,20 @@ std::vector<Vec3> on_surface(const Primitive& p, const std::vector<Vec3>& own, c
   return out;
 }
 
+// b replaced by `model` where there is one and, measured, it is valid; its
+// reason then says the roof was modelled `how` ("on its sphere r 5.38 m").
+bool adopt(Building& b, std::optional<Building> model, const std::string& how, double storey_height) {
+  if (!model) return false;
+  measure_building(*model, storey_height);
+  if (!model->solid_valid) {
+    log::info(b.id + ": its roof would be modelled " + how + ", but the model fails (" + model->solid_problem + ")");
+    return false;
+  }
+  model->lod_note = "roof modelled " + how;
+  b = std::move(*model);
+  return true;
+}
+
 // b modelled on surface p, if valid.
 bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, const std::vector<Vec3>& walls,
                 double spacing, double storey_height) {
@@ -83,16 +97,7 @@ bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, const
   in.wall_points = walls;
   in.ground_z = b.terrain_z;
   in.spacing = spacing;
-  std::optional<Building> curved = curved_building(in);
-  if (!curved) return false;
-  measure_building(*curved, storey_height);
-  if (!curved->solid_valid) {
-    log::info(b.id + ": its roof is a " + p.describe() + " but the model on it fails (" + curved->solid_problem + ")");
-    return false;
-  }
-  curved->lod_note = "roof modelled on its " + p.describe();
-  b = std::move(*curved);
-  return true;
+  return adopt(b, curved_building(in), "on its " + p.describe(), storey_height);
 }
 
 // The plan segment of a vertical face: its two extreme points along `dir`.
@@ -160,17 +165,26 @@ Polygon2 overhanging_outline(const Building& b, const Polygon2& footprint) {
   return area(outline) - area(footprint) > kMinOverhangM2 ? outline : Polygon2{};
 }
 
-// The median height of the points on no curved surface, and how many lie
-// within `tol` of it: a flat roof's level.
-std::pair<double, size_t> flat_level(const std::vector<Vec3>& own, const std::vector<Primitive>& caps, double tol) {
+// A flat roof's level among the points: the median height of those on no
+// curved surface (within `tol`), how many lie within `tol` of it, and how
+// many lie on a curved surface.
+struct FlatLevel {
+  double z = kNaN;
+  size_t on_level = 0, on_caps = 0;
+};
+
+FlatLevel flat_level(const std::vector<Vec3>& own, const std::vector<Primitive>& caps, double tol) {
+  FlatLevel f;
   std::vector<double> z;
   for (const Vec3& q : own)
     if (std::none_of(caps.begin(), caps.end(), [&](const Primitive& p) { return std::abs(p.distance(q)) <= tol; }))
       z.push_back(q.z());
-  if (z.size() < 10) return {kNaN, 0};
+  f.on_caps = own.size() - z.size();
+  if (z.size() < 10) return f;
   std::nth_element(z.begin(), z.begin() + long(z.size() / 2), z.end());
-  const double level = z[z.size() / 2];
-  return {level, size_t(std::count_if(z.begin(), z.end(), [&](double v) { return std::abs(v - level) <= tol; }))};
+  f.z = z[z.size() / 2];
+  f.on_level = size_t(std::count_if(z.begin(), z.end(), [&](double v) { return std::abs(v - f.z) <= tol; }));
+  return f;
 }
 
 // b modelled as a flat roof carrying its curved surfaces (domes, cones),
@@ -179,49 +193,40 @@ std::pair<double, size_t> flat_level(const std::vector<Vec3>& own, const std::ve
 bool remodel_domed(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>& own,
                    const std::vector<Vec3>& nearby, double spacing, double storey_height) {
   const double tol = 2.5 * fit.noise;
-  const auto [level, on_level] = flat_level(own, fit.curved, tol);
-  if (std::isnan(level)) return false;
-  size_t on_caps = 0;
-  for (const Vec3& q : own)
-    on_caps += std::any_of(fit.curved.begin(), fit.curved.end(),
-                           [&](const Primitive& p) { return std::abs(p.distance(q)) <= tol; });
-  if ((on_caps + on_level) * 100 < own.size() * size_t(kWholeRoofShare)) return false;
+  const FlatLevel level = flat_level(own, fit.curved, tol);
+  if (std::isnan(level.z) || (level.on_caps + level.on_level) * 100 < own.size() * size_t(kWholeRoofShare))
+    return false;
   DomedRoofInput in;
   in.building_id = b.id;
   in.footprint = ground_footprint(b);
   in.roof_outline = overhanging_outline(b, in.footprint);
   in.ground_z = b.terrain_z;
-  in.roof_z = level;
+  in.roof_z = level.z;
   in.spacing = spacing;
   in.caps = fit.curved;
   for (const Primitive& p : fit.curved) in.cap_points.push_back(on_surface(p, own, nearby, tol));
   std::optional<Building> domed = domed_roof_building(in);
-  if (!domed) return false;
-  Element& flat = domed->elements.front();
-  flat.support_points = int(on_level);
-  flat.rmse = fit.noise;
-  flat.sigma_area = sigma_area_from_plane(flat.faces, flat.rmse, flat.support_points, spacing / 2);
-  inherit_walls(b, *domed, spacing / 2);
-  measure_building(*domed, storey_height);
+  if (domed) {
+    Element& flat = domed->elements.front();
+    flat.support_points = int(level.on_level);
+    flat.rmse = fit.noise;
+    flat.sigma_area = sigma_area_from_plane(flat.faces, flat.rmse, flat.support_points, spacing / 2);
+    inherit_walls(b, *domed, spacing / 2);
+  }
   std::string caps;
   for (const Primitive& p : fit.curved) caps += (caps.empty() ? "" : ", ") + p.describe();
-  if (!domed->solid_valid) {
-    log::info(b.id + ": a flat roof carrying its " + caps + ", but the model on it fails (" + domed->solid_problem +
-              ")");
-    return false;
-  }
-  domed->lod_note = "roof modelled as a flat roof carrying its " + caps;
-  b = std::move(*domed);
-  return true;
+  return adopt(b, std::move(domed), "as a flat roof carrying its " + caps, storey_height);
 }
 
-// The axis a sphere or an upright cone among the candidates stands on, if
-// one bows like a roof: where a surface of revolution may be.
+// The axis a sphere or an upright cone (within 0.35 rad, about the 20 deg
+// the search allows a cone) among the candidates stands on, if one bows like
+// a roof: where a surface of revolution may be.
+constexpr double kUprightConeRad = 0.35;
 std::optional<Vec2> upright_axis(const PrimitiveFit& fit) {
   for (const auto* list : {&fit.curved, &fit.rejected})
     for (const Primitive& p : *list)
       if (p.bow >= kMinBowM && (p.kind == PrimitiveKind::Sphere ||
-                                (p.kind == PrimitiveKind::Cone && std::abs(p.axis.z()) >= std::cos(0.35))))
+                                (p.kind == PrimitiveKind::Cone && std::abs(p.axis.z()) >= std::cos(kUprightConeRad))))
         return Vec2(p.point.head<2>());
   return std::nullopt;
 }
@@ -266,8 +271,8 @@ std::string revolution_falls_short(const Building& b, const RevolvedRoof& roof, 
 // holding the whole roof) where given. `unsure` says why its areas are not
 // to be trusted ("" when they are): an overhanging roof over an unseen drum.
 bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>& own,
-                      const std::vector<Vec3>& nearby, const std::vector<Vec3>& walls, double spacing, double storey_height, const Primitive* rival,
-                      std::string& unsure) {
+                      const std::vector<Vec3>& nearby, const std::vector<Vec3>& walls, double spacing,
+                      double storey_height, const Primitive* rival, std::string& unsure) {
   const std::optional<Vec2> axis = upright_axis(fit);
   if (!axis) return false;
   std::optional<RevolvedRoof> roof = fit_revolved_roof(own, *axis, fit.noise);
@@ -291,19 +296,11 @@ bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Ve
   in.wall_points = walls;
   in.ground_z = b.terrain_z;
   in.spacing = spacing;
-  std::optional<Building> revolved = revolved_roof_building(in);
-  if (!revolved) return false;
-  measure_building(*revolved, storey_height);
-  if (!revolved->solid_valid) {
-    log::info(b.id + ": its roof is a " + roof->describe() + " but the model on it fails (" +
-              revolved->solid_problem + ")");
-    return false;
-  }
-  revolved->lod_note = "roof modelled on its " + roof->describe();
+  const std::string id = b.id;
+  if (!adopt(b, revolved_roof_building(in), "on its " + roof->describe(), storey_height)) return false;
   if (roof->may_overhang() && !drum_seen(in))
-    unsure = b.id + ": no wall point shows the drum under its roof, which is plumb where the points stop and may "
-                    "overhang it: drum and the roof's underside unknown";
-  b = std::move(*revolved);
+    unsure = id + ": no wall point shows the drum under its roof, which is plumb where the points stop and may "
+                  "overhang it: drum and the roof's underside unknown";
   return true;
 }
 
