@@ -236,16 +236,36 @@ std::optional<Vec2> upright_axis(const PrimitiveFit& fit) {
 // 1.5-1.9 times as far), not by the little it gains on any surface.
 constexpr double kMaterialGain = 1.2;
 
-// Why the surface of revolution is not b's roof ("" when it is): it must
-// hold kWholeRoofShare of the roof points, fit them to the noise and beat
-// the modelled planes by the criterion, as a curved primitive must.
-std::string revolution_falls_short(const Building& b, const RevolvedRoof& roof, const std::vector<Vec3>& own,
+// The RMS distance of `pts` to surface p.
+double rmse_to(const Primitive& p, const std::vector<Vec3>& pts) {
+  double rss = 0;
+  for (const Vec3& q : pts) rss += p.distance(q) * p.distance(q);
+  return pts.empty() ? 0 : std::sqrt(rss / double(pts.size()));
+}
+
+// Whether the surface of revolution is b's roof: `why` not ("" when it is);
+// it must hold kWholeRoofShare of the roof points, fit them to the noise and
+// beat the modelled planes by the criterion, as a curved primitive must, and
+// beat `rival` (a sphere or cone holding the whole roof) where given.
+// `rival_off` says whether the rival leaves the revolution's points
+// materially farther: then the rival is no account of the roof either.
+struct RevolutionVerdict {
+  std::string why;
+  bool rival_off = false;
+  double rival_rmse = 0;  // the rival's RMS distance to the revolution's points
+};
+
+RevolutionVerdict judge_revolution(const Building& b, const RevolvedRoof& roof, const std::vector<Vec3>& own,
                                    double noise, const Primitive* rival) {
   std::vector<Vec3> inliers;
   for (int i : roof.inliers) inliers.push_back(own[size_t(i)]);
   const double n = double(inliers.size());
   const PlanarAccount planes = planar_account(roof_plane_index(b), inliers);
   const double curved = bic(roof.rmse, roof.parameters, n, noise), flat = bic(planes.rmse, 3 * planes.planes, n, noise);
+  RevolutionVerdict v;
+  v.rival_rmse = rival ? rmse_to(*rival, inliers) : 0;
+  const double other = rival ? bic(v.rival_rmse, rival->kind == PrimitiveKind::Sphere ? 4 : 6, n, noise) : 0;
+  v.rival_off = rival && curved + kBicMargin < other && v.rival_rmse >= kMaterialGain * roof.rmse;
   char why[200] = "";
   if (n * 100 < double(own.size()) * kWholeRoofShare)
     std::snprintf(why, sizeof why, "holds %.0f %% of the roof points", 100 * n / double(own.size()));
@@ -254,22 +274,19 @@ std::string revolution_falls_short(const Building& b, const RevolvedRoof& roof, 
   else if (curved + kBicMargin >= flat)
     std::snprintf(why, sizeof why, "%d planes at %.3f m do as well (BIC %.0f, %.0f)", planes.planes, planes.rmse,
                   flat, curved);
-  if (*why || !rival) return why;
-  double rss = 0;  // the sphere or cone that would be the whole roof, on the same points
-  for (const Vec3& q : inliers) rss += rival->distance(q) * rival->distance(q);
-  const double rival_rmse = std::sqrt(rss / n);
-  const double other = bic(rival_rmse, rival->kind == PrimitiveKind::Sphere ? 4 : 6, n, noise);
-  if (curved + kBicMargin >= other || rival_rmse < kMaterialGain * roof.rmse)
+  else if (rival && !v.rival_off)
     std::snprintf(why, sizeof why, "its %s at %.3f m does as well (BIC %.0f, %.0f)", to_string(rival->kind),
-                  rival_rmse, other, curved);
-  return why;
+                  v.rival_rmse, other, curved);
+  v.why = why;
+  return v;
 }
 
 // b modelled on a surface of revolution about a vertical axis (an onion
 // dome, a bell-shaped roof), where a candidate points to one and it is b's
-// roof by revolution_falls_short, better than `rival` (a sphere or cone
+// roof by judge_revolution, better than `rival` (a sphere or cone
 // holding the whole roof) where given. `unsure` says why its areas are not
-// to be trusted ("" when they are): an overhanging roof over an unseen drum.
+// to be trusted ("" when they are): an overhanging roof over an unseen drum,
+// or a rival that is no account of the roof either.
 bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>& own,
                       const std::vector<Vec3>& nearby, const std::vector<Vec3>& walls, double spacing,
                       double storey_height, const Primitive* rival, std::string& unsure) {
@@ -285,9 +302,17 @@ bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Ve
     if ((q.head<2>() - roof->axis).norm() <= roof->profile.front().x() + 0.5) disc.push_back(q);
   if (std::optional<RevolvedRoof> again = fit_revolved_roof(disc, roof->axis, fit.noise)) roof = std::move(again);
   else disc = own;
-  const std::string why = revolution_falls_short(b, *roof, disc, fit.noise, rival);
-  if (!why.empty()) {
-    log::debug(b.id + ": not a roof of revolution: " + roof->describe() + ": " + why);
+  const RevolutionVerdict verdict = judge_revolution(b, *roof, disc, fit.noise, rival);
+  if (!verdict.why.empty()) {
+    log::debug(b.id + ": not a roof of revolution: " + roof->describe() + ": " + verdict.why);
+    // Neither surface accounts for the roof: the rival leaves the points
+    // kMaterialGain farther than a profile that still misses some of them.
+    if (verdict.rival_off) {
+      char far[40];
+      std::snprintf(far, sizeof far, "%.3f m", verdict.rival_rmse);
+      unsure = "curved roof modelled with planes, areas unreliable: " + b.id + " " + rival->describe() +
+               " is " + far + " off the points of its " + roof->describe() + ", which " + verdict.why;
+    }
     return false;
   }
   RevolvedBuildingInput in;
@@ -314,6 +339,7 @@ std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const s
       fit.curved.size() == 1 && fit.curved.front().share >= kWholeRoofShare ? &fit.curved.front() : nullptr;
   const bool round = whole && whole->kind != PrimitiveKind::Cylinder;
   if (round && remodel_revolved(b, fit, own, nearby, walls, spacing, storey_height, whole, unsure)) return unsure;
+  if (!unsure.empty()) return unsure;
   if (whole && remodel_on(b, *whole, on_surface(*whole, own, nearby, 2.5 * fit.noise), walls, spacing, storey_height))
     return "";
   if (!fit.curved.empty() && remodel_domed(b, fit, own, nearby, spacing, storey_height)) return "";
