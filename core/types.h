@@ -190,6 +190,31 @@ struct LodShell {
   double roof_rmse = kNaN;              // of the roof points against this shell's roof, m
 };
 
+// The exact shape of a curved building (docs/curved.md), which its faces
+// tessellate: the union of its parts, each a closed profile in the plane
+// through `origin` spanned by `u` and `v`, either turned about the line
+// through `origin` along `v` (a dome, cone or onion on its drum: profile in
+// (distance from the axis, z)) or swept along `path` (a vault: its end
+// profile in (across, z); a hall: its footprint). The profile runs from
+// `start` through its steps and closes with a line back to `start`.
+struct ProfileStep {
+  enum class Kind { Line, Arc, Spline };
+  Kind kind = Kind::Line;
+  std::vector<Vec2> through;  // an arc: a point on it; a spline: the points it passes, in order
+  Vec2 to = Vec2::Zero();     // where it ends
+};
+
+struct ShapePart {
+  bool revolve = false;
+  Vec3 origin = Vec3::Zero(), u = Vec3::UnitX(), v = Vec3::UnitZ(), path = Vec3::Zero();
+  Vec2 start = Vec2::Zero();
+  std::vector<ProfileStep> steps;
+};
+
+struct ExactShape {
+  std::vector<ShapePart> parts;  // none: the faces are the shape
+};
+
 struct Building {
   std::string id;                 // "<parcel id>_b<k>"
   std::vector<Element> elements;
@@ -212,6 +237,7 @@ struct Building {
   BuildingAttributes attributes;
   // Valid lower LoDs of this building, lowest first (none above `lod`).
   std::vector<LodShell> lower_lods;
+  ExactShape exact;  // a curved building's surfaces, exact (STEP writes them)
 };
 
 struct Timing {

@@ -1,6 +1,8 @@
 // OBJ per parcel (one group per element, triangulated, local coordinates, with
 // the offset and CRS in files beside it) and a STEP B-rep solid per building
-// through OpenCASCADE (faces sewn into a shell).
+// through OpenCASCADE: a curved building's exact solid (its cylinders,
+// spheres, cones and surfaces of revolution), any other's faces sewn into a
+// shell.
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
@@ -35,6 +37,7 @@
 
 #include "core/geometry/geometry.h"
 #include "core/io/file_names.h"
+#include "core/primitives/exact_solid.h"
 #include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
 
@@ -205,7 +208,7 @@ std::vector<std::string> write_step_per_building(const BatchModel& model, const 
       if (b.solid.empty()) continue;
       TopoDS_Shape solid;
       try {
-        solid = occ_solid(b);
+        solid = b.exact.parts.empty() ? occ_solid(b) : exact_solid(b.exact);
       } catch (const std::exception& e) {
         if (!skipped) throw std::runtime_error("building " + b.id + ": " + e.what());
         skipped->push_back(b.id + ": " + e.what());

@@ -80,7 +80,8 @@ inline const Table kBuilding{"building",
                               {"wall_dev_max"},
                               {"wall_dev_mean"},
                               {"wall_dev_std"},
-                              {"wall_dev_rmse"}}};
+                              {"wall_dev_rmse"},
+                              {"exact_shape", "''"}}};
 
 // Written by store_lods after the building row (an UPDATE of its fid).
 inline const Table kBuildingAttributes{"building",

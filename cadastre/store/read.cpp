@@ -12,6 +12,7 @@
 #include "cadastre/store/schema.h"
 #include "cadastre/store/sql_db.h"
 #include "core/error.h"
+#include "core/primitives/exact_shape.h"
 
 namespace c3d {
 
@@ -148,6 +149,7 @@ Building read_building(const sql::Db& db, const sql::Stmt& q, const LocalFrame& 
   b.wall_deviation = read_deviation(q, "wall_dev");
   b.lod = building_lod(db, b.id, q.get_text("lod"));
   b.lod_note = q.get_text("lod_note");
+  b.exact = parsed(db, "building " + b.id, [&] { return exact_shape_from_json(q.get_text("exact_shape"), frame.origin); });
   return b;
 }
 

@@ -72,7 +72,8 @@ CREATE TABLE IF NOT EXISTS building (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
   roof_area DOUBLE, roof_plan_area DOUBLE, wall_area DOUBLE, party_wall_area DOUBLE,
   ground_area DOUBLE, outer_ceiling_area DOUBLE,
   roof_dev_n INTEGER, roof_dev_max DOUBLE, roof_dev_mean DOUBLE, roof_dev_std DOUBLE, roof_dev_rmse DOUBLE,
-  wall_dev_n INTEGER, wall_dev_max DOUBLE, wall_dev_mean DOUBLE, wall_dev_std DOUBLE, wall_dev_rmse DOUBLE);
+  wall_dev_n INTEGER, wall_dev_max DOUBLE, wall_dev_mean DOUBLE, wall_dev_std DOUBLE, wall_dev_rmse DOUBLE,
+  exact_shape TEXT);
 CREATE TABLE IF NOT EXISTS building_element (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
   building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
   element_index INTEGER NOT NULL,
@@ -242,6 +243,7 @@ const AddedColumn kAddedColumns[] = {
     {"building", "point_density", "DOUBLE"},
     {"building", "roof_rmse", "DOUBLE"},
     {"building", "data_quality", "TEXT"},
+    {"building", "exact_shape", "TEXT"},  // a curved building's exact surfaces, JSON (docs/store.md)
 };
 
 struct Layer {

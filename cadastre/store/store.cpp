@@ -14,6 +14,7 @@
 #include "cadastre/store/sql_db.h"
 #include "cadastre/store/styles.h"
 #include "core/error.h"
+#include "core/primitives/exact_shape.h"
 #include "core/geometry/geometry.h"
 #include "core/io/sha256.h"
 
@@ -226,7 +227,7 @@ std::int64_t Store::Impl::write_building(
       .bind(t.ground).bind(t.outer_ceiling);
   for (const Deviation* d : {&b.roof_deviation, &b.wall_deviation})
     s.bind(d->n).bind(d->max).bind(d->mean).bind(d->std).bind(d->rmse);
-  s.run();
+  s.bind(exact_shape_json(b.exact, off)).run();
   std::int64_t fid = db.last_id();
   gis.building(b, fid, parcel_id, off, v);
   lods.write(fid, b, off, srs);

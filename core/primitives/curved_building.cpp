@@ -70,6 +70,15 @@ RevolvedFaces cap_faces(const Primitive& p, double r, double chord) {
   return revolution_faces(p.point.head<2>(), profile, arc_steps(r, 2 * kPi, chord));
 }
 
+// The exact curve of a sphere's or cone's profile from radius r in to its
+// apex on the axis.
+std::vector<ProfileStep> cap_curve(const Primitive& p, double r) {
+  const Vec2 apex(0, revolved_z(p, 0));
+  if (p.kind != PrimitiveKind::Sphere) return {{ProfileStep::Kind::Line, {}, apex}};
+  const double mid = p.radius * std::sin(std::asin(std::min(1.0, r / p.radius)) / 2);
+  return {{ProfileStep::Kind::Arc, {Vec2(mid, revolved_z(p, mid))}, apex}};
+}
+
 // A ring lowered to height z.
 Ring3 at_height(Ring3 ring, double z) {
   for (Vec3& q : ring) q.z() = z;
@@ -77,7 +86,10 @@ Ring3 at_height(Ring3 ring, double z) {
 }
 
 Building revolved(const CurvedBuildingInput& in, const Outline& o) {
-  return on_round_drum(cap_faces(in.roof, o.half, in.chord), in.ground_z, kMinWallM);
+  Building b = on_round_drum(cap_faces(in.roof, o.half, in.chord), in.ground_z, kMinWallM);
+  b.exact.parts.push_back(round_part(in.roof.point.head<2>(), in.ground_z, {o.half, revolved_z(in.roof, o.half)},
+                                     cap_curve(in.roof, o.half)));
+  return b;
 }
 
 // ---- A cylinder with a level axis over a rectangle ----
@@ -128,6 +140,21 @@ Outline vault_outline(const CurvedBuildingInput& in, const Frame& f) {
   return o;
 }
 
+// The vault's exact part: its end profile at o.a in (across, z), the arc
+// through its crown, swept along the axis to o.b.
+ShapePart vault_part(const Frame& f, const Outline& o, const std::vector<Vec2>& arc, double radius, double ground_z,
+                     bool walls) {
+  ShapePart part;
+  part.origin = f.world(o.a, 0, 0);
+  part.u = Vec3(f.across.x(), f.across.y(), 0);
+  part.path = Vec3(f.along.x(), f.along.y(), 0) * (o.b - o.a);
+  part.start = Vec2(arc.front().x(), ground_z);
+  part.steps.push_back({ProfileStep::Kind::Line, {}, Vec2(arc.back().x(), ground_z)});
+  if (walls) part.steps.push_back({ProfileStep::Kind::Line, {}, arc.back()});
+  part.steps.push_back({ProfileStep::Kind::Arc, {Vec2(0, f.zc + radius)}, arc.front()});
+  return part;
+}
+
 Building vault(const CurvedBuildingInput& in, const Outline& o) {
   const Frame f = vault_frame(in.roof, (o.a + o.b) / 2);
   const double R = in.roof.radius, phi = std::asin(std::min(1.0, o.half / R));
@@ -167,6 +194,7 @@ Building vault(const CurvedBuildingInput& in, const Outline& o) {
   Ring3 ground{f.world(o.a, -o.half, in.ground_z), f.world(o.a, o.half, in.ground_z), f.world(o.b, o.half, in.ground_z),
                f.world(o.b, -o.half, in.ground_z)};
   out.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}));
+  out.exact.parts.push_back(vault_part(f, o, arc, R, in.ground_z, wall >= kMinWallM));
   return out;
 }
 
@@ -366,12 +394,24 @@ Face face_at(const Polygon2& p, double z, bool up) {
   return f;
 }
 
+// The hall's exact part: its footprint (no holes) swept up to the flat roof.
+ShapePart hall_part(const Ring2& outer, double ground_z, double roof_z) {
+  ShapePart part;
+  part.origin = Vec3(0, 0, ground_z);
+  part.v = Vec3::UnitY();
+  part.path = Vec3(0, 0, roof_z - ground_z);
+  part.start = outer.front();
+  for (size_t i = 1; i < outer.size(); ++i) part.steps.push_back({ProfileStep::Kind::Line, {}, outer[i]});
+  return part;
+}
+
 Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector<double>& rims, double sigma) {
   Building b;
   Face flat = face_at(foot, in.roof_z, true), roof = flat;  // the solid's roof; the element's, overhang included
   const bool overhang = in.roof_outline.outer.size() >= 3;
   if (overhang) roof = face_at(oriented(in.roof_outline), in.roof_z, true);
   std::vector<Element> caps, drums;
+  if (foot.holes.empty()) b.exact.parts.push_back(hall_part(foot.outer, in.ground_z, in.roof_z));
   for (size_t k = 0; k < in.caps.size(); ++k) {
     RevolvedFaces cap = cap_faces(in.caps[k], rims[k], in.chord);
     Ring3 hole = at_height(cap.rim, in.roof_z);
@@ -381,6 +421,9 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
     std::reverse(hole.begin(), hole.end());
     flat.holes.push_back(hole);
     roof.holes.push_back(hole);
+    if (foot.holes.empty())
+      b.exact.parts.push_back(round_part(in.caps[k].point.head<2>(), in.roof_z, {rims[k], cap.rim.front().z()},
+                                         cap_curve(in.caps[k], rims[k])));
     caps.push_back(element_of(ElementType::Roof, std::move(cap.roof)));
     caps.back().support_points = int(in.cap_points[k].size());
     caps.back().rmse = in.caps[k].rmse;

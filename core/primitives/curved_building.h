@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/primitives/primitives.h"
+#include "core/primitives/revolution_faces.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -21,7 +22,7 @@ struct CurvedBuildingInput {
   std::vector<Vec3> wall_points; // wall points near it, if any: they place the walls where they see them
   double ground_z = 0;           // ground floor level (local)
   double spacing = 0.2;          // typical point spacing in plan, m
-  double chord = 0.01;           // largest distance of the tessellation from the surface, m
+  double chord = kModelChordM;   // largest distance of the tessellation from the surface, m
 };
 
 // The building, elements measured on its faces (area within the chord of the
@@ -41,7 +42,7 @@ struct DomedRoofInput {
   std::vector<Primitive> caps;                // spheres, cones standing upright
   std::vector<std::vector<Vec3>> cap_points;  // the points each explains, in step with caps
   double spacing = 0.2;
-  double chord = 0.01;
+  double chord = kModelChordM;
 };
 constexpr double kMinDrumM = 0.3;
 

@@ -62,6 +62,17 @@ Building on_round_drum(RevolvedFaces roof, double ground_z, double min_wall) {
   return b;
 }
 
+ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vector<ProfileStep> roof) {
+  ShapePart part;
+  part.revolve = true;
+  part.origin = Vec3(axis.x(), axis.y(), 0);
+  part.start = Vec2(0, floor_z);
+  part.steps.push_back({ProfileStep::Kind::Line, {}, Vec2(rim.x(), floor_z)});
+  part.steps.push_back({ProfileStep::Kind::Line, {}, rim});  // the drum, if any
+  part.steps.insert(part.steps.end(), roof.begin(), roof.end());
+  return part;
+}
+
 void close_curved(Building& b, const std::string& id, double ground_z) {
   for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
   b.id = id;

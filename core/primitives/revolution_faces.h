@@ -30,9 +30,20 @@ Element element_of(ElementType type, std::vector<Face> faces);
 // ground_z where the rim stands at least min_wall above it, the ground disc.
 Building on_round_drum(RevolvedFaces roof, double ground_z, double min_wall);
 
+// The exact part of a round building (ExactShape): its profile (rho, z)
+// turned about the vertical axis at `axis`, out along the floor at floor_z
+// to the rim's radius, up to the rim, then along `roof` to the apex on the
+// axis.
+ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vector<ProfileStep> roof);
+
 // b's solid made of all its elements' faces so far, its id, ground level and
 // LoD 2.2: what every curved building ends with.
 void close_curved(Building& b, const std::string& id, double ground_z);
+
+// The largest distance of a curved building's faces from its surface (a
+// ring of chords of sagitta s leaves its disc 1.3 s / r short: 0.3 % at
+// 5 m; the volume is taken from the exact shape, exact_solid.h).
+constexpr double kModelChordM = 0.01;
 
 // Steps that keep an arc of `radius` over `angle` within `chord` of its
 // chords (at least 8).

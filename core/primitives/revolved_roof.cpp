@@ -116,6 +116,17 @@ double polyline_distance(const std::vector<Vec2>& line, const Vec2& q) {
   return best;
 }
 
+// Seen from the air the roof is a height over its plan: up the profile its
+// distance from the axis only shrinks. Where the spline folds (swings in
+// and out again over sparse bins near the rim), its outermost course stays.
+void keep_outermost_course(std::vector<Vec2>& profile) {
+  std::vector<Vec2> kept;
+  double outer = -1;
+  for (auto q = profile.rbegin(); q != profile.rend(); ++q)
+    if (q->x() >= outer) kept.push_back(*q), outer = q->x();
+  profile.assign(kept.rbegin(), kept.rend());
+}
+
 // Where a wall scan saw the drum: the median distance to the axis of the
 // wall points under the roof's widest ring, near it, and the height they
 // reach (from their 2 and 98 % quantiles, as points spread evenly up it),
@@ -143,11 +154,19 @@ std::pair<double, double> seen_drum(const RevolvedBuildingInput& in) {
 }
 
 // The building on `profile` (rho, z from the drum's top to the apex).
+// Its exact part: the drum, the underside band where the profile starts at
+// the drum's top (one point more than the roof's), the roof's profile as a
+// spline through its points.
 Building on_drum(const RevolvedBuildingInput& in, const std::vector<Vec2>& profile) {
   const std::vector<Vec2> rings = poly::simplify_line(profile, in.chord);
   Building b = on_round_drum(revolution_faces(in.roof.axis, rings, arc_steps(rings.front().x(), 2 * kPi, in.chord)),
                              in.ground_z, kMinDrumWallM);
   close_curved(b, in.building_id, in.ground_z);
+  const size_t first = profile.size() > in.roof.profile.size() ? 1 : 0;  // the widest ring
+  std::vector<ProfileStep> roof;
+  if (first) roof.push_back({ProfileStep::Kind::Line, {}, profile[1]});
+  roof.push_back({ProfileStep::Kind::Spline, {profile.begin() + long(first) + 1, profile.end() - 1}, profile.back()});
+  b.exact.parts.push_back(round_part(in.roof.axis, in.ground_z, profile.front(), std::move(roof)));
   return b;
 }
 
@@ -260,6 +279,7 @@ std::optional<RevolvedRoof> fit_revolved_roof(const std::vector<Vec3>& points, c
   } else if (inside == pr.begin() && rim.x() > pr.front().x() && rim.y() < pr.front().y()) {
     pr.insert(pr.begin(), rim);
   }
+  keep_outermost_course(pr);
   if (pr.size() < 3) return std::nullopt;
   double rss = 0;
   for (size_t i = 0; i < points.size(); ++i) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/primitives/revolution_faces.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -40,7 +41,7 @@ struct RevolvedBuildingInput {
   std::vector<Vec3> wall_points;  // the parcel's: they place the drum and its top where a wall scan saw them
   double ground_z = 0;
   double spacing = 0.2;           // typical point spacing in plan, m
-  double chord = 0.01;            // largest distance of the tessellation from the surface, m
+  double chord = kModelChordM;    // largest distance of the tessellation from the surface, m
 };
 
 // The building on a round drum: the roof is the surface seen from the air,

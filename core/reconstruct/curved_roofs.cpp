@@ -9,6 +9,7 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/primitives/curved_building.h"
+#include "core/primitives/exact_solid.h"
 #include "core/primitives/revolved_roof.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
@@ -73,6 +74,8 @@ std::vector<Vec3> on_surface(const Primitive& p, const std::vector<Vec3>& own, c
   return out;
 }
 
+constexpr double kExactAgreement = 0.01;
+
 // b replaced by `model` where there is one and, measured, it is valid; its
 // reason then says the roof was modelled `how` ("on its sphere r 5.38 m").
 bool adopt(Building& b, std::optional<Building> model, const std::string& how, double storey_height) {
@@ -82,6 +85,13 @@ bool adopt(Building& b, std::optional<Building> model, const std::string& how, d
     log::info(b.id + ": its roof would be modelled " + how + ", but the model fails (" + model->solid_problem + ")");
     return false;
   }
+  // The volume of the exact shape: the faces' chords leave it up to 0.3 %
+  // short. A shape that disagrees with its faces by more is not kept.
+  const double exact = exact_volume(model->exact);
+  if (std::abs(exact - model->volume) <= kExactAgreement * model->volume) model->volume = exact;
+  else if (!model->exact.parts.empty())
+    log::info(b.id + ": its exact shape is left out: volume " + std::to_string(exact) + " m3, its faces' " +
+              std::to_string(model->volume) + " m3"), model->exact = {};
   model->lod_note = "roof modelled " + how;
   b = std::move(*model);
   return true;
