@@ -95,6 +95,42 @@ OptimizeReport optimize_views(ConstrainedMesh& m, const std::vector<Viewpoint>& 
 // E = alpha * fitness + beta * junction of the current mesh, on the CPU.
 double mesh_energy(const ConstrainedMesh& m, const OptimizerOptions& options);
 
+// A curved surface the optimizer snaps a mesh onto (seed 000's curved
+// primitives): a sphere, a cylinder or a cone.
+struct CurvedPrimitive {
+  enum class Kind { Sphere, Cylinder, Cone };
+  Kind kind = Kind::Sphere;
+  Vec3 point = Vec3::Zero();  // sphere: centre; cylinder: a point on its axis; cone: apex
+  Vec3 axis = Vec3::UnitZ();  // cylinder: unit axis; cone: unit axis from the apex into the cone
+  double radius = 0;          // sphere, cylinder
+  double angle = 0;           // cone: half-angle, rad
+  Vec3 project(const Vec3& p) const;  // the nearest point on the surface
+  Vec3 normal(const Vec3& p) const;   // unit normal there, away from the axis or centre
+  double distance(const Vec3& p) const { return (project(p) - p).norm(); }
+};
+
+struct CurvedSnapOptions {
+  ComputeDevice device = ComputeDevice::Auto;
+  int threads = 1;                 // CPU reference path; 0 = all cores
+  double assign_distance_m = 0.2;  // a triangle's centroid this near a surface may be on it
+  double assign_angle_deg = 30;    // if its normal agrees with the surface's this well
+};
+
+struct CurvedSnapReport {
+  std::string device;  // what ran, as OptimizeReport::device
+  int triangles_on_surfaces = 0, vertices_snapped = 0;
+  double mean_distance_before = 0, mean_distance_after = 0;  // snapped vertices to their surface, m
+};
+
+// Surface snapping onto curved primitives: a triangle whose centroid lies
+// within assign_distance of a surface, its normal agreeing with the
+// surface's, is on the nearest such; its vertices are projected onto it along
+// the surface normal (a vertex on two: onto the nearer), in float about the
+// mesh's centre, on Vulkan (shaders/opt_snap_curved.comp) or the CPU
+// reference.
+CurvedSnapReport snap_to_curved(TriMesh& mesh, const std::vector<CurvedPrimitive>& surfaces,
+                                const CurvedSnapOptions& options);
+
 // For the batch: triangulates the element faces (which lie on fitted planes),
 // refits each face's plane to the points when given, runs the optimizer
 // (planarity, junction consistency) and writes the refined vertices back into

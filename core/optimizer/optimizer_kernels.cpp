@@ -140,6 +140,43 @@ void kernel_refine(KernelState& s, const std::vector<std::uint32_t>& tasks, std:
   });
 }
 
+void kernel_snap_curved(std::vector<float>& v, const std::vector<std::int32_t>& vsurface,
+                        const std::vector<float>& surfaces, VulkanCompute* vk, int threads) {
+  if (vk) {
+    std::uint32_t push[1] = {static_cast<std::uint32_t>(vsurface.size())};
+    vk->run("opt_snap_curved", {inout(v), in(vsurface), in(surfaces)}, push, sizeof push, vsurface.size());
+    return;
+  }
+  parallel_for(vsurface.size(), threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const int k = vsurface[i];
+      if (k < 0) continue;
+      const float* f = &surfaces[12 * std::size_t(k)];
+      const F3 c{f[0], f[1], f[2]}, a{f[4], f[5], f[6]}, q = sub(load(v, i), c);
+      const float kind = f[3], r = f[7];
+      F3 p;
+      if (kind == 0.0f) {
+        const float len = std::sqrt(dot(q, q));
+        if (len <= 0.0f) continue;
+        p = add(c, mul(q, r / len));
+      } else {
+        const float t = dot(q, a);
+        const F3 radial = sub(q, mul(a, t));
+        const float rho = std::sqrt(dot(radial, radial));
+        if (rho <= 0.0f) continue;
+        const F3 e_dir = mul(radial, 1.0f / rho);
+        if (kind == 1.0f) {
+          p = add(add(c, mul(a, t)), mul(e_dir, r));
+        } else {
+          const F3 g = add(mul(a, f[8]), mul(e_dir, f[9]));  // the generator through the vertex
+          p = add(c, mul(g, std::max(dot(q, g), 0.0f)));
+        }
+      }
+      store(v, i, p);
+    }
+  });
+}
+
 void kernel_view_select(const KernelState& s, const float view_proj[16], const float eye[3],
                         float threshold, std::vector<std::uint32_t>& flags, VulkanCompute* vk,
                         int threads) {

@@ -25,6 +25,9 @@ const uint32_t kOptTransform[] = {
 const uint32_t kOptRefine[] = {
 #include "opt_refine.spv.inc"
 };
+const uint32_t kOptSnapCurved[] = {
+#include "opt_snap_curved.spv.inc"
+};
 const uint32_t kOptViewSelect[] = {
 #include "opt_view_select.spv.inc"
 };
@@ -41,6 +44,7 @@ const std::map<std::string, Spirv>& kernels() {
       {"opt_energy", {kOptEnergy, sizeof kOptEnergy}},
       {"opt_transform", {kOptTransform, sizeof kOptTransform}},
       {"opt_refine", {kOptRefine, sizeof kOptRefine}},
+      {"opt_snap_curved", {kOptSnapCurved, sizeof kOptSnapCurved}},
       {"opt_view_select", {kOptViewSelect, sizeof kOptViewSelect}},
       {"point_distance", {kPointDistance, sizeof kPointDistance}},
   };

@@ -311,6 +311,18 @@ const char* to_string(PrimitiveKind k) {
   return "?";
 }
 
+std::optional<CurvedPrimitive> snap_target(const Primitive& p) {
+  CurvedPrimitive c;
+  switch (p.kind) {
+    case PrimitiveKind::Plane: return std::nullopt;
+    case PrimitiveKind::Sphere: c.kind = CurvedPrimitive::Kind::Sphere; break;
+    case PrimitiveKind::Cylinder: c.kind = CurvedPrimitive::Kind::Cylinder; break;
+    case PrimitiveKind::Cone: c.kind = CurvedPrimitive::Kind::Cone; break;
+  }
+  c.point = p.point, c.axis = p.axis, c.radius = p.radius, c.angle = p.angle;
+  return c;
+}
+
 double Primitive::distance(const Vec3& p) const {
   const Vec3 v = p - point;
   switch (kind) {

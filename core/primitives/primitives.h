@@ -5,9 +5,11 @@
 // better than planes do, by the Bayesian information criterion with the
 // points' own noise (docs/curved.md, "Which surface").
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/optimizer/optimizer.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -34,6 +36,9 @@ struct Primitive {
   // "sphere r 5.02 m", "cylinder r 4.10 m, axis 0.00 1.00 0.02", ...
   std::string describe() const;
 };
+
+// A sphere, cylinder or cone as the optimizer snaps onto it; nullopt for a plane.
+std::optional<CurvedPrimitive> snap_target(const Primitive& p);
 
 // How well planes explain some points: the RMS distance to the nearest of
 // them and how many of them it takes.
