@@ -200,7 +200,7 @@ struct LodShell {
 struct ProfileStep {
   enum class Kind { Line, Arc, Spline };
   Kind kind = Kind::Line;
-  std::vector<Vec2> through;  // an arc: a point on it; a spline: the points it passes, in order
+  std::vector<Vec2> through;  // an arc: a point on it; a spline: the points it follows (within 5 mm)
   Vec2 to = Vec2::Zero();     // where it ends
 };
 

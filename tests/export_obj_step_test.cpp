@@ -179,12 +179,7 @@ TEST(ExportStep, ClosedSolidPerBuilding) {
 // within 2 %. The planar gable stays planes.
 TEST(ExportStep, CurvedBuildingsOnTheirExactSurfaces) {
   const std::string dir = test::temp_dir("export_step_curved");
-  std::string out;
-  ASSERT_EQ(test::run_cli("sample --curved --out " + dir + "/town --parcels 24 --seed 11", &out), 0) << out;
-  const int rc = test::run_cli("batch --quiet --formats step --cloud " + dir + "/town/cloud.las --parcels " + dir +
-                                   "/town/parcels.gpkg --dtm " + dir + "/town/dtm.tif --out " + dir + "/out",
-                               &out);
-  ASSERT_TRUE(rc == 0 || rc == 3) << out;
+  ASSERT_EQ(test::sample_and_batch(dir, "--curved --parcels 24 --seed 11", "--formats step"), "");
   const auto truth = nlohmann::json::parse(std::ifstream(dir + "/town/truth.json"));
   const auto summary = nlohmann::json::parse(std::ifstream(dir + "/out/summary.json"));
   const std::map<std::string, GeomAbs_SurfaceType> surface = {

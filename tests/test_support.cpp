@@ -132,6 +132,15 @@ int run_cli(const std::string& args, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+std::string sample_and_batch(const std::string& dir, const std::string& sample_args, const std::string& batch_args) {
+  std::string out;
+  if (run_cli("sample " + sample_args + " --out " + dir + "/town", &out) != 0) return "sample: " + out;
+  const int rc = run_cli("batch --quiet " + batch_args + " --cloud " + dir + "/town/cloud.las --parcels " + dir +
+                             "/town/parcels.gpkg --dtm " + dir + "/town/dtm.tif --out " + dir + "/out",
+                         &out);
+  return rc == 0 || rc == 3 ? "" : "batch: " + out;
+}
+
 std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream in(text);

@@ -59,6 +59,11 @@ std::optional<std::vector<std::string>> val3dity_invalid(const std::string& city
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.
 int run_cli(const std::string& args, std::string* output = nullptr);
+// `sample <sample_args> --out DIR/town`, then `batch --quiet <batch_args>` on
+// its cloud, parcels and DTM into DIR/out: "" when both ran (the batch may
+// exit 3, some parcels not ok), else which failed and its output.
+std::string sample_and_batch(const std::string& dir, const std::string& sample_args,
+                             const std::string& batch_args = "");
 
 // Closed shell of the axis-aligned box [lo, hi], faces outward.
 std::vector<Face> box_shell(const Vec3& lo, const Vec3& hi);

@@ -1,11 +1,15 @@
 #pragma once
-// A curved building's exact shape (ExactShape, core/types.h) as the store
-// keeps it: JSON in world coordinates.
+// A curved building's exact shape (ExactShape, core/types.h): its volume,
+// and the JSON (world coordinates) the store keeps it as. Its OpenCASCADE
+// solid: exact_solid.h.
 #include <string>
 
 #include "core/types.h"
 
 namespace c3d {
+
+// The exact solid's volume, m3; NaN where it cannot be made.
+double exact_volume(const ExactShape& shape);
 
 // As JSON, each part's origin moved by `offset` (local to world); "" for no
 // parts. The inverse takes `offset` off again; std::invalid_argument saying

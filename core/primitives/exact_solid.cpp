@@ -25,6 +25,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/primitives/exact_shape.h"
+
 namespace c3d {
 
 namespace {

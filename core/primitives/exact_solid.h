@@ -14,7 +14,4 @@ namespace c3d {
 // saying why when they do not make one.
 TopoDS_Shape exact_solid(const ExactShape& shape);
 
-// The exact solid's volume, m3; NaN where it cannot be made.
-double exact_volume(const ExactShape& shape);
-
 }  // namespace c3d

@@ -9,7 +9,7 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/primitives/curved_building.h"
-#include "core/primitives/exact_solid.h"
+#include "core/primitives/exact_shape.h"
 #include "core/primitives/revolved_roof.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
