@@ -14,9 +14,9 @@
 #include "cadastre/store/sql_db.h"
 #include "cadastre/store/styles.h"
 #include "core/error.h"
-#include "core/primitives/exact_shape.h"
 #include "core/geometry/geometry.h"
 #include "core/io/sha256.h"
+#include "core/primitives/exact_shape.h"
 
 namespace c3d {
 

@@ -1,7 +1,6 @@
 // Snapping a mesh onto curved primitives (spheres, cylinders, cones): the
 // curved half of seed 000's surface optimization.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "core/optimizer/optimizer.h"

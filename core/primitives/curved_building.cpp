@@ -13,16 +13,8 @@ namespace c3d {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// A wall lower than this under the roof's rim is no wall: the roof meets the ground.
-constexpr double kMinWallM = 0.05;
 // A vault whose arc ends this close to the ground springs from it.
 constexpr double kSpringsM = 0.5;
-// The rim is placed from this quantile of the points (vault_outline).
-constexpr double kRimQuantile = 0.95;
-// Wall points this near the wall the roof points place count for it; this
-// many of them place it instead.
-constexpr double kWallReachM = 0.5;
-constexpr size_t kMinWallPoints = 30;
 // Side walls further off centre than this about a vault's axis are not taken.
 constexpr double kMaxAxisOffsetM = 0.1;
 
@@ -394,7 +386,7 @@ Face face_at(const Polygon2& p, double z, bool up) {
   return f;
 }
 
-// The hall's exact part: its footprint (no holes) swept up to the flat roof.
+// The hall's exact part: its footprint's outer ring swept up to the flat roof.
 ShapePart hall_part(const Ring2& outer, double ground_z, double roof_z) {
   ShapePart part;
   part.origin = Vec3(0, 0, ground_z);
@@ -411,7 +403,7 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
   const bool overhang = in.roof_outline.outer.size() >= 3;
   if (overhang) roof = face_at(oriented(in.roof_outline), in.roof_z, true);
   std::vector<Element> caps, drums;
-  if (foot.holes.empty()) b.exact.parts.push_back(hall_part(foot.outer, in.ground_z, in.roof_z));
+  b.exact.parts.push_back(hall_part(foot.outer, in.ground_z, in.roof_z));
   for (size_t k = 0; k < in.caps.size(); ++k) {
     RevolvedFaces cap = cap_faces(in.caps[k], rims[k], in.chord);
     Ring3 hole = at_height(cap.rim, in.roof_z);
@@ -421,14 +413,14 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
     std::reverse(hole.begin(), hole.end());
     flat.holes.push_back(hole);
     roof.holes.push_back(hole);
-    if (foot.holes.empty())
-      b.exact.parts.push_back(round_part(in.caps[k].point.head<2>(), in.roof_z, {rims[k], cap.rim.front().z()},
-                                         cap_curve(in.caps[k], rims[k])));
+    b.exact.parts.push_back(round_part(in.caps[k].point.head<2>(), in.roof_z, {rims[k], cap.rim.front().z()},
+                                       cap_curve(in.caps[k], rims[k])));
     caps.push_back(element_of(ElementType::Roof, std::move(cap.roof)));
     caps.back().support_points = int(in.cap_points[k].size());
     caps.back().rmse = in.caps[k].rmse;
     rim_sigma(in.caps[k], rims[k], in.roof_z, sigma, in.chord, caps.back(), on_drum ? &drums.back() : nullptr);
   }
+  if (!foot.holes.empty()) b.exact = {};  // hall_part sweeps the outer ring only: the faces stand for it
   b.elements.push_back(element_of(ElementType::Roof, {roof}));
   b.elements.insert(b.elements.end(), caps.begin(), caps.end());
   b.elements.insert(b.elements.end(), drums.begin(), drums.end());

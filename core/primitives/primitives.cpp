@@ -178,16 +178,6 @@ double sum_squares(const Primitive& s, const std::vector<Vec3>& points, const st
   return rss;
 }
 
-int parameters(PrimitiveKind k) {
-  switch (k) {
-    case PrimitiveKind::Plane: return 3;
-    case PrimitiveKind::Sphere: return 4;
-    case PrimitiveKind::Cylinder: return 5;
-    case PrimitiveKind::Cone: return 6;
-  }
-  return 0;
-}
-
 // Why a refitted curved shape cannot be a roof ("" when it can): a radius
 // no roof has, a bowl instead of a dome, an upright cylinder (a wall), a cone
 // not standing on its base.
@@ -309,6 +299,16 @@ const char* to_string(PrimitiveKind k) {
     case PrimitiveKind::Cone: return "cone";
   }
   return "?";
+}
+
+int parameters(PrimitiveKind k) {
+  switch (k) {
+    case PrimitiveKind::Plane: return 3;
+    case PrimitiveKind::Sphere: return 4;
+    case PrimitiveKind::Cylinder: return 5;
+    case PrimitiveKind::Cone: return 6;
+  }
+  return 0;
 }
 
 std::optional<CurvedPrimitive> snap_target(const Primitive& p) {

@@ -69,6 +69,9 @@ constexpr double kMaxFitOverNoise = 1.5;
 // Bayesian information criterion of a model with `parameters` leaving n
 // points at `rmse` when their noise is `noise`.
 double bic(double rmse, int parameters, double n, double noise);
+// The parameters a surface of kind k takes (a plane 3, a sphere 4, a
+// cylinder 5, a cone 6).
+int parameters(PrimitiveKind k);
 
 // What the search found in one set of points.
 struct PrimitiveFit {

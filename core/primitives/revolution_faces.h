@@ -2,6 +2,7 @@
 // Faces of a surface of revolution about a vertical axis, shared by the
 // curved buildings: rings of planar trapezoids from its rim up to its apex,
 // and what every curved building is assembled with.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,16 @@ ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vec
 // b's solid made of all its elements' faces so far, its id, ground level and
 // LoD 2.2: what every curved building ends with.
 void close_curved(Building& b, const std::string& id, double ground_z);
+
+// What the curved builders share (docs/curved.md): a wall lower than
+// kMinWallM under a rim is no wall (the roof meets the ground); a rim is
+// placed from the kRimQuantile of the points (seen from the air they lie
+// evenly over the plan); wall points within kWallReachM of a wall count for
+// it, and kMinWallPoints of them place it instead.
+constexpr double kMinWallM = 0.05;
+constexpr double kRimQuantile = 0.95;
+constexpr double kWallReachM = 0.5;
+constexpr size_t kMinWallPoints = 30;
 
 // The largest distance of a curved building's faces from its surface (a
 // ring of chords of sagitta s leaves its disc 1.3 s / r short: 0.3 % at

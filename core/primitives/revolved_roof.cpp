@@ -21,9 +21,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kMinPoints = 50;
 constexpr size_t kMinBinPoints = 3;
 constexpr int kDenseSamples = 256;
-constexpr double kRimQuantile = 0.95;
-// A roof whose rim is lower over the ground than this stands on no drum.
-constexpr double kMinDrumWallM = 0.05;
 
 double quantile_of(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
@@ -132,9 +129,6 @@ void keep_outermost_course(std::vector<Vec2>& profile) {
 // reach (from their 2 and 98 % quantiles, as points spread evenly up it),
 // where at least kMinWallPoints lie around at least a quarter of it; NaN
 // otherwise.
-constexpr double kWallReachM = 0.5;
-constexpr size_t kMinWallPoints = 30;
-
 std::pair<double, double> seen_drum(const RevolvedBuildingInput& in) {
   const Vec2 widest = in.roof.profile.front();
   std::vector<double> rho, z;
@@ -160,7 +154,7 @@ std::pair<double, double> seen_drum(const RevolvedBuildingInput& in) {
 Building on_drum(const RevolvedBuildingInput& in, const std::vector<Vec2>& profile) {
   const std::vector<Vec2> rings = poly::simplify_line(profile, in.chord);
   Building b = on_round_drum(revolution_faces(in.roof.axis, rings, arc_steps(rings.front().x(), 2 * kPi, in.chord)),
-                             in.ground_z, kMinDrumWallM);
+                             in.ground_z, kMinWallM);
   close_curved(b, in.building_id, in.ground_z);
   const size_t first = profile.size() > in.roof.profile.size() ? 1 : 0;  // the widest ring
   std::vector<ProfileStep> roof;
@@ -185,7 +179,7 @@ std::vector<Vec2> drum_profile(const RevolvedBuildingInput& in, double drum_r, d
 }  // namespace
 
 std::optional<Building> revolved_roof_building(const RevolvedBuildingInput& in) {
-  if (in.roof.profile.size() < 3 || in.roof.profile.front().y() - in.ground_z < kMinDrumWallM) return std::nullopt;
+  if (in.roof.profile.size() < 3 || in.roof.profile.front().y() - in.ground_z < kMinWallM) return std::nullopt;
   const auto [drum_r, drum_top] = seen_drum(in);
   Building b = on_drum(in, drum_profile(in, drum_r, drum_top, 0));
   const double sigma = std::max(0.001, in.spacing / 2);

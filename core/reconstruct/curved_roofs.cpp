@@ -88,10 +88,13 @@ bool adopt(Building& b, std::optional<Building> model, const std::string& how, d
   // The volume of the exact shape: the faces' chords leave it up to 0.3 %
   // short. A shape that disagrees with its faces by more is not kept.
   const double exact = exact_volume(model->exact);
-  if (std::abs(exact - model->volume) <= kExactAgreement * model->volume) model->volume = exact;
-  else if (!model->exact.parts.empty())
+  if (std::abs(exact - model->volume) <= kExactAgreement * model->volume) {
+    model->volume = exact;
+  } else if (!model->exact.parts.empty()) {
     log::info(b.id + ": its exact shape is left out: volume " + std::to_string(exact) + " m3, its faces' " +
-              std::to_string(model->volume) + " m3"), model->exact = {};
+              std::to_string(model->volume) + " m3");
+    model->exact = {};
+  }
   model->lod_note = "roof modelled " + how;
   b = std::move(*model);
   return true;
@@ -274,7 +277,7 @@ RevolutionVerdict judge_revolution(const Building& b, const RevolvedRoof& roof, 
   const double curved = bic(roof.rmse, roof.parameters, n, noise), flat = bic(planes.rmse, 3 * planes.planes, n, noise);
   RevolutionVerdict v;
   v.rival_rmse = rival ? rmse_to(*rival, inliers) : 0;
-  const double other = rival ? bic(v.rival_rmse, rival->kind == PrimitiveKind::Sphere ? 4 : 6, n, noise) : 0;
+  const double other = rival ? bic(v.rival_rmse, parameters(rival->kind), n, noise) : 0;
   v.rival_off = rival && curved + kBicMargin < other && v.rival_rmse >= kMaterialGain * roof.rmse;
   char why[200] = "";
   if (n * 100 < double(own.size()) * kWholeRoofShare)
