@@ -215,6 +215,17 @@ struct ExactShape {
   std::vector<ShapePart> parts;  // none: the faces are the shape
 };
 
+// What the optimizer's surface snapping did to the dense mesh of a curved
+// building's points (docs/curved.md, "Optimizer"); none where triangles is 0.
+struct MeshRefinement {
+  int triangles = 0;
+  double snapped_share = kNaN;  // of its vertices, moved onto a surface of the exact shape
+  // Chamfer distance of the mesh to the exact shape where the mesh stands,
+  // and the mean distance of the points to the mesh, before and after, m.
+  double chamfer_before_m = kNaN, chamfer_after_m = kNaN;
+  double cloud_before_m = kNaN, cloud_after_m = kNaN;
+};
+
 struct Building {
   std::string id;                 // "<parcel id>_b<k>"
   std::vector<Element> elements;
@@ -238,6 +249,7 @@ struct Building {
   // Valid lower LoDs of this building, lowest first (none above `lod`).
   std::vector<LodShell> lower_lods;
   ExactShape exact;  // a curved building's surfaces, exact (STEP writes them)
+  MeshRefinement refinement;
 };
 
 struct Timing {

@@ -2,12 +2,13 @@
 // Snaps each vertex that has a curved surface onto it, along the surface's
 // normal through the vertex: a sphere (centre, radius), a cylinder (a point
 // on its axis, unit axis, radius) or a cone (apex, unit axis into the cone,
-// cos and sin of its half-angle). Coordinates are about the mesh's centre.
+// cos and sin of its half-angle) or a plane (a point on it, unit normal).
+// Coordinates are about the mesh's centre.
 // CPU reference: kernel_snap_curved in core/optimizer/optimizer_kernels.cpp.
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) buffer V { float v[]; };
 layout(std430, binding = 1) readonly buffer VS { int vsurface[]; };
-// 3 per surface: (point, kind 0 sphere / 1 cylinder / 2 cone), (axis, radius), (cos, sin, 0, 0)
+// 3 per surface: (point, kind 0 sphere / 1 cylinder / 2 cone / 3 plane), (axis, radius), (cos, sin, 0, 0)
 layout(std430, binding = 2) readonly buffer S { vec4 surfaces[]; };
 layout(push_constant) uniform P { uint n; } pc;
 void main() {
@@ -21,7 +22,9 @@ void main() {
   vec3 a = surfaces[3 * k + 1].xyz;
   float r = surfaces[3 * k + 1].w;
   vec3 q = p - c;
-  if (kind == 0.0) {
+  if (kind == 3.0) {
+    p = p - a * dot(q, a);
+  } else if (kind == 0.0) {
     float len = sqrt(dot(q, q));
     if (len <= 0.0) return;
     p = c + q * (r / len);

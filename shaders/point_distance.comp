@@ -1,7 +1,8 @@
 #version 450
 // Unsigned distance from each point to the nearest triangle, searched ring by
 // ring in a uniform grid over the triangles (cells of size h). A ring r+1 cell
-// is at least r*h away, so the search stops once best <= r*h.
+// is at least r*h away, so the search stops once best <= r*h; or once it is
+// farther than `cap`, the distance then reported as infinity.
 // CPU reference: point_distance_cpu in core/mesh_distance.cpp.
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer PT { float pts[]; };
@@ -13,6 +14,7 @@ layout(push_constant) uniform P {
   float ox, oy, oz, h;
   int nx, ny, nz;
   uint np;
+  float cap;
 } pc;
 
 // Squared distance from p to triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
@@ -59,6 +61,7 @@ void main() {
   ivec3 n = ivec3(pc.nx, pc.ny, pc.nz);
   ivec3 c = clamp(ivec3(floor((p - vec3(pc.ox, pc.oy, pc.oz)) / pc.h)), ivec3(0), n - 1);
   int max_r = max(n.x, max(n.y, n.z));
+  if (pc.cap < 1.0e30) max_r = min(max_r, int(ceil(pc.cap / pc.h)) + 1);
   float best = 3.0e38;
   for (int r = 0; r <= max_r; ++r) {
     ivec3 lo = max(c - r, ivec3(0)), hi = min(c + r, n - 1);
@@ -79,5 +82,5 @@ void main() {
     float reach = float(r) * pc.h;
     if (best <= reach * reach) break;
   }
-  dist[i] = sqrt(best);
+  dist[i] = best > pc.cap * pc.cap ? uintBitsToFloat(0x7F800000u) : sqrt(best);
 }

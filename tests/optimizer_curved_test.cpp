@@ -6,13 +6,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <iostream>
+#include <random>
 #include <set>
 
 #include "core/geometry/geometry.h"
 #include "core/optimizer/mesh_dense.h"
 #include "core/optimizer/mesh_distance.h"
 #include "core/optimizer/vulkan_compute.h"
+#include "core/optimizer/exact_surfaces.h"
 #include "core/primitives/primitives.h"
 #include "core/synthetic/sample_town.h"
 #include "tests/test_support.h"
@@ -142,8 +145,185 @@ TEST(OptimizerCurved, VulkanSnapsAsTheCpuReference) {
     o.device = ComputeDevice::Vulkan;
     const CurvedSnapReport r = snap_to_curved(gpu, {surface}, o);
     EXPECT_NE(r.device.find("Vulkan"), std::string::npos) << r.device;
+    ASSERT_EQ(cpu.vertices.size(), gpu.vertices.size()) << "the same triangles split";
     double worst = 0;
     for (size_t i = 0; i < cpu.vertices.size(); ++i) worst = std::max(worst, (cpu.vertices[i] - gpu.vertices[i]).norm());
     EXPECT_LE(worst, 1e-5) << int(roof.layout);
   }
+}
+
+namespace {
+
+using Step = ProfileStep;
+
+// A hemisphere on a round drum of radius r and height h, about (3, 4, 0).
+ShapePart dome_on_drum(double r, double h) {
+  ShapePart p;
+  p.revolve = true;
+  p.origin = Vec3(3, 4, 0);
+  p.steps = {{Step::Kind::Line, {}, Vec2(r, 0)},
+             {Step::Kind::Line, {}, Vec2(r, h)},
+             {Step::Kind::Arc, {Vec2(r * std::cos(M_PI / 4), h + r * std::sin(M_PI / 4))}, Vec2(0, h + r)}};
+  return p;
+}
+
+// A barrel vault of half-width w on walls of height h, length l along y.
+ShapePart vault_on_walls(double w, double h, double l) {
+  ShapePart p;
+  p.path = Vec3(0, l, 0);
+  p.start = Vec2(-w, 0);
+  p.steps = {{Step::Kind::Line, {}, Vec2(w, 0)},
+             {Step::Kind::Line, {}, Vec2(w, h)},
+             {Step::Kind::Arc, {Vec2(0, h + w)}, Vec2(-w, h)}};
+  return p;
+}
+
+// An onion's bulb as a spline through a few points, on a drum of radius r.
+ShapePart bulb_on_drum(double r, double h) {
+  ShapePart p = dome_on_drum(r, h);
+  p.steps.back() = {Step::Kind::Spline, {Vec2(1.15 * r, h + 1), Vec2(0.6 * r, h + 2.5)}, Vec2(0, h + 3.5)};
+  return p;
+}
+
+// The nearest surface to p among those spanning it, and its distance.
+std::pair<int, double> nearest_surface(const std::vector<CurvedPrimitive>& s, const Vec3& p) {
+  std::pair<int, double> best{-1, 1e9};
+  for (size_t k = 0; k < s.size(); ++k)
+    if (s[k].spans(p, 0) && s[k].distance(p) < best.second) best = {int(k), s[k].distance(p)};
+  return best;
+}
+
+// A triangle grid over f(s, t) for s, t in [0, 1], its vertices moved by up
+// to `noise` along z.
+TriMesh noisy_grid(const std::function<Vec3(double, double)>& f, int n, double noise, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-noise, noise);
+  TriMesh m;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) m.vertices.push_back(f(double(i) / n, double(j) / n) + Vec3(0, 0, u(rng)));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int a = i * (n + 1) + j, b = a + 1, c = a + n + 1, d = c + 1;
+      m.triangles.push_back({a, c, d});
+      m.triangles.push_back({a, d, b});
+    }
+  return m;
+}
+
+}  // namespace
+
+// Each profile step of an exact shape becomes the surface it sweeps: a
+// point of the true shape lies on its own surface (ground, drum, dome; walls,
+// vault, end caps; the bulb's band of cones), which spans it.
+TEST(OptimizerCurved, ExactShapeSurfacesHoldTheirPoints) {
+  const double r = 5, h = 4, w = 3, l = 12;
+  const std::vector<CurvedPrimitive> dome = exact_surfaces(ExactShape{{dome_on_drum(r, h)}});
+  using K = CurvedPrimitive::Kind;
+  for (double a = 0; a < 2 * M_PI; a += 0.7) {
+    const Vec3 centre(3, 4, 0), out(std::cos(a), std::sin(a), 0);
+    for (const auto& [p, kind] : std::vector<std::pair<Vec3, K>>{
+             {centre + 0.5 * r * out, K::Plane},
+             {centre + r * out + Vec3(0, 0, 0.3 * h), K::Cylinder},
+             {centre + Vec3(0, 0, h) + r * (std::cos(0.6) * out + Vec3(0, 0, std::sin(0.6))), K::Sphere}}) {
+      const auto [k, d] = nearest_surface(dome, p);
+      ASSERT_GE(k, 0);
+      EXPECT_EQ(dome[size_t(k)].kind, kind);
+      EXPECT_LT(d, 1e-9);
+    }
+  }
+  const std::vector<CurvedPrimitive> vault = exact_surfaces(ExactShape{{vault_on_walls(w, h, l)}});
+  for (const auto& [p, kind] : std::vector<std::pair<Vec3, K>>{
+           {Vec3(w, 5, 1), K::Plane},
+           {Vec3(w * std::cos(1.0), 7, h + w * std::sin(1.0)), K::Cylinder},
+           {Vec3(0.5, 0, h + 1), K::Plane},
+           {Vec3(-0.5, l, 2), K::Plane}}) {
+    const auto [k, d] = nearest_surface(vault, p);
+    ASSERT_GE(k, 0);
+    EXPECT_EQ(vault[size_t(k)].kind, kind);
+    EXPECT_LT(d, 1e-9);
+  }
+  EXPECT_FALSE(vault[size_t(nearest_surface(vault, Vec3(w * std::cos(1.0), 7, h + w * std::sin(1.0))).first)]
+                   .spans(Vec3(0, l + 1, h + w), 0))
+      << "the vault ends at its end walls";
+  const ShapePart bulb = bulb_on_drum(r, h);
+  const std::vector<CurvedPrimitive> onion = exact_surfaces(ExactShape{{bulb}});
+  std::vector<Vec2> line{Vec2(r, h)};
+  line.insert(line.end(), bulb.steps.back().through.begin(), bulb.steps.back().through.end());
+  line.push_back(bulb.steps.back().to);
+  for (size_t k = 1; k < line.size(); ++k) {
+    const Vec2 q = (line[k - 1] + line[k]) / 2;
+    const auto [i, d] = nearest_surface(onion, Vec3(3 + q.x() * std::cos(2.0), 4 + q.x() * std::sin(2.0), q.y()));
+    ASSERT_GE(i, 0);
+    EXPECT_EQ(onion[size_t(i)].kind, K::Cone);
+    EXPECT_LT(d, 1e-9);
+  }
+}
+
+// Planes and cones snap on Vulkan as on the CPU: a noisy vault with its end
+// wall, and a noisy bulb, each onto its exact shape's surfaces.
+TEST(OptimizerCurved, VulkanSnapsOntoExactShapesAsTheCpuReference) {
+  std::string why;
+  C3D_NEED(shared_vulkan(&why), "no Vulkan: " << why);
+  const double r = 5, h = 4, w = 3, l = 12;
+  const ShapePart bulb = bulb_on_drum(r, h);
+  const std::vector<std::pair<TriMesh, ExactShape>> cases = {
+      {noisy_grid([&](double s, double t) { return Vec3(w * std::cos(M_PI * s), l * t, h + w * std::sin(M_PI * s)); },
+                  40, 0.03, 1),
+       ExactShape{{vault_on_walls(w, h, l)}}},
+      {noisy_grid([&](double s, double t) { return Vec3((2 * s - 1) * w, 0.02 * t, t * h); }, 20, 0.03, 2),
+       ExactShape{{vault_on_walls(w, h, l)}}},
+      {noisy_grid([&](double s, double t) {  // along the bulb's first two spans
+         const Vec2 q = t < 0.5 ? Vec2(Vec2(r, h) + 2 * t * (bulb.steps.back().through[0] - Vec2(r, h)))
+                                : Vec2(bulb.steps.back().through[0] +
+                                       (2 * t - 1) * (bulb.steps.back().through[1] - bulb.steps.back().through[0]));
+         return Vec3(3 + q.x() * std::cos(2 * M_PI * s), 4 + q.x() * std::sin(2 * M_PI * s), q.y());
+       }, 40, 0.03, 3),
+       ExactShape{{bulb}}}};
+  for (const auto& [mesh, shape] : cases) {
+    TriMesh cpu = mesh, gpu = mesh;
+    CurvedSnapOptions o;
+    o.device = ComputeDevice::Cpu;
+    const CurvedSnapReport c = snap_to_curved(cpu, exact_surfaces(shape), o);
+    o.device = ComputeDevice::Vulkan;
+    const CurvedSnapReport g = snap_to_curved(gpu, exact_surfaces(shape), o);
+    EXPECT_NE(g.device.find("Vulkan"), std::string::npos) << g.device;
+    EXPECT_GT(c.vertices_snapped, int(0.9 * double(mesh.vertices.size())));
+    EXPECT_LT(c.mean_distance_after, 1e-4);
+    ASSERT_EQ(cpu.vertices.size(), gpu.vertices.size()) << "the same triangles split";
+    double worst = 0;
+    for (size_t i = 0; i < cpu.vertices.size(); ++i) worst = std::max(worst, (cpu.vertices[i] - gpu.vertices[i]).norm());
+    EXPECT_LE(worst, 1e-5);
+  }
+}
+
+// Seed 000's surface junction rule: where two surfaces meet at a crease (a
+// ridge), the triangles straddling it are split and their new vertices
+// snapped, so the mesh comes at least twice as near the crease as a mesh only
+// snapped.
+TEST(OptimizerCurved, SubdivisionFollowsACrease) {
+  const double w = 3, h = 4, l = 6;
+  ShapePart gable;  // a 45-degree gable roof swept along y
+  gable.path = Vec3(0, l, 0);
+  gable.start = Vec2(-w, 0);
+  gable.steps = {{Step::Kind::Line, {}, Vec2(w, 0)},
+                 {Step::Kind::Line, {}, Vec2(w, h)},
+                 {Step::Kind::Line, {}, Vec2(0, h + w)},
+                 {Step::Kind::Line, {}, Vec2(-w, h)}};
+  const TriMesh roof =
+      noisy_grid([&](double s, double t) { const double x = (2 * s - 1) * w; return Vec3(x, l * t, h + w - std::abs(x)); },
+                 7, 0.0, 4);  // the ridge runs through the middle of a column of cells
+  std::vector<Vec3> ridge;
+  for (double y = 0.5; y < l - 0.5; y += 0.25) ridge.emplace_back(0, y, h + w);
+  double gap[2];
+  for (int subdivide = 0; subdivide < 2; ++subdivide) {
+    TriMesh m = roof;
+    CurvedSnapOptions o;
+    o.device = ComputeDevice::Cpu;
+    o.subdivide = subdivide == 1;
+    const CurvedSnapReport r = snap_to_curved(m, exact_surfaces(ExactShape{{gable}}), o);
+    EXPECT_EQ(r.triangles_subdivided > 0, o.subdivide);
+    gap[subdivide] = mean(distances(ridge, m.soup()));
+  }
+  EXPECT_GT(gap[0], 0.2) << "a chord cuts the ridge";
+  EXPECT_LE(gap[1], 0.5 * gap[0]) << gap[0] << " -> " << gap[1];
 }

@@ -35,6 +35,15 @@ json to_json(const Deviation& d) {
 
 double r4(double v) { return std::round(v * 1e4) / 1e4; }
 
+// What the optimizer did to a curved building's dense mesh (null: not refined).
+json refinement_json(const MeshRefinement& m) {
+  if (m.triangles == 0) return json();
+  return {{"triangles", m.triangles},
+          {"snapped_share", r4(m.snapped_share)},
+          {"chamfer_to_exact_shape_m", {{"before", r4(m.chamfer_before_m)}, {"after", r4(m.chamfer_after_m)}}},
+          {"cloud_to_mesh_m", {{"before", r4(m.cloud_before_m)}, {"after", r4(m.cloud_after_m)}}}};
+}
+
 json building_json(const Building& b) {
   BuildingTotals t = totals(b);
   return {{"building_id", b.id},
@@ -60,7 +69,8 @@ json building_json(const Building& b) {
           {"lod", to_string(b.lod)},
           {"lod_note", b.lod_note},
           {"roof_deviation", to_json(b.roof_deviation)},
-          {"wall_deviation", to_json(b.wall_deviation)}};
+          {"wall_deviation", to_json(b.wall_deviation)},
+          {"mesh_refinement", refinement_json(b.refinement)}};
 }
 
 // Whether the whole-run fit was computed: a merge without the batch's inputs

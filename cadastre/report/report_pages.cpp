@@ -96,6 +96,15 @@ std::string deviation(const Deviation& d) {
   return d.n > 0 ? fmt("%.3f m (%ld points)", d.rmse, d.n) : std::string("&mdash; (no points)");
 }
 
+// What the optimizer did to a curved building's dense mesh; "" where it did not run.
+std::string refinement_text(const MeshRefinement& m) {
+  if (m.triangles == 0) return "";
+  return fmt("; its scan's mesh (%d triangles, %.0f %% of the vertices snapped onto its exact surfaces) "
+             "lies %.3f &rarr; %.3f m from them (Chamfer) and %.3f &rarr; %.3f m from the points",
+             m.triangles, 100 * m.snapped_share, m.chamfer_before_m, m.chamfer_after_m, m.cloud_before_m,
+             m.cloud_after_m);
+}
+
 std::string building_lines(const ParcelResult& r) {
   std::string s;  // concatenated: a note or a problem may be longer than fmt's buffer
   for (const Building& b : r.buildings)
@@ -105,7 +114,7 @@ std::string building_lines(const ParcelResult& r) {
              b.eave_height, b.ridge_height, b.storeys) +
          (b.solid_valid ? std::string("closed") : "open: " + html_escape(b.solid_problem)) +
          "; roof deviation RMSE " + deviation(b.roof_deviation) + ", wall " + deviation(b.wall_deviation) +
-         "</p>";
+         refinement_text(b.refinement) + "</p>";
   return s;
 }
 

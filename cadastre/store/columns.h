@@ -81,7 +81,13 @@ inline const Table kBuilding{"building",
                               {"wall_dev_mean"},
                               {"wall_dev_std"},
                               {"wall_dev_rmse"},
-                              {"exact_shape", "''"}}};
+                              {"exact_shape", "''"},
+                              {"refine_triangles", "NULL"},
+                              {"refine_snapped_share", "NULL"},
+                              {"refine_chamfer_before", "NULL"},
+                              {"refine_chamfer_after", "NULL"},
+                              {"refine_cloud_before", "NULL"},
+                              {"refine_cloud_after", "NULL"}}};
 
 // Written by store_lods after the building row (an UPDATE of its fid).
 inline const Table kBuildingAttributes{"building",

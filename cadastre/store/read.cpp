@@ -150,6 +150,13 @@ Building read_building(const sql::Db& db, const sql::Stmt& q, const LocalFrame& 
   b.lod = building_lod(db, b.id, q.get_text("lod"));
   b.lod_note = q.get_text("lod_note");
   b.exact = parsed(db, "building " + b.id, [&] { return exact_shape_from_json(q.get_text("exact_shape"), frame.origin); });
+  MeshRefinement& m = b.refinement;
+  m.triangles = int(q.get_int("refine_triangles"));
+  m.snapped_share = q.get_double("refine_snapped_share");
+  m.chamfer_before_m = q.get_double("refine_chamfer_before");
+  m.chamfer_after_m = q.get_double("refine_chamfer_after");
+  m.cloud_before_m = q.get_double("refine_cloud_before");
+  m.cloud_after_m = q.get_double("refine_cloud_after");
   return b;
 }
 

@@ -73,7 +73,8 @@ CREATE TABLE IF NOT EXISTS building (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
   ground_area DOUBLE, outer_ceiling_area DOUBLE,
   roof_dev_n INTEGER, roof_dev_max DOUBLE, roof_dev_mean DOUBLE, roof_dev_std DOUBLE, roof_dev_rmse DOUBLE,
   wall_dev_n INTEGER, wall_dev_max DOUBLE, wall_dev_mean DOUBLE, wall_dev_std DOUBLE, wall_dev_rmse DOUBLE,
-  exact_shape TEXT);
+  exact_shape TEXT, refine_triangles INTEGER, refine_snapped_share DOUBLE, refine_chamfer_before DOUBLE,
+  refine_chamfer_after DOUBLE, refine_cloud_before DOUBLE, refine_cloud_after DOUBLE);
 CREATE TABLE IF NOT EXISTS building_element (fid INTEGER PRIMARY KEY, geom MULTIPOLYGON,
   building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
   element_index INTEGER NOT NULL,
@@ -244,6 +245,13 @@ const AddedColumn kAddedColumns[] = {
     {"building", "roof_rmse", "DOUBLE"},
     {"building", "data_quality", "TEXT"},
     {"building", "exact_shape", "TEXT"},  // a curved building's exact surfaces, JSON (docs/store.md)
+    // What the optimizer did to a curved building's dense mesh (docs/geopackage.md).
+    {"building", "refine_triangles", "INTEGER"},
+    {"building", "refine_snapped_share", "DOUBLE"},
+    {"building", "refine_chamfer_before", "DOUBLE"},
+    {"building", "refine_chamfer_after", "DOUBLE"},
+    {"building", "refine_cloud_before", "DOUBLE"},
+    {"building", "refine_cloud_after", "DOUBLE"},
 };
 
 struct Layer {

@@ -227,7 +227,11 @@ std::int64_t Store::Impl::write_building(
       .bind(t.ground).bind(t.outer_ceiling);
   for (const Deviation* d : {&b.roof_deviation, &b.wall_deviation})
     s.bind(d->n).bind(d->max).bind(d->mean).bind(d->std).bind(d->rmse);
-  s.bind(exact_shape_json(b.exact, off)).run();
+  s.bind(exact_shape_json(b.exact, off));
+  const MeshRefinement& m = b.refinement;
+  if (m.triangles > 0) s.bind(m.triangles);
+  else s.bind_null();
+  s.bind(m.snapped_share).bind(m.chamfer_before_m).bind(m.chamfer_after_m).bind(m.cloud_before_m).bind(m.cloud_after_m).run();
   std::int64_t fid = db.last_id();
   gis.building(b, fid, parcel_id, off, v);
   lods.write(fid, b, off, srs);

@@ -49,6 +49,7 @@ struct ReconstructionParams {
   double storey_height_m = 3.0;
   double shared_roof_depth_m = 0.5;
   bool optimize = false;
+  bool refine_curved = true;  // snap curved buildings' dense meshes onto their exact surfaces
   std::string optimize_device = "auto";  // auto, cpu or vulkan
 };
 

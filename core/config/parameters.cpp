@@ -141,6 +141,11 @@ std::vector<Parameter> reconstruction_parameters() {
        "Refine with the primitive-constrained optimizer (batch --optimize turns it on too)", {},
        "optimizer", Need::Optional,
        field([](auto& c) -> auto& { return c.reconstruction.optimize; })},
+      {"reconstruction.refine_curved", Kind::Boolean, "-",
+       "Mesh each curved building's points and snap the mesh onto its exact surfaces, "
+       "reporting the effect (docs/curved.md)", {},
+       "optimizer", Need::Optional,
+       field([](auto& c) -> auto& { return c.reconstruction.refine_curved; })},
       {"reconstruction.optimize_device", Kind::Choice, "-", "Where the optimizer runs",
        one_of({"auto", "cpu", "vulkan"}), "optimizer", Need::Optional,
        field([](auto& c) -> auto& { return c.reconstruction.optimize_device; })},

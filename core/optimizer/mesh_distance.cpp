@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "core/optimizer/optimizer_kernels.h"
 
@@ -119,13 +120,14 @@ float tri_dist2(F3 p, F3 a, F3 b, F3 c) {
   return dot(r, r);
 }
 
-float query(const Grid& g, F3 p) {
+float query(const Grid& g, F3 p, float cap) {
   const int* n = g.n;
   int c[3];
   const float pv[3] = {p.x, p.y, p.z};
   for (int k = 0; k < 3; ++k)
     c[k] = std::clamp(static_cast<int>(std::floor((pv[k] - g.origin[k]) / g.h)), 0, n[k] - 1);
-  const int max_r = std::max({n[0], n[1], n[2]});
+  int max_r = std::max({n[0], n[1], n[2]});
+  if (cap < 1.0e30f) max_r = std::min(max_r, static_cast<int>(std::ceil(cap / g.h)) + 1);
   float best = 3.0e38f;
   auto tv = [&](std::uint32_t t, int k) {
     const float* f = &g.tv[9 * static_cast<std::size_t>(t) + 3 * k];
@@ -150,7 +152,7 @@ float query(const Grid& g, F3 p) {
     float reach = static_cast<float>(r) * g.h;
     if (best <= reach * reach) break;
   }
-  return std::sqrt(best);
+  return best > cap * cap ? std::numeric_limits<float>::infinity() : std::sqrt(best);
 }
 
 }  // namespace
@@ -173,6 +175,7 @@ std::vector<double> point_to_mesh_distances(const std::vector<Vec3>& points,
   for (std::size_t i = 0; i < points.size(); ++i)
     for (int k = 0; k < 3; ++k) pts[3 * i + k] = static_cast<float>(points[i][k]);
   std::vector<float> dist(points.size(), 0.0f);
+  const float cap = std::isfinite(options.beyond_m) ? static_cast<float>(options.beyond_m) : 3.0e38f;
   std::string note;
   VulkanCompute* vk = select_compute(options.device, &note);
   if (options.used) *options.used = note;
@@ -181,8 +184,9 @@ std::vector<double> point_to_mesh_distances(const std::vector<Vec3>& points,
       float ox, oy, oz, h;
       std::int32_t nx, ny, nz;
       std::uint32_t np;
+      float cap;
     } push{g.origin[0], g.origin[1], g.origin[2], g.h, g.n[0], g.n[1], g.n[2],
-           static_cast<std::uint32_t>(points.size())};
+           static_cast<std::uint32_t>(points.size()), cap};
     vk->run("point_distance",
             {{pts.data(), pts.size() * 4, false},
              {const_cast<float*>(g.tv.data()), g.tv.size() * 4, false},
@@ -193,7 +197,7 @@ std::vector<double> point_to_mesh_distances(const std::vector<Vec3>& points,
   } else {
     parallel_for(points.size(), options.threads, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i)
-        dist[i] = query(g, F3{pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]});
+        dist[i] = query(g, F3{pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]}, cap);
     });
   }
   for (std::size_t i = 0; i < points.size(); ++i) out[i] = dist[i];

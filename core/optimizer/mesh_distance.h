@@ -3,6 +3,7 @@
 // force), on the GPU (shaders/point_distance.comp) or the CPU reference.
 // Used for Chamfer distances and for point-to-model deviation.
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct DistanceOptions {
   ComputeDevice device = ComputeDevice::Auto;
   int threads = 0;              // CPU path: 0 = all cores
   std::string* used = nullptr;  // when set, receives which device ran
+  // Distances over this are not searched for: reported as infinity (a
+  // point far from the mesh visits many cells).
+  double beyond_m = std::numeric_limits<double>::infinity();
 };
 
 // Unsigned distance from each point to the nearest triangle (local coordinates).

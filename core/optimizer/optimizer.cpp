@@ -12,6 +12,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "core/optimizer/mesh_subdivision.h"
 #include "core/optimizer/optimizer_kernels.h"
 
 namespace c3d {
@@ -65,12 +66,12 @@ void emit_split(const Tri& v, const std::array<int, 3>& m, std::vector<Tri>& out
 }
 
 // Replaces every triangle by its pieces; labels are copied from the parent.
-int apply_cuts(ConstrainedMesh& cm, const std::unordered_map<std::uint64_t, int>& cut) {
+int apply_cuts(TriMesh& mesh, std::vector<int>& labels, const std::unordered_map<std::uint64_t, int>& cut) {
   std::vector<Tri> tris;
-  std::vector<int> labels;
+  std::vector<int> pieces_labels;
   int split = 0;
-  for (std::size_t t = 0; t < cm.mesh.triangles.size(); ++t) {
-    const Tri& v = cm.mesh.triangles[t];
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Tri& v = mesh.triangles[t];
     std::array<int, 3> m{};
     for (int k = 0; k < 3; ++k) {
       auto it = cut.find(edge_key(v[k], v[(k + 1) % 3]));
@@ -79,31 +80,33 @@ int apply_cuts(ConstrainedMesh& cm, const std::unordered_map<std::uint64_t, int>
     std::size_t before = tris.size();
     emit_split(v, m, tris);
     if (tris.size() - before > 1) ++split;
-    labels.resize(tris.size(), cm.tri_plane[t]);
+    pieces_labels.resize(tris.size(), labels[t]);
   }
-  cm.mesh.triangles = std::move(tris);
-  cm.tri_plane = std::move(labels);
+  mesh.triangles = std::move(tris);
+  labels = std::move(pieces_labels);
   return split;
 }
 
-// Midpoint subdivision of the marked triangles; neighbours sharing a split edge
-// are split too (2 or 3 pieces) so the mesh stays conforming.
-int subdivide_marked(ConstrainedMesh& cm, const std::vector<char>& marked) {
+}  // namespace
+
+int subdivide_marked(TriMesh& mesh, std::vector<int>& labels, const std::vector<char>& marked) {
   std::unordered_map<std::uint64_t, int> mid;
   int count = 0;
-  for (std::size_t t = 0; t < cm.mesh.triangles.size(); ++t) {
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (!marked[t]) continue;
     ++count;
-    const Tri& v = cm.mesh.triangles[t];
+    const Tri& v = mesh.triangles[t];
     for (int k = 0; k < 3; ++k) {
       int a = v[k], b = v[(k + 1) % 3];
-      if (mid.emplace(edge_key(a, b), static_cast<int>(cm.mesh.vertices.size())).second)
-        cm.mesh.vertices.push_back(0.5 * (cm.mesh.vertices[a] + cm.mesh.vertices[b]));
+      if (mid.emplace(edge_key(a, b), static_cast<int>(mesh.vertices.size())).second)
+        mesh.vertices.push_back(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
     }
   }
-  apply_cuts(cm, mid);
+  apply_cuts(mesh, labels, mid);
   return count;
 }
+
+namespace {
 
 // Surface junction optimization: triangles whose normal departs from their
 // plane's by more than the threshold get one midpoint level, three when over
@@ -120,7 +123,7 @@ int subdivide_by_curvature(ConstrainedMesh& cm, double threshold_rad) {
       any |= marked[t] = std::acos(std::clamp(std::fabs(c), 0.0, 1.0)) > limit;
     }
     if (!any) break;
-    total += subdivide_marked(cm, marked);
+    total += subdivide_marked(cm.mesh, cm.tri_plane, marked);
   }
   return total;
 }
@@ -170,7 +173,7 @@ int split_along_line(ConstrainedMesh& cm, int li, double band, std::vector<int>&
     cut[key] = static_cast<int>(cm.mesh.vertices.size());
     cm.mesh.vertices.push_back(x);
   }
-  int split = apply_cuts(cm, cut);
+  int split = apply_cuts(cm.mesh, cm.tri_plane, cut);
   on_line.resize(cm.mesh.vertices.size(), -1);
   for (std::size_t v = 0; v < cm.mesh.vertices.size(); ++v)
     if (sgn(static_cast<int>(v)) == 0 && in_band(cm.mesh.vertices[v])) on_line[v] = li;

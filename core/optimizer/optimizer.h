@@ -95,18 +95,24 @@ OptimizeReport optimize_views(ConstrainedMesh& m, const std::vector<Viewpoint>& 
 // E = alpha * fitness + beta * junction of the current mesh, on the CPU.
 double mesh_energy(const ConstrainedMesh& m, const OptimizerOptions& options);
 
-// A curved surface the optimizer snaps a mesh onto (seed 000's curved
-// primitives): a sphere, a cylinder or a cone.
+// A surface the optimizer snaps a mesh onto (seed 000's primitives): a
+// sphere, a cylinder, a cone or a plane, perhaps bounded along a direction.
 struct CurvedPrimitive {
-  enum class Kind { Sphere, Cylinder, Cone };
+  enum class Kind { Sphere, Cylinder, Cone, Plane };
   Kind kind = Kind::Sphere;
-  Vec3 point = Vec3::Zero();  // sphere: centre; cylinder: a point on its axis; cone: apex
-  Vec3 axis = Vec3::UnitZ();  // cylinder: unit axis; cone: unit axis from the apex into the cone
+  Vec3 point = Vec3::Zero();  // sphere: centre; cylinder: a point on its axis; cone: apex; plane: a point on it
+  Vec3 axis = Vec3::UnitZ();  // cylinder: unit axis; cone: unit axis from the apex into the cone; plane: unit normal
   double radius = 0;          // sphere, cylinder
   double angle = 0;           // cone: half-angle, rad
+  // Where the surface ends, for choosing the surface a triangle is on: a
+  // point's coordinate along `span` from `point` in [span_lo, span_hi]
+  // (unbounded where span is zero).
+  Vec3 span = Vec3::Zero();
+  double span_lo = 0, span_hi = 0;
   Vec3 project(const Vec3& p) const;  // the nearest point on the surface
   Vec3 normal(const Vec3& p) const;   // unit normal there, away from the axis or centre
   double distance(const Vec3& p) const { return (project(p) - p).norm(); }
+  bool spans(const Vec3& p, double slack) const;
 };
 
 struct CurvedSnapOptions {
@@ -114,20 +120,24 @@ struct CurvedSnapOptions {
   int threads = 1;                 // CPU reference path; 0 = all cores
   double assign_distance_m = 0.2;  // a triangle's centroid this near a surface may be on it
   double assign_angle_deg = 30;    // if its normal agrees with the surface's this well
+  bool subdivide = true;           // seed 000's surface junction rule (snap_to_curved)
+  double curvature_threshold_deg = 5.0;
 };
 
 struct CurvedSnapReport {
   std::string device;  // what ran, as OptimizeReport::device
-  int triangles_on_surfaces = 0, vertices_snapped = 0;
+  int triangles_on_surfaces = 0, vertices_snapped = 0, triangles_subdivided = 0;
   double mean_distance_before = 0, mean_distance_after = 0;  // snapped vertices to their surface, m
 };
 
-// Surface snapping onto curved primitives: a triangle whose centroid lies
-// within assign_distance of a surface, its normal agreeing with the
+// Surface snapping onto primitives: a triangle whose centroid lies within
+// assign_distance of a surface and its span, its normal agreeing with the
 // surface's, is on the nearest such; its vertices are projected onto it along
 // the surface normal (a vertex on two: onto the nearer), in float about the
 // mesh's centre, on Vulkan (shaders/opt_snap_curved.comp) or the CPU
-// reference.
+// reference. Then triangles the surfaces under them turn across by more than
+// the curvature threshold are split at their edge midpoints, snapped in turn
+// (once; three times over ten times the threshold).
 CurvedSnapReport snap_to_curved(TriMesh& mesh, const std::vector<CurvedPrimitive>& surfaces,
                                 const CurvedSnapOptions& options);
 

@@ -155,7 +155,9 @@ void kernel_snap_curved(std::vector<float>& v, const std::vector<std::int32_t>& 
       const F3 c{f[0], f[1], f[2]}, a{f[4], f[5], f[6]}, q = sub(load(v, i), c);
       const float kind = f[3], r = f[7];
       F3 p;
-      if (kind == 0.0f) {
+      if (kind == 3.0f) {
+        p = sub(load(v, i), mul(a, dot(q, a)));
+      } else if (kind == 0.0f) {
         const float len = std::sqrt(dot(q, q));
         if (len <= 0.0f) continue;
         p = add(c, mul(q, r / len));

@@ -18,6 +18,7 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
 #include "core/optimizer/optimizer.h"
+#include "core/optimizer/refine_curved.h"
 #include "core/reconstruct/building_plan.h"
 #include "core/reconstruct/curved_roofs.h"
 #include "core/reconstruct/envelope/envelope.h"
@@ -467,6 +468,18 @@ std::string curved_roofs(const ParcelContext& c, ModelledParcel& m) {
   return note;
 }
 
+// Seed 000's optimizer on the curved buildings (on by default): each one's
+// dense mesh snapped onto its exact surfaces, and what that did.
+void refine_curved_buildings(const ParcelContext& c, std::vector<Building>& buildings) {
+  if (!c.p.refine_curved) return;
+  std::vector<Vec3> points = c.scene.roof_points;
+  points.insert(points.end(), c.scene.wall_points.begin(), c.scene.wall_points.end());
+  for (Building& b : buildings)
+    if (!b.exact.parts.empty())
+      b.refinement = refine_curved(b, points, c.roofs.spacing, parse_compute_device(c.p.optimize_device)).effect;
+  c.clock.lap("refine curved");
+}
+
 }  // namespace
 
 ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams& p) {
@@ -497,6 +510,7 @@ ParcelResult reconstruct_parcel(const ParcelScene& s, const ReconstructionParams
     fall_back_to_lower_lod(c, m);
     const int dropped = drop_unmodellable(m);
     const std::string curved = curved_roofs(c, m);
+    refine_curved_buildings(c, m.buildings);
     describe_buildings(c, m);
     if (m.buildings.empty()) {
       r.status = dropped > 0 ? ParcelStatus::Failed : ParcelStatus::Empty;

@@ -1,0 +1,135 @@
+#include "core/optimizer/exact_surfaces.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <optional>
+
+namespace c3d {
+
+namespace {
+
+// A line of the profile steeper than this is a cylinder (or flatter, a
+// plane): its radius (height) changes by at most 1 % of its length, and the
+// apex of the cone it would be stays within reach of float arithmetic.
+constexpr double kStraightRatio = 0.02;
+constexpr double kOnAxisM = 0.01;  // an arc centred this near the axis turns into a sphere
+
+// Where three points' circle has its centre; none where they are in line.
+std::optional<Vec2> circle_centre(const Vec2& a, const Vec2& b, const Vec2& c) {
+  Eigen::Matrix2d m;
+  m << 2 * (b - a).x(), 2 * (b - a).y(), 2 * (c - a).x(), 2 * (c - a).y();
+  if (std::abs(m.determinant()) < 1e-12) return std::nullopt;
+  const Vec2 rhs(b.squaredNorm() - a.squaredNorm(), c.squaredNorm() - a.squaredNorm());
+  return Vec2(m.partialPivLu().solve(rhs));
+}
+
+// The surface line a->b of the profile (r, z) sweeps turning about the axis
+// through `p.origin` along `p.v`; none where it lies on the axis.
+std::optional<CurvedPrimitive> turned_line(const ShapePart& p, const Vec2& a, const Vec2& b) {
+  const double dr = b.x() - a.x(), dz = b.y() - a.y();
+  if (dr == 0 && dz == 0) return std::nullopt;
+  CurvedPrimitive s;
+  s.axis = p.v;
+  s.span = p.v;
+  s.span_lo = std::min(a.y(), b.y()), s.span_hi = std::max(a.y(), b.y());
+  if (std::abs(dz) <= kStraightRatio * std::abs(dr)) {  // a ring or disc
+    s.kind = CurvedPrimitive::Kind::Plane;
+    s.point = p.origin + p.v * (a.y() + b.y()) / 2;
+    s.span = Vec3::Zero();  // its extent is across the axis
+    return s;
+  }
+  s.point = p.origin;
+  if (std::abs(dr) <= kStraightRatio * std::abs(dz)) {
+    s.kind = CurvedPrimitive::Kind::Cylinder;
+    s.radius = (a.x() + b.x()) / 2;
+    return s.radius > kOnAxisM ? std::optional(s) : std::nullopt;
+  }
+  // The cone's apex is where the line meets the axis; it opens towards
+  // growing radius.
+  s.kind = CurvedPrimitive::Kind::Cone;
+  const double slope = dz / dr, apex_z = a.y() - a.x() * slope;
+  s.point = p.origin + p.v * apex_z;
+  s.axis = p.v * (slope > 0 ? 1.0 : -1.0);
+  s.angle = std::atan2(std::abs(dr), std::abs(dz));
+  s.span = p.v;
+  s.span_lo -= apex_z, s.span_hi -= apex_z;  // spans are measured from the apex
+  return s;
+}
+
+void add_turned(const ShapePart& p, const Vec2& from, const ProfileStep& step, std::vector<CurvedPrimitive>& out) {
+  if (step.kind == ProfileStep::Kind::Arc && step.through.size() == 1) {
+    const std::optional<Vec2> c = circle_centre(from, step.through[0], step.to);
+    if (!c || std::abs(c->x()) > kOnAxisM) return;  // a torus: not a snapping surface
+    CurvedPrimitive s;
+    s.kind = CurvedPrimitive::Kind::Sphere;
+    s.point = p.origin + p.v * c->y();
+    s.radius = (from - *c).norm();
+    s.span = p.v;
+    const double lo = std::min({from.y(), step.through[0].y(), step.to.y()}) - c->y();
+    const double hi = std::max({from.y(), step.through[0].y(), step.to.y()}) - c->y();
+    s.span_lo = lo, s.span_hi = hi;
+    out.push_back(s);
+    return;
+  }
+  std::vector<Vec2> line{from};  // a spline: the cones along its points
+  if (step.kind == ProfileStep::Kind::Spline) line.insert(line.end(), step.through.begin(), step.through.end());
+  line.push_back(step.to);
+  for (size_t k = 1; k < line.size(); ++k)
+    if (auto s = turned_line(p, line[k - 1], line[k])) out.push_back(*s);
+}
+
+// A swept part: each step's surface along the path, and the end caps.
+void add_swept(const ShapePart& p, const Vec2& from, const ProfileStep& step, std::vector<CurvedPrimitive>& out) {
+  const double length = p.path.norm();
+  CurvedPrimitive s;
+  s.span = p.path / length;
+  s.span_lo = 0, s.span_hi = length;
+  const auto world = [&](const Vec2& q) { return Vec3(p.origin + q.x() * p.u + q.y() * p.v); };
+  if (step.kind == ProfileStep::Kind::Arc && step.through.size() == 1) {
+    const std::optional<Vec2> c = circle_centre(from, step.through[0], step.to);
+    if (!c) return;
+    s.kind = CurvedPrimitive::Kind::Cylinder;
+    s.point = world(*c);
+    s.axis = s.span;
+    s.radius = (from - *c).norm();
+    out.push_back(s);
+    return;
+  }
+  const Vec3 along = world(step.to) - world(from);
+  if (step.kind != ProfileStep::Kind::Line || along.norm() <= 0) return;  // swept splines: none made
+  s.kind = CurvedPrimitive::Kind::Plane;
+  s.point = world(from);
+  s.axis = along.cross(p.path).normalized();
+  out.push_back(s);
+}
+
+void add_caps(const ShapePart& p, std::vector<CurvedPrimitive>& out) {
+  for (const Vec3& at : {p.origin, Vec3(p.origin + p.path)}) {
+    CurvedPrimitive cap;
+    cap.kind = CurvedPrimitive::Kind::Plane;
+    cap.point = at;
+    cap.axis = p.path.normalized();
+    out.push_back(cap);
+  }
+}
+
+}  // namespace
+
+std::vector<CurvedPrimitive> exact_surfaces(const ExactShape& shape) {
+  std::vector<CurvedPrimitive> out;
+  for (const ShapePart& p : shape.parts) {
+    if (!p.revolve && p.path.norm() <= 0) continue;
+    Vec2 from = p.start;
+    std::vector<ProfileStep> steps = p.steps;
+    steps.push_back({ProfileStep::Kind::Line, {}, p.start});  // the profile closes with a line
+    for (const ProfileStep& step : steps) {
+      if (p.revolve) add_turned(p, from, step, out);
+      else add_swept(p, from, step, out);
+      from = step.to;
+    }
+    if (!p.revolve) add_caps(p, out);
+  }
+  return out;
+}
+
+}  // namespace c3d
