@@ -171,11 +171,19 @@ TEST(Primitives, CurvedBuildingsStandOnTheirSurfaces) {
   b = curved_building(gap);
   ASSERT_TRUE(b);
   EXPECT_LT(areas(*b)[ElementType::Ground], 0.9 * M_PI * 16);
+  // Its drum stands under the rim, which says so: no wall point placed it.
+  auto drum = [](const Building& m) {
+    return *std::find_if(m.elements.begin(), m.elements.end(), [](const Element& e) { return e.type == ElementType::Wall; });
+  };
+  EXPECT_EQ(drum(*b).evidence, WallEvidence::Default);
+  EXPECT_EQ(drum(*b).support_points, 0);
   for (int i = 0; i < 400; ++i)
     gap.wall_points.push_back({4 * std::cos(i * 0.0157), 4 * std::sin(i * 0.0157), 0.5 + 6.0 * (i % 20) / 20});
   b = curved_building(gap);
   ASSERT_TRUE(b);
   EXPECT_NEAR(areas(*b)[ElementType::Ground] / (M_PI * 16), 1, 0.01);
+  EXPECT_EQ(drum(*b).evidence, WallEvidence::Measured);
+  EXPECT_EQ(drum(*b).support_points, 400);
 
   Primitive cylinder;
   cylinder.kind = PrimitiveKind::Cylinder, cylinder.point = Vec3(0, 0, 0), cylinder.axis = Vec3::UnitX(),

@@ -23,6 +23,9 @@ constexpr double kMaxAxisOffsetM = 0.1;
 struct Outline {
   double a = 0, b = 0;  // cylinder: extent along the axis; revolution: unused
   double half = 0;      // cylinder: half-width across the axis; revolution: the drum's radius
+  // The wall points that placed each wall (none: under the roof's edge): a
+  // vault's end walls at a and b and its sides (both or neither), a drum.
+  int seen_a = 0, seen_b = 0, seen_sides = 0, seen_drum = 0;
 };
 
 // q-quantile of v (0 <= q <= 1).
@@ -79,6 +82,7 @@ Ring3 at_height(Ring3 ring, double z) {
 
 Building revolved(const CurvedBuildingInput& in, const Outline& o) {
   Building b = on_round_drum(cap_faces(in.roof, o.half, in.chord), in.ground_z, kMinWallM);
+  mark_walls(b, o.seen_drum);
   b.exact.parts.push_back(round_part(in.roof.point.head<2>(), in.ground_z, {o.half, revolved_z(in.roof, o.half)},
                                      cap_curve(in.roof, o.half)));
   return b;
@@ -175,6 +179,7 @@ Building vault(const CurvedBuildingInput& in, const Outline& o) {
     for (const Vec2& q : arc) end.push_back(f.world(t, q.x(), q.y()));
     if (t == o.b) std::reverse(end.begin(), end.end());
     out.elements.push_back(element_of(ElementType::Wall, {{end, {}}}));
+    mark_wall(out.elements.back(), t == o.a ? o.seen_a : o.seen_b);
   }
   if (wall >= kMinWallM)
     for (double s : {-o.half, o.half}) {  // side walls up to the springing
@@ -182,6 +187,7 @@ Building vault(const CurvedBuildingInput& in, const Outline& o) {
                  f.world(o.a, s, arc.front().y())};
       if (s > 0) std::reverse(side.begin(), side.end());
       out.elements.push_back(element_of(ElementType::Wall, {{side, {}}}));
+      mark_wall(out.elements.back(), o.seen_sides);
     }
   Ring3 ground{f.world(o.a, -o.half, in.ground_z), f.world(o.a, o.half, in.ground_z), f.world(o.b, o.half, in.ground_z),
                f.world(o.b, -o.half, in.ground_z)};
@@ -229,8 +235,9 @@ void add_sigma(const CurvedBuildingInput& in, const Outline& o, Building& b) {
   const Building small = build(in, lo), large = build(in, hi);
   for (size_t k = 0; k < b.elements.size() && k < small.elements.size() && k < large.elements.size(); ++k) {
     b.elements[k].sigma_area = std::abs(large.elements[k].area - small.elements[k].area) / 2;
-    b.elements[k].support_points = b.elements[k].type == ElementType::Roof ? int(in.roof_points.size()) : 0;
-    b.elements[k].rmse = b.elements[k].type == ElementType::Roof ? in.roof.rmse : 0;
+    if (b.elements[k].type != ElementType::Roof) continue;
+    b.elements[k].support_points = int(in.roof_points.size());
+    b.elements[k].rmse = in.roof.rmse;
   }
 }
 
@@ -256,7 +263,7 @@ void drum_from_walls(const CurvedBuildingInput& in, Outline& o) {
     sector[size_t(std::fmod(std::atan2(d.y(), d.x()) + 2 * kPi, 2 * kPi) / (2 * kPi) * 12) % 12] = true;
   }
   const double r = median_of(rho, kMinWallPoints);
-  if (!std::isnan(r) && std::count(sector.begin(), sector.end(), true) >= 3) o.half = r;
+  if (!std::isnan(r) && std::count(sector.begin(), sector.end(), true) >= 3) o.half = r, o.seen_drum = int(rho.size());
 }
 
 // A vault's side walls (half-width) and end walls (extent along the axis)
@@ -276,10 +283,11 @@ void vault_from_walls(const CurvedBuildingInput& in, const Frame& f, Outline& o)
     if (std::abs(s) < o.half - kWallReachM && std::abs(t - o.b) < kWallReachM) hi.push_back(t);
   }
   const double l = median_of(left, kMinWallPoints / 2), r = median_of(right, kMinWallPoints / 2);
-  if (!std::isnan(l) && !std::isnan(r) && std::abs(l - r) < 2 * kMaxAxisOffsetM) o.half = std::min((l + r) / 2, R);
+  if (!std::isnan(l) && !std::isnan(r) && std::abs(l - r) < 2 * kMaxAxisOffsetM)
+    o.half = std::min((l + r) / 2, R), o.seen_sides = int(left.size() + right.size());
   const double a = median_of(lo, kMinWallPoints), b = median_of(hi, kMinWallPoints);
-  if (!std::isnan(a)) o.a = a;
-  if (!std::isnan(b)) o.b = b;
+  if (!std::isnan(a)) o.a = a, o.seen_a = int(lo.size());
+  if (!std::isnan(b)) o.b = b, o.seen_b = int(hi.size());
 }
 
 // ---- A flat roof carrying domes or cones ----
@@ -409,6 +417,7 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
     Ring3 hole = at_height(cap.rim, in.roof_z);
     const bool on_drum = cap.rim.front().z() - in.roof_z > 1e-9;
     if (on_drum) drums.push_back(element_of(ElementType::Wall, drum_faces(cap.rim, in.roof_z)));
+    if (on_drum) mark_wall(drums.back(), 0);  // under the cap's rim
     else hole = cap.rim;  // the cap meets the roof: its own rim, vertex for vertex
     std::reverse(hole.begin(), hole.end());
     flat.holes.push_back(hole);

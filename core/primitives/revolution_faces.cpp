@@ -85,4 +85,14 @@ int arc_steps(double radius, double angle, double chord) {
   return std::max(8, int(std::ceil(std::abs(angle) / step)));
 }
 
+void mark_wall(Element& wall, int points) {
+  wall.support_points = points;
+  wall.evidence = points > 0 ? WallEvidence::Measured : WallEvidence::Default;
+}
+
+void mark_walls(Building& b, int points) {
+  for (Element& e : b.elements)
+    if (e.type == ElementType::Wall) mark_wall(e, points);
+}
+
 }  // namespace c3d

@@ -31,6 +31,12 @@ Element element_of(ElementType type, std::vector<Face> faces);
 // ground_z where the rim stands at least min_wall above it, the ground disc.
 Building on_round_drum(RevolvedFaces roof, double ground_z, double min_wall);
 
+// Marks a wall element as placed by `points` wall points (measured), or,
+// with none, as standing plumb under the roof's edge (default).
+void mark_wall(Element& wall, int points);
+// Every wall of `b` so.
+void mark_walls(Building& b, int points);
+
 // The exact part of a round building (ExactShape): its profile (rho, z)
 // turned about the vertical axis at `axis`, out along the floor at floor_z
 // to the rim's radius, up to the rim, then along `roof` to the apex on the

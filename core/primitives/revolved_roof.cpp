@@ -124,12 +124,17 @@ void keep_outermost_course(std::vector<Vec2>& profile) {
   profile.assign(kept.rbegin(), kept.rend());
 }
 
+struct SeenDrum {
+  double radius = kNaN, top = kNaN;
+  int points = 0;
+};
+
 // Where a wall scan saw the drum: the median distance to the axis of the
 // wall points under the roof's widest ring, near it, and the height they
 // reach (from their 2 and 98 % quantiles, as points spread evenly up it),
-// where at least kMinWallPoints lie around at least a quarter of it; NaN
-// otherwise.
-std::pair<double, double> seen_drum(const RevolvedBuildingInput& in) {
+// where at least kMinWallPoints lie around at least a quarter of it (their
+// count); NaN and none otherwise.
+SeenDrum seen_drum(const RevolvedBuildingInput& in) {
   const Vec2 widest = in.roof.profile.front();
   std::vector<double> rho, z;
   std::vector<bool> sector(12, false);
@@ -142,9 +147,9 @@ std::pair<double, double> seen_drum(const RevolvedBuildingInput& in) {
     z.push_back(q.z());
     sector[size_t(std::fmod(std::atan2(d.y(), d.x()) + 2 * kPi, 2 * kPi) / (2 * kPi) * 12) % 12] = true;
   }
-  if (rho.size() < kMinWallPoints || std::count(sector.begin(), sector.end(), true) < 3) return {kNaN, kNaN};
+  if (rho.size() < kMinWallPoints || std::count(sector.begin(), sector.end(), true) < 3) return {};
   const double lo = quantile_of(z, 0.02), hi = quantile_of(z, 0.98);  // spread evenly up the drum
-  return {quantile_of(rho, 0.5), hi + (hi - lo) * 0.02 / 0.96};
+  return {quantile_of(rho, 0.5), hi + (hi - lo) * 0.02 / 0.96, int(rho.size())};
 }
 
 // The building on `profile` (rho, z from the drum's top to the apex).
@@ -180,8 +185,10 @@ std::vector<Vec2> drum_profile(const RevolvedBuildingInput& in, double drum_r, d
 
 std::optional<Building> revolved_roof_building(const RevolvedBuildingInput& in) {
   if (in.roof.profile.size() < 3 || in.roof.profile.front().y() - in.ground_z < kMinWallM) return std::nullopt;
-  const auto [drum_r, drum_top] = seen_drum(in);
+  const SeenDrum drum = seen_drum(in);
+  const double drum_r = drum.radius, drum_top = drum.top;
   Building b = on_drum(in, drum_profile(in, drum_r, drum_top, 0));
+  mark_walls(b, drum.points);
   const double sigma = std::max(0.001, in.spacing / 2);
   const Building small = on_drum(in, drum_profile(in, drum_r, drum_top, -sigma));
   const Building large = on_drum(in, drum_profile(in, drum_r, drum_top, sigma));
@@ -192,7 +199,7 @@ std::optional<Building> revolved_roof_building(const RevolvedBuildingInput& in) 
   return b;
 }
 
-bool drum_seen(const RevolvedBuildingInput& in) { return !std::isnan(seen_drum(in).first); }
+bool drum_seen(const RevolvedBuildingInput& in) { return seen_drum(in).points > 0; }
 
 bool RevolvedRoof::may_overhang() const {
   constexpr double kSteepRad = 60 * kPi / 180;
