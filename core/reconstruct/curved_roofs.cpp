@@ -145,8 +145,8 @@ int wall_along(const Building& planar, const Vec2& a, const Vec2& b) {
 }
 
 // The domed model's walls and ground take what the planar model knew of the
-// same walls, ground and outer ceiling: party or exterior, the evidence,
-// sigma per m2.
+// same walls, ground and outer ceiling: party or exterior, the evidence and
+// the points behind it, sigma per m2.
 void inherit_walls(const Building& planar, Building& domed, double boundary_sigma) {
   for (Element& e : domed.elements) {
     const bool edge_wall = e.type == ElementType::Wall && e.faces.size() == 1 && e.faces[0].ring.size() == 4;
@@ -159,6 +159,8 @@ void inherit_walls(const Building& planar, Building& domed, double boundary_sigm
       const Element& old = planar.elements[size_t(from)];
       e.type = old.type;
       e.evidence = old.evidence;
+      e.support_points = old.support_points;
+      e.rmse = old.rmse;
       e.sigma_area = old.area > 0 ? old.sigma_area * e.area / old.area : 0;
     } else if (edge_wall) {
       e.sigma_area = sigma_area_from_plane(e.faces, 0, 0, boundary_sigma);
