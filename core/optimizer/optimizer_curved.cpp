@@ -142,8 +142,8 @@ double bending(const TriMesh& mesh, const std::array<int, 3>& t, const std::vect
 // across by more than the curvature threshold (a flat triangle cannot follow
 // them: within a curved surface, or where two surfaces meet) is split at its
 // edge midpoints, which are snapped onto the nearest of its corners'
-// surfaces that holds them; once, and twice more where they turn by over ten times the
-// threshold. Returns the triangles split.
+// surfaces that holds them; once, and twice more where they turn by over
+// ten times the threshold. Returns the triangles split.
 int subdivide_by_bending(TriMesh& mesh, const std::vector<CurvedPrimitive>& surfaces, std::vector<std::int32_t>& vs,
                          const CurvedSnapOptions& o, VulkanCompute* vk) {
   const double threshold = o.curvature_threshold_deg * kPi / 180;

@@ -46,13 +46,19 @@ std::vector<Vec3> samples(const std::vector<Triangle3>& tris, double step) {
   return out;
 }
 
-// The distance of p to the exact shape: to the nearest of its surfaces
-// that spans p (its faces bound it: this is where they lie).
-double to_shape(const Vec3& p, const std::vector<CurvedPrimitive>& surfaces) {
-  double nearest = std::numeric_limits<double>::infinity();
+// The exact shape's surface nearest p among those that span it (its faces
+// bound it: this is where they lie); none where none spans p.
+const CurvedPrimitive* nearest_surface(const Vec3& p, const std::vector<CurvedPrimitive>& surfaces) {
+  const CurvedPrimitive* nearest = nullptr;
   for (const CurvedPrimitive& s : surfaces)
-    if (s.spans(p, kSpanSlackM)) nearest = std::min(nearest, s.distance(p));
+    if (s.spans(p, kSpanSlackM) && (!nearest || s.distance(p) < nearest->distance(p))) nearest = &s;
   return nearest;
+}
+
+// The distance of p to the exact shape.
+double to_shape(const Vec3& p, const std::vector<CurvedPrimitive>& surfaces) {
+  const CurvedPrimitive* s = nearest_surface(p, surfaces);
+  return s ? s->distance(p) : std::numeric_limits<double>::infinity();
 }
 
 // The scan's noise, robustly: the median distance of the points to the
@@ -102,12 +108,8 @@ double chamfer(const TriMesh& mesh, const std::vector<CurvedPrimitive>& surfaces
 std::vector<Vec3> shape_under_mesh(const std::vector<Triangle3>& model, const std::vector<CurvedPrimitive>& surfaces,
                                    const TriMesh& mesh, const DistanceOptions& near) {
   std::vector<Vec3> on_shape;
-  for (const Vec3& p : samples(model, kSampleStepM)) {
-    const CurvedPrimitive* nearest = nullptr;
-    for (const CurvedPrimitive& s : surfaces)
-      if (s.spans(p, kSpanSlackM) && (!nearest || s.distance(p) < nearest->distance(p))) nearest = &s;
-    if (nearest) on_shape.push_back(nearest->project(p));
-  }
+  for (const Vec3& p : samples(model, kSampleStepM))
+    if (const CurvedPrimitive* s = nearest_surface(p, surfaces)) on_shape.push_back(s->project(p));
   const std::vector<double> gap = point_to_mesh_distances(on_shape, mesh.soup(), near);
   std::vector<Vec3> covered;
   for (size_t i = 0; i < on_shape.size(); ++i)
