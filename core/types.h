@@ -204,11 +204,24 @@ struct ProfileStep {
   Vec2 to = Vec2::Zero();     // where it ends
 };
 
+// A free-form roof: a tensor-product B-spline surface z = f(x, y), its
+// parameters (u, v) the plan point origin + u e1 + v e2 of an orthonormal
+// frame its poles stand on. Knots flat, multiplicities repeated; poles with u
+// running fastest. No poles: none.
+struct SplineSurface {
+  int degree_u = 3, degree_v = 3;
+  int poles_u = 0, poles_v = 0;
+  std::vector<Vec3> poles;
+  std::vector<double> knots_u, knots_v;
+  bool empty() const { return poles.empty(); }
+};
+
 struct ShapePart {
   bool revolve = false;
   Vec3 origin = Vec3::Zero(), u = Vec3::UnitX(), v = Vec3::UnitZ(), path = Vec3::Zero();
   Vec2 start = Vec2::Zero();
   std::vector<ProfileStep> steps;
+  SplineSurface roof;  // a swept part cut off above it (a free-form roof over a hall); empty: none
 };
 
 struct ExactShape {

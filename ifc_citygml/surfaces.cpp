@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
@@ -59,10 +61,10 @@ bool coplanar(const Face& f, const Face& g) {
   return true;
 }
 
-// The element a solid face lies on: the one whose face it repeats, else the
-// coplanar element face it overlaps most (a roof clipped inside the walls).
-int owner(const Building& b, const Face& f) {
-  const auto m = matching_element_face(b, f);
+// The element a solid face lies on: the one whose face it repeats (`m`),
+// else the coplanar element face it overlaps most (a roof clipped inside
+// the walls).
+int owner(const Building& b, const Face& f, const std::array<int, 2>& m) {
   if (m[0] >= 0) return m[0];
   int best = -1;
   double most = kMinOverlap;
@@ -120,27 +122,46 @@ std::vector<Face> left_out(const Face& g, const std::vector<const Face*>& coveri
   return out;
 }
 
+// The element face each solid face repeats ({-1, -1}: none). A curved
+// roof's thousands of triangles are copied into the solid as they are:
+// found by their exact vertices first, the 1 mm search only for the rest.
+std::vector<std::array<int, 2>> repeated_faces(const Building& b) {
+  std::map<std::vector<double>, std::array<int, 2>> exact;
+  auto key = [](const Face& f) {
+    std::vector<double> k;
+    for (const Vec3& q : f.ring) k.insert(k.end(), {q.x(), q.y(), q.z()});
+    k.push_back(double(f.holes.size()));
+    return k;
+  };
+  for (size_t e = 0; e < b.elements.size(); ++e)
+    for (size_t k = 0; k < b.elements[e].faces.size(); ++k)
+      exact.emplace(key(b.elements[e].faces[k]), std::array<int, 2>{int(e), int(k)});
+  std::vector<std::array<int, 2>> out;
+  for (const Face& f : b.solid) {
+    const auto it = exact.find(key(f));
+    out.push_back(it != exact.end() ? it->second : matching_element_face(b, f));
+  }
+  return out;
+}
+
 }  // namespace
 
 BuildingSurfaces building_surfaces(const Building& b) {
   BuildingSurfaces s;
+  const std::vector<std::array<int, 2>> match = repeated_faces(b);
+  std::set<std::array<int, 2>> in_solid(match.begin(), match.end());
   for (size_t j = 0; j < b.solid.size(); ++j) {
-    const int e = owner(b, b.solid[j]);
+    const int e = owner(b, b.solid[j], match[j]);
     const ElementType t = e >= 0 ? b.elements[e].type : solid_face_type(b, b.solid[j]);
     s.solid.push_back({b.solid[j], t, e, int(j)});
   }
   for (size_t e = 0; e < b.elements.size(); ++e)
     for (size_t k = 0; k < b.elements[e].faces.size(); ++k) {
+      if (in_solid.count({int(e), int(k)})) continue;  // the solid holds this very face
       const Face& g = b.elements[e].faces[k];
-      const std::array<int, 2> self{int(e), int(k)};
       std::vector<const Face*> covering;
-      bool repeated = false;  // the solid holds this very face
-      for (const auto& p : s.solid) {
-        if (p.element != int(e) || !coplanar(p.face, g)) continue;
-        covering.push_back(&p.face);
-        repeated = repeated || matching_element_face(b, p.face) == self;
-      }
-      if (repeated) continue;
+      for (const auto& p : s.solid)
+        if (p.element == int(e) && coplanar(p.face, g)) covering.push_back(&p.face);
       for (auto& f : left_out(g, covering)) s.outside.push_back({std::move(f), b.elements[e].type, int(e), -1});
     }
   return s;

@@ -174,18 +174,20 @@ TEST(ExportStep, ClosedSolidPerBuilding) {
 
 // Curved buildings go to STEP on their exact surfaces: a vault's cylinder, a
 // dome's sphere, a cone, an onion's B-spline turned about its axis (read
-// back as a surface of revolution), with the store's volume within 0.1 %
+// back as a surface of revolution), a free-form roof's B-spline, with the
+// store's volume within 0.1 %
 // (the store takes its volume from the same exact shape) and the truth's
 // within 2 %. The planar gable stays planes.
 TEST(ExportStep, CurvedBuildingsOnTheirExactSurfaces) {
   const std::string dir = test::temp_dir("export_step_curved");
-  ASSERT_EQ(test::sample_and_batch(dir, "--curved --parcels 24 --seed 11", "--formats step"), "");
+  ASSERT_EQ(test::sample_and_batch(dir, "--curved --parcels 20 --seed 11", "--formats step"), "");
   const auto truth = nlohmann::json::parse(std::ifstream(dir + "/town/truth.json"));
   const auto summary = nlohmann::json::parse(std::ifstream(dir + "/out/summary.json"));
   const std::map<std::string, GeomAbs_SurfaceType> surface = {
       {"vault", GeomAbs_Cylinder},      {"ground_vault", GeomAbs_Cylinder}, {"dome", GeomAbs_Sphere},
       {"shallow_dome", GeomAbs_Sphere}, {"cone", GeomAbs_Cone},             {"onion", GeomAbs_SurfaceOfRevolution},
-      {"dome_on_flat", GeomAbs_Sphere}, {"gable", GeomAbs_Plane}};
+      {"dome_on_flat", GeomAbs_Sphere}, {"gable", GeomAbs_Plane},   {"saddle", GeomAbs_BSplineSurface},
+      {"wave", GeomAbs_BSplineSurface}};
   int curved = 0;
   for (size_t i = 0; i < truth["parcels"].size(); ++i) {
     const std::string layout = truth["parcels"][i]["layout"];
@@ -201,5 +203,5 @@ TEST(ExportStep, CurvedBuildingsOnTheirExactSurfaces) {
     EXPECT_NEAR(back.volume / b["volume_m3"].get<double>(), 1, 0.001) << layout;
     EXPECT_NEAR(back.volume / truth["parcels"][i]["buildings"][0]["volume_m3"].get<double>(), 1, 0.02) << layout;
   }
-  EXPECT_GE(curved, 19);
+  EXPECT_GE(curved, 16);
 }

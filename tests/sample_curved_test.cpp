@@ -70,8 +70,9 @@ TEST(SampleCurved, ExactFiguresAgreeWithTheirTessellation) {
       curved(SampleLayout::Vault, 15, 9, 4, 3),      curved(SampleLayout::GroundVault, 18, 11, 0, 5.5),
       curved(SampleLayout::Dome, 10, 10, 5, 4),      curved(SampleLayout::ShallowDome, 12, 12, 4, 1.5),
       curved(SampleLayout::Cone, 7, 7, 6, 6),        curved(SampleLayout::OnionDome, 7, 7, 5, 8),
-      curved(SampleLayout::DomeOnFlat, 14, 14, 5, 3)};
-  all.back().dome_radius = 4;
+      curved(SampleLayout::DomeOnFlat, 14, 14, 5, 3), curved(SampleLayout::Saddle, 16, 11, 5, 3),
+      curved(SampleLayout::Wave, 18, 10, 4, 2.5)};
+  all[6].dome_radius = 4;
   for (const BuildingParams& p : all) {
     const TruthBuilding tb = make_truth_buildings(p).front();
     SCOPED_TRACE(tb.roof_type);
@@ -88,7 +89,7 @@ TEST(SampleCurved, ExactFiguresAgreeWithTheirTessellation) {
 TEST(SampleCurved, TownHoldsEveryCurvedLayoutWithExactTruth) {
   SampleOptions opt;
   opt.curved = true;
-  opt.parcels = 8;
+  opt.parcels = 10;
   opt.seed = 5;
   const SampleTown town = make_sample_town(opt);
   std::set<std::string> kinds;
@@ -102,8 +103,8 @@ TEST(SampleCurved, TownHoldsEveryCurvedLayoutWithExactTruth) {
       EXPECT_NEAR(tb.model.volume, alone.model.volume, 1e-9) << tb.roof_type;
     }
   EXPECT_EQ(kinds, (std::set<std::string>{"vault", "ground_vault", "dome", "shallow_dome", "cone", "onion",
-                                          "dome_on_flat", "gable"}));
+                                          "dome_on_flat", "gable", "saddle", "wave"}));
   const auto truth = nlohmann::json::parse(truth_json(town));
-  EXPECT_EQ(truth["parcels"].size(), 8u);
+  EXPECT_EQ(truth["parcels"].size(), 10u);
   EXPECT_GT(town.cloud.points.size(), 10000u);
 }

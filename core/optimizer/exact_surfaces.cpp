@@ -119,6 +119,7 @@ std::vector<CurvedPrimitive> exact_surfaces(const ExactShape& shape) {
   std::vector<CurvedPrimitive> out;
   for (const ShapePart& p : shape.parts) {
     if (!p.revolve && p.path.norm() <= 0) continue;
+    if (!p.roof.empty()) continue;  // a free-form roof: no snapping onto B-splines yet (docs/curved.md)
     Vec2 from = p.start;
     std::vector<ProfileStep> steps = p.steps;
     steps.push_back({ProfileStep::Kind::Line, {}, p.start});  // the profile closes with a line

@@ -341,21 +341,6 @@ bool discs_fit(const Polygon2& foot, const std::vector<std::pair<Vec2, double>>&
   return true;
 }
 
-// The footprint's rings as the walls need them: outer counter-clockwise,
-// holes clockwise.
-Polygon2 oriented(Polygon2 p) {
-  if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
-  for (Ring2& h : p.holes)
-    if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
-  return p;
-}
-
-Ring3 lifted(const Ring2& r, double z) {
-  Ring3 out;
-  for (const Vec2& q : r) out.push_back({q.x(), q.y(), z});
-  return out;
-}
-
 // One wall per edge of `ring` from z0 to z1, facing right of its direction
 // (out of a counter-clockwise outer ring, into a clockwise hole).
 void add_edge_walls(const Ring2& ring, double z0, double z1, Building& b) {
@@ -384,14 +369,6 @@ void rim_sigma(const Primitive& p, double rim, double roof_z, double sigma, doub
   const auto [roof_hi, wall_hi] = areas(rim + sigma);
   cap.sigma_area = std::abs(roof_hi - roof_lo) / 2;
   if (drum) drum->sigma_area = std::abs(wall_hi - wall_lo) / 2;
-}
-
-// A plan polygon lifted to height z, facing up or down.
-Face face_at(const Polygon2& p, double z, bool up) {
-  auto ring = [&](const Ring2& r) { return up ? lifted(r, z) : lifted(Ring2(r.rbegin(), r.rend()), z); };
-  Face f{ring(p.outer), {}};
-  for (const Ring2& h : p.holes) f.holes.push_back(ring(h));
-  return f;
 }
 
 // The hall's exact part: its footprint's outer ring swept up to the flat roof.

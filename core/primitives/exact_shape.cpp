@@ -23,6 +23,26 @@ ProfileStep::Kind kind_from(const std::string& s) {
   throw std::invalid_argument("unknown profile step '" + s + "'");
 }
 
+nlohmann::json spline_json(const SplineSurface& s, const Vec3& offset) {
+  nlohmann::json poles = nlohmann::json::array();
+  for (const Vec3& q : s.poles) poles.push_back(xyz(q + offset));
+  return {{"degree", {s.degree_u, s.degree_v}}, {"poles_uv", {s.poles_u, s.poles_v}}, {"poles", poles},
+          {"knots_u", s.knots_u}, {"knots_v", s.knots_v}};
+}
+
+SplineSurface spline_from(const nlohmann::json& j, const Vec3& offset) {
+  SplineSurface s;
+  s.degree_u = j.at("degree").at(0).get<int>(), s.degree_v = j.at("degree").at(1).get<int>();
+  s.poles_u = j.at("poles_uv").at(0).get<int>(), s.poles_v = j.at("poles_uv").at(1).get<int>();
+  for (const nlohmann::json& q : j.at("poles")) s.poles.push_back(vec3(q) - offset);
+  s.knots_u = j.at("knots_u").get<std::vector<double>>();
+  s.knots_v = j.at("knots_v").get<std::vector<double>>();
+  if (s.poles_u < 2 || s.poles_v < 2 || s.poles.size() != size_t(s.poles_u) * size_t(s.poles_v) ||
+      s.knots_u.size() != size_t(s.poles_u + s.degree_u + 1) || s.knots_v.size() != size_t(s.poles_v + s.degree_v + 1))
+    throw std::invalid_argument("exact shape: a spline surface's poles and knots do not agree");
+  return s;
+}
+
 }  // namespace
 
 std::string exact_shape_json(const ExactShape& shape, const Vec3& offset) {
@@ -37,6 +57,7 @@ std::string exact_shape_json(const ExactShape& shape, const Vec3& offset) {
     }
     parts.push_back({{"revolve", p.revolve}, {"origin", xyz(p.origin + offset)}, {"u", xyz(p.u)}, {"v", xyz(p.v)},
                      {"path", xyz(p.path)}, {"start", xy(p.start)}, {"steps", steps}});
+    if (!p.roof.empty()) parts.back()["roof"] = spline_json(p.roof, offset);
   }
   return nlohmann::json{{"parts", parts}}.dump();
 }
@@ -59,6 +80,7 @@ ExactShape exact_shape_from_json(const std::string& text, const Vec3& offset) {
         step.to = vec2(s.at("to"));
         p.steps.push_back(std::move(step));
       }
+      if (j.contains("roof")) p.roof = spline_from(j.at("roof"), offset);
       shape.parts.push_back(std::move(p));
     }
   } catch (const nlohmann::json::exception& e) {

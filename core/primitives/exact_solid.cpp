@@ -6,6 +6,8 @@
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
+#include <BRepAlgoAPI_Common.hxx>
+#include <BRepPrimAPI_MakeHalfSpace.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GC_MakeArcOfCircle.hxx>
@@ -26,6 +28,7 @@
 #include <stdexcept>
 
 #include "core/primitives/exact_shape.h"
+#include "core/primitives/spline_surface.h"
 
 namespace c3d {
 
@@ -78,10 +81,26 @@ TopoDS_Wire profile_wire(const ShapePart& p) {
   return wire.Wire();
 }
 
+// The part of a hall's prism under its free-form roof: the prism in common
+// with the half-space below the roof's surface (which spans its plan).
+TopoDS_Shape under_roof(const TopoDS_Shape& prism, const SplineSurface& roof, double floor_z) {
+  BRepBuilderAPI_MakeFace face(occ_surface(roof), kSamePointM);
+  if (!face.IsDone()) throw std::runtime_error("no face on the roof's spline surface");
+  const Vec3& corner = roof.poles.front();
+  const gp_Pnt under(corner.x(), corner.y(), floor_z - 1e3);
+  const TopoDS_Shape below = BRepPrimAPI_MakeHalfSpace(face.Face(), under).Solid();
+  BRepAlgoAPI_Common common(prism, below);
+  if (!common.IsDone()) throw std::runtime_error("the roof's surface does not cut the hall");
+  return common.Shape();
+}
+
 TopoDS_Shape part_solid(const ShapePart& p) {
   BRepBuilderAPI_MakeFace face(profile_wire(p), /*OnlyPlane=*/true);
   if (!face.IsDone()) throw std::runtime_error("profile is not a plane face");
-  if (!p.revolve) return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(p.path.x(), p.path.y(), p.path.z())).Shape();
+  if (!p.revolve && p.roof.empty())
+    return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(p.path.x(), p.path.y(), p.path.z())).Shape();
+  if (!p.revolve) return under_roof(BRepPrimAPI_MakePrism(face.Face(), gp_Vec(p.path.x(), p.path.y(), p.path.z())),
+                                    p.roof, p.origin.z());
   const gp_Ax1 axis(at(p, Vec2::Zero()), gp_Dir(p.v.x(), p.v.y(), p.v.z()));
   return BRepPrimAPI_MakeRevol(face.Face(), axis, 2 * kPi).Shape();
 }

@@ -218,16 +218,14 @@ PlanarAccount planes_found(const std::vector<Vec3>& points, const LocalShape& lo
   return {std::sqrt(rss / double(idx.size())), int(found.size())};
 }
 
-// RMS distance of the points to their one best plane: how far the surface
-// bows away from flat over its patch.
+}  // namespace
+
 double bow(const std::vector<Vec3>& points, const std::vector<int>& idx) {
   Primitive one;
   one.inliers = idx;
   const Primitive plane = refit(one, subset(points, idx));
   return std::sqrt(sum_squares(plane, points, idx) / double(idx.size()));
 }
-
-}  // namespace
 
 double bic(double rmse, int parameters, double n, double noise) {
   return n * (rmse * rmse) / (noise * noise) + parameters * std::log(n);

@@ -85,6 +85,10 @@ struct PrimitiveFit {
 // coordinates). Deterministic for a given seed.
 PrimitiveFit find_curved_surfaces(const std::vector<Vec3>& points, const PrimitiveSearch& search);
 
+// RMS distance of points[idx] to their one best plane: how far the surface
+// they lie on bows away from flat.
+double bow(const std::vector<Vec3>& points, const std::vector<int>& idx);
+
 // The points' noise about their surface: from each point's 16 nearest
 // neighbours, the spread off their best plane, median over the points.
 double estimate_noise(const std::vector<Vec3>& points);

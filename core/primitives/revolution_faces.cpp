@@ -73,6 +73,26 @@ ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vec
   return part;
 }
 
+Polygon2 oriented(Polygon2 p) {
+  if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
+  for (Ring2& h : p.holes)
+    if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
+  return p;
+}
+
+Ring3 lifted(const Ring2& r, double z) {
+  Ring3 out;
+  for (const Vec2& q : r) out.push_back({q.x(), q.y(), z});
+  return out;
+}
+
+Face face_at(const Polygon2& p, double z, bool up) {
+  auto ring = [&](const Ring2& r) { return up ? lifted(r, z) : lifted(Ring2(r.rbegin(), r.rend()), z); };
+  Face f{ring(p.outer), {}};
+  for (const Ring2& h : p.holes) f.holes.push_back(ring(h));
+  return f;
+}
+
 void close_curved(Building& b, const std::string& id, double ground_z) {
   for (const Element& e : b.elements) b.solid.insert(b.solid.end(), e.faces.begin(), e.faces.end());
   b.id = id;

@@ -43,6 +43,14 @@ void mark_walls(Building& b, int points);
 // axis.
 ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vector<ProfileStep> roof);
 
+// A footprint's rings as walls need them: outer counter-clockwise, holes
+// clockwise.
+Polygon2 oriented(Polygon2 p);
+// A plan ring at height z.
+Ring3 lifted(const Ring2& r, double z);
+// A plan polygon lifted to height z, facing up or down.
+Face face_at(const Polygon2& p, double z, bool up);
+
 // b's solid made of all its elements' faces so far, its id, ground level and
 // LoD 2.2: what every curved building ends with.
 void close_curved(Building& b, const std::string& id, double ground_z);

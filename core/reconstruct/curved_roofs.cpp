@@ -10,6 +10,7 @@
 #include "core/log.h"
 #include "core/primitives/curved_building.h"
 #include "core/primitives/exact_shape.h"
+#include "core/primitives/height_field.h"
 #include "core/primitives/revolved_roof.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
@@ -75,6 +76,8 @@ std::vector<Vec3> on_surface(const Primitive& p, const std::vector<Vec3>& own, c
 }
 
 constexpr double kExactAgreement = 0.01;
+// Vertices of a roof's outline this close to the line of their neighbours go.
+constexpr double kOutlineToleranceM = 0.01;
 
 // b replaced by `model` where there is one and, measured, it is valid; its
 // reason then says the roof was modelled `how` ("on its sphere r 5.38 m").
@@ -149,7 +152,8 @@ int wall_along(const Building& planar, const Vec2& a, const Vec2& b) {
 // the points behind it, sigma per m2.
 void inherit_walls(const Building& planar, Building& domed, double boundary_sigma) {
   for (Element& e : domed.elements) {
-    const bool edge_wall = e.type == ElementType::Wall && e.faces.size() == 1 && e.faces[0].ring.size() == 4;
+    // A wall along one footprint edge: its face starts with that edge on the ground.
+    const bool edge_wall = e.type == ElementType::Wall && e.faces.size() == 1 && e.faces[0].ring.size() >= 4;
     int from = -1;
     if (edge_wall) from = wall_along(planar, e.faces[0].ring[0].head<2>(), e.faces[0].ring[1].head<2>());
     if (e.type == ElementType::Ground || e.type == ElementType::OuterCeiling)
@@ -178,6 +182,23 @@ Polygon2 overhanging_outline(const Building& b, const Polygon2& footprint) {
       for (const Face& f : e.faces) parts.push_back(poly::make_valid({Polygon2{to_2d(f.ring), {}}}));
   const Polygon2 outline = poly::largest(poly::unite_all(parts));
   return area(outline) - area(footprint) > kMinOverhangM2 ? outline : Polygon2{};
+}
+
+// Where a hall's walls stand under a curved roof (a free-form one, a flat
+// one carrying domes): the planar model's footprint where wall points
+// placed most of its walls; else under the roof's edge, as the other curved
+// buildings' walls stand without them (the planar model's assumed overhang
+// is a pitched roof's eaves, which such a hall may not have).
+Polygon2 hall_outline(const Building& b) {
+  int walls = 0, measured = 0;
+  std::vector<MultiPolygon2> roof;
+  for (const Element& e : b.elements) {
+    if (e.type == ElementType::Wall) ++walls, measured += e.evidence == WallEvidence::Measured;
+    if (e.type == ElementType::Roof)
+      for (const Face& f : e.faces) roof.push_back(poly::make_valid({Polygon2{to_2d(f.ring), {}}}));
+  }
+  if (walls > 0 && 2 * measured > walls) return ground_footprint(b);
+  return poly::largest(poly::simplify(poly::unite_all(roof), kOutlineToleranceM));
 }
 
 // A flat roof's level among the points: the median height of those on no
@@ -213,7 +234,7 @@ bool remodel_domed(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>
     return false;
   DomedRoofInput in;
   in.building_id = b.id;
-  in.footprint = ground_footprint(b);
+  in.footprint = hall_outline(b);
   in.roof_outline = overhanging_outline(b, in.footprint);
   in.ground_z = b.terrain_z;
   in.roof_z = level.z;
@@ -344,6 +365,108 @@ bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Ve
   return true;
 }
 
+constexpr double kPointsPerPole = 16;
+// A shell bends gently; a surface bending tighter than a 0.5 m radius
+// somewhere over the footprint rounds off an edge between planes (a ridge,
+// a step: 50-9,000 /m on Cimahi's roofs) or the noise. The curved town's
+// waves, whose true bend is at most 0.7 /m, fit at up to 1.24 /m.
+constexpr double kMaxBend = 2, kCurvatureStepM = 0.25;
+
+// Whether a free-form surface is b's roof: `why` not ("" when it is). It
+// must bend no tighter than kMaxBend (its largest curvature, `bend`), rest
+// on kPointsPerPole points a pole (as its knots stand 16 points
+// apart: a small roof's few points are no free surface) and, like a curved
+// primitive, hold kWholeRoofShare of the roof points, fit them to the noise,
+// bow away from flat and beat the modelled planes by the criterion on its
+// points: its many poles pay log n each.
+std::string judge_free_form(const Building& b, const HeightFieldRoof& hf, const std::vector<Vec3>& own,
+                            double noise, const std::vector<Primitive>& curved, double bend) {
+  std::vector<Vec3> inliers;
+  for (int i : hf.inliers) inliers.push_back(own[size_t(i)]);
+  const double n = double(inliers.size());
+  const PlanarAccount planes = planar_account(roof_plane_index(b), inliers);
+  const double curved_bic = bic(hf.rmse, hf.parameters, n, noise);
+  const double flat = bic(planes.rmse, 3 * planes.planes, n, noise);
+  std::vector<int> all(inliers.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = int(k);
+  const double bowed = bow(inliers, all);
+  char why[200] = "";
+  if (bend > kMaxBend)
+    std::snprintf(why, sizeof why, "bends to a %.2g m radius: an edge between planes, rounded", 1 / bend);
+  else if (n < kPointsPerPole * hf.parameters)
+    std::snprintf(why, sizeof why, "%.0f points for %d poles: too few to tell a free surface", n, hf.parameters);
+  else if (n * 100 < double(own.size()) * kWholeRoofShare)
+    std::snprintf(why, sizeof why, "holds %.0f %% of the roof points", 100 * n / double(own.size()));
+  else if (hf.rmse > kMaxFitOverNoise * noise)
+    std::snprintf(why, sizeof why, "fits its points to %.3f m, the scan's noise is %.3f m", hf.rmse, noise);
+  else if (bowed < kMinBowM)
+    std::snprintf(why, sizeof why, "nearly flat: %.3f m off its best plane", bowed);
+  else if (curved_bic + kBicMargin >= flat)
+    std::snprintf(why, sizeof why, "%d planes at %.3f m do as well (BIC %.0f, %.0f)", planes.planes, planes.rmse,
+                  flat, curved_bic);
+  if (*why) return why;
+  // A curved primitive the search kept over part of the roof (a vault whose
+  // flanks it missed) is the better account of its points unless the free
+  // surface fits them materially closer: then the roof stays unexplained.
+  const HeightField f(hf.surface);
+  for (const Primitive& p : curved) {
+    double rss = 0;
+    for (int i : p.inliers)
+      if (size_t(i) < own.size()) rss += std::pow(f.distance(own[size_t(i)]), 2);
+    const double on_its_points = std::sqrt(rss / double(std::max<size_t>(1, p.inliers.size())));
+    if (on_its_points * kMaterialGain > p.rmse)
+      std::snprintf(why, sizeof why, "its %s fits its points as well (%.3f m, the surface %.3f m)", to_string(p.kind),
+                    p.rmse, on_its_points);
+  }
+  return why;
+}
+
+// A roof of fewer planes is no faceted curve: a smooth surface would smooth
+// its ridges away (the criterion agrees, at a cost).
+constexpr int kMinFacets = 4;
+
+// b modelled under a free-form roof (height_field.h), where its planes leave
+// the roof points farther than the noise allows or take many facets, and a
+// B-spline height field over its footprint is its roof by judge_free_form.
+bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const PrimitiveFit& fit, double spacing,
+                       double storey_height) {
+  const double noise = fit.noise;
+  const PlanarAccount planes = planar_account(roof_plane_index(b), own);
+  if (planes.rmse <= kMaxFitOverNoise * noise && planes.planes < kMinFacets) return false;
+  FreeFormInput in;
+  in.footprint = hall_outline(b);
+  if (in.footprint.outer.size() < 3) return false;
+  const Ring2& ring = in.footprint.outer;
+  Vec2 along = Vec2::UnitX();  // the longest side's direction
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 side = ring[(i + 1) % ring.size()] - ring[i];
+    if (side.norm() > along.norm() || i == 0) along = side;
+  }
+  const std::optional<HeightFieldRoof> hf = fit_height_field(own, noise, spacing, ring, along);
+  if (!hf) return false;
+  Vec2 lo = ring.front(), hi = lo;
+  for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  const double bend = HeightField(hf->surface).max_curvature(lo, hi, kCurvatureStepM);
+  const std::string why = judge_free_form(b, *hf, own, noise, fit.curved, bend);
+  if (!why.empty()) {
+    log::debug(b.id + ": not a free-form roof: " + hf->describe() + ": " + why);
+    return false;
+  }
+  in.building_id = b.id;
+  in.roof = hf->surface;
+  in.ground_z = b.terrain_z;
+  in.boundary_sigma = spacing / 2;
+  std::optional<Building> model = free_form_building(in);
+  if (model) {
+    log::debug(b.id + ": free-form roof of " + std::to_string(model->elements.front().faces.size()) + " triangles");
+    Element& roof = model->elements.front();
+    roof.support_points = int(hf->inliers.size());
+    roof.rmse = hf->rmse;
+    inherit_walls(b, *model, spacing / 2);
+  }
+  return adopt(b, std::move(model), "under its " + hf->describe(), storey_height);
+}
+
 }  // namespace
 
 std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
@@ -359,6 +482,7 @@ std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const s
     return "";
   if (!fit.curved.empty() && remodel_domed(b, fit, own, nearby, spacing, storey_height)) return "";
   if (!round && remodel_revolved(b, fit, own, nearby, walls, spacing, storey_height, nullptr, unsure)) return unsure;
+  if (remodel_free_form(b, own, fit, spacing, storey_height)) return "";
   if (fit.curved.empty()) return "";
   std::string note;
   for (const Primitive& q : fit.curved)

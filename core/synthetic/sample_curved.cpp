@@ -1,7 +1,8 @@
 // Curved truth buildings: barrel vaults (on walls and springing from the
 // ground), domes, shallow domes, cones and onion domes on round drums, and a
-// square hall with a dome on its flat roof. Their areas and volumes are exact
-// (closed forms; the onion's by a quadrature accurate to 1e-10); the faces
+// square hall with a dome on its flat roof, and halls under free-form roofs (a
+// saddle, a wave). Their areas and volumes are exact (closed forms; the
+// onion's and the free-form roofs' by quadratures accurate to 1e-8); the faces
 // are a tessellation within kChord of the surface, used to scan the points.
 #include <algorithm>
 #include <cmath>
@@ -249,6 +250,87 @@ TruthBuilding dome_on_flat(double s, double H, double a, double h) {
   return finish(std::move(tb), foot, "dome_on_flat", s * s * H + kPi * h * h * (3 * R - h) / 3);
 }
 
+// A free-form roof over the hall [0, L] x [0, W]: its height z(u, v), and the
+// slopes dz/du, dz/dv.
+struct HeightField {
+  std::function<double(double, double)> z, zu, zv;
+};
+
+// Integral of f over [0, a] x [0, b] by composite Simpson on n x n steps.
+double simpson2(const std::function<double(double, double)>& f, double a, double b, int n = 600) {
+  auto w = [n](int i) { return i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0; };
+  double s = 0;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) s += w(i) * w(j) * f(a * i / n, b * j / n);
+  return s * (a / n) * (b / n) / 9;
+}
+
+// Integral of g over [0, a] by composite Simpson on n steps.
+double simpson1(const std::function<double(double)>& g, double a, int n = 2000) {
+  double s = g(0) + g(a);
+  for (int i = 1; i < n; ++i) s += (i % 2 ? 4 : 2) * g(a * i / n);
+  return s * (a / n) / 3;
+}
+
+// A rectangular hall under a free-form roof: the roof as triangles on an
+// n_u x n_v grid (fine enough for kChord on these gentle surfaces), a wall
+// per side up to it, areas and volume by quadrature.
+TruthBuilding height_field_hall(double L, double W, const HeightField& f, const std::string& roof_type) {
+  const int nu = std::max(8, int(std::ceil(L / 0.1))), nv = std::max(8, int(std::ceil(W / 0.1)));
+  auto at = [&](int i, int j) {
+    const double u = L * i / nu, v = W * j / nv;
+    return Vec3(u, v, f.z(u, v));
+  };
+  std::vector<Face> roof;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {  // counter-clockwise in plan: facing up
+      roof.push_back({{at(i, j), at(i + 1, j), at(i + 1, j + 1)}, {}});
+      roof.push_back({{at(i, j), at(i + 1, j + 1), at(i, j + 1)}, {}});
+    }
+  TruthBuilding tb;
+  const double slope_area =
+      simpson2([&](double u, double v) { return std::sqrt(1 + std::pow(f.zu(u, v), 2) + std::pow(f.zv(u, v), 2)); },
+               L, W);
+  tb.model.elements.push_back(element_of(ElementType::Roof, std::move(roof), slope_area, L * W));
+  const Ring2 foot{{0, 0}, {L, 0}, {L, W}, {0, W}};
+  const int steps[] = {nu, nv, nu, nv};
+  for (size_t k = 0; k < 4; ++k) {  // a wall per side, its top following the roof
+    const Vec2 p = foot[k], q = foot[(k + 1) % 4];
+    Ring3 ring{{p.x(), p.y(), 0}, {q.x(), q.y(), 0}};
+    for (int s = steps[k]; s >= 0; --s) {
+      const Vec2 m = p + (q - p) * double(s) / steps[k];
+      ring.push_back({m.x(), m.y(), f.z(m.x(), m.y())});
+    }
+    const double len = (q - p).norm();
+    const double wall = simpson1([&](double t) { const Vec2 m = p + (q - p) * (t / len); return f.z(m.x(), m.y()); },
+                                 len);
+    tb.model.elements.push_back(element_of(ElementType::Wall, {{ring, {}}}, wall, 0));
+  }
+  tb.model.elements.push_back(
+      element_of(ElementType::Ground, {{{{0, 0, 0}, {0, W, 0}, {L, W, 0}, {L, 0, 0}}, {}}}, L * W, L * W));
+  return finish(std::move(tb), foot, roof_type, simpson2(f.z, L, W));
+}
+
+// A hyperbolic paraboloid: two opposite corners at H, the other two at H + h.
+TruthBuilding saddle(double L, double W, double H, double h) {
+  const double c = 2 * h / (L * W);
+  return height_field_hall(L, W,
+                           {[=](double u, double v) { return H + h / 2 + c * (u - L / 2) * (v - W / 2); },
+                            [=](double, double v) { return c * (v - W / 2); },
+                            [=](double u, double) { return c * (u - L / 2); }},
+                           "saddle");
+}
+
+// A wave along the hall: one and a half periods of rise h from the eave at u = 0.
+TruthBuilding wave(double L, double W, double H, double h) {
+  const double k = 3 * kPi / L;
+  return height_field_hall(L, W,
+                           {[=](double u, double) { return H + h * (1 - std::cos(k * u)) / 2; },
+                            [=](double u, double) { return h * k * std::sin(k * u) / 2; },
+                            [=](double, double) { return 0.0; }},
+                           "wave");
+}
+
 }  // namespace
 
 bool sample_detail::is_curved(SampleLayout l) {
@@ -259,7 +341,9 @@ bool sample_detail::is_curved(SampleLayout l) {
     case SampleLayout::ShallowDome:
     case SampleLayout::Cone:
     case SampleLayout::OnionDome:
-    case SampleLayout::DomeOnFlat: return true;
+    case SampleLayout::DomeOnFlat:
+    case SampleLayout::Saddle:
+    case SampleLayout::Wave: return true;
     default: return false;
   }
 }
@@ -286,6 +370,8 @@ TruthBuilding sample_detail::make_curved_building(const BuildingParams& p) {
       break;
     }
     case SampleLayout::DomeOnFlat: tb = dome_on_flat(p.length, H, p.dome_radius, h); break;
+    case SampleLayout::Saddle: tb = saddle(p.length, p.width, H, h); break;
+    case SampleLayout::Wave: tb = wave(p.length, p.width, H, h); break;
     default: throw std::invalid_argument("make_curved_building: not a curved layout");
   }
   tb.params = p;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <stdexcept>
 
 #include "core/geometry/geometry.h"
@@ -34,6 +35,8 @@ const char* to_string(SampleLayout l) {
     case SampleLayout::Cone: return "cone";
     case SampleLayout::OnionDome: return "onion";
     case SampleLayout::DomeOnFlat: return "dome_on_flat";
+    case SampleLayout::Saddle: return "saddle";
+    case SampleLayout::Wave: return "wave";
   }
   return "?";
 }
@@ -98,12 +101,14 @@ std::vector<std::pair<SampleLayout, int>> assign_layouts(int n, bool curved) {
   static const SampleLayout round[] = {SampleLayout::Vault,       SampleLayout::Dome,
                                        SampleLayout::GroundVault, SampleLayout::Cone,
                                        SampleLayout::DomeOnFlat,  SampleLayout::ShallowDome,
-                                       SampleLayout::OnionDome,   SampleLayout::Gable};
+                                       SampleLayout::OnionDome,   SampleLayout::Gable,
+                                       SampleLayout::Saddle,      SampleLayout::Wave};
   const SampleLayout* cycle = curved ? round : planar;
+  const int kinds = curved ? int(std::size(round)) : int(std::size(planar));
   std::vector<std::pair<SampleLayout, int>> out;  // (layout, houses in the row starting here)
   int slot = 0, rows = 0;
   for (int i = 0; i < n;) {
-    SampleLayout l = cycle[slot % 8];
+    SampleLayout l = cycle[slot % kinds];
     int left_in_side = std::min(kPerRow - i % kPerRow, n - i);
     if (l == SampleLayout::RowHouse) {
       int m = rows % 2 == 0 ? 3 : 2;
@@ -146,6 +151,12 @@ void curved_params(BuildingParams& p, Rng& r) {
     case SampleLayout::DomeOnFlat:
       p.length = p.width = r.uniform(12, 16), p.dome_radius = p.length * r.uniform(0.25, 0.35);
       p.rise = p.dome_radius * r.uniform(0.7, 1.0);
+      break;
+    case SampleLayout::Saddle:
+      p.length = r.uniform(12, 18), p.width = r.uniform(9, 13), p.rise = r.uniform(2, 4);
+      break;
+    case SampleLayout::Wave:
+      p.length = r.uniform(14, 20), p.width = r.uniform(9, 12), p.rise = r.uniform(1.5, 3);
       break;
     default: break;
   }

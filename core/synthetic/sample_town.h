@@ -46,8 +46,9 @@ enum class SampleLayout {
   Gable, Hip, CrossGable, Shed, Flat, TwoLevel, RowHouse, Empty,
   // Curved roofs (SampleOptions::curved): a barrel vault on walls, one springing
   // from the ground (end walls only), domes, a shallow dome, a cone and an onion
-  // dome on round drums, a square hall with a dome on its flat roof.
-  Vault, GroundVault, Dome, ShallowDome, Cone, OnionDome, DomeOnFlat
+  // dome on round drums, a square hall with a dome on its flat roof, halls
+  // under free-form roofs: a hyperbolic paraboloid (saddle), a wave.
+  Vault, GroundVault, Dome, ShallowDome, Cone, OnionDome, DomeOnFlat, Saddle, Wave
 };
 const char* to_string(SampleLayout l);
 
