@@ -371,17 +371,6 @@ void rim_sigma(const Primitive& p, double rim, double roof_z, double sigma, doub
   if (drum) drum->sigma_area = std::abs(wall_hi - wall_lo) / 2;
 }
 
-// The hall's exact part: its footprint's outer ring swept up to the flat roof.
-ShapePart hall_part(const Ring2& outer, double ground_z, double roof_z) {
-  ShapePart part;
-  part.origin = Vec3(0, 0, ground_z);
-  part.v = Vec3::UnitY();
-  part.path = Vec3(0, 0, roof_z - ground_z);
-  part.start = outer.front();
-  for (size_t i = 1; i < outer.size(); ++i) part.steps.push_back({ProfileStep::Kind::Line, {}, outer[i]});
-  return part;
-}
-
 Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector<double>& rims, double sigma) {
   Building b;
   Face flat = face_at(foot, in.roof_z, true), roof = flat;  // the solid's roof; the element's, overhang included

@@ -97,10 +97,10 @@ TopoDS_Shape under_roof(const TopoDS_Shape& prism, const SplineSurface& roof, do
 TopoDS_Shape part_solid(const ShapePart& p) {
   BRepBuilderAPI_MakeFace face(profile_wire(p), /*OnlyPlane=*/true);
   if (!face.IsDone()) throw std::runtime_error("profile is not a plane face");
-  if (!p.revolve && p.roof.empty())
-    return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(p.path.x(), p.path.y(), p.path.z())).Shape();
-  if (!p.revolve) return under_roof(BRepPrimAPI_MakePrism(face.Face(), gp_Vec(p.path.x(), p.path.y(), p.path.z())),
-                                    p.roof, p.origin.z());
+  if (!p.revolve) {
+    const TopoDS_Shape prism = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(p.path.x(), p.path.y(), p.path.z())).Shape();
+    return p.roof.empty() ? prism : under_roof(prism, p.roof, p.origin.z());
+  }
   const gp_Ax1 axis(at(p, Vec2::Zero()), gp_Dir(p.v.x(), p.v.y(), p.v.z()));
   return BRepPrimAPI_MakeRevol(face.Face(), axis, 2 * kPi).Shape();
 }

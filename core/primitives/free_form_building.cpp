@@ -137,12 +137,7 @@ double roof_area(const HeightField& f, const MultiPolygon2& plan, double step) {
 // The exact part: the footprint's outer ring swept up past the roof, cut
 // off above the surface.
 ShapePart hall_under(const Ring2& outer, double ground_z, double top_z, const SplineSurface& roof) {
-  ShapePart part;
-  part.origin = Vec3(0, 0, ground_z);
-  part.v = Vec3::UnitY();
-  part.path = Vec3(0, 0, top_z + 1 - ground_z);
-  part.start = outer.front();
-  for (size_t i = 1; i < outer.size(); ++i) part.steps.push_back({ProfileStep::Kind::Line, {}, outer[i]});
+  ShapePart part = hall_part(outer, ground_z, top_z + 1);
   part.roof = roof;
   return part;
 }

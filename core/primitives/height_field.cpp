@@ -18,26 +18,23 @@ struct Axis {
   int spans = 1;
   int poles() const { return spans + 3; }
   double width() const { return (b - a) / spans; }
+  // Knot j of the clamped sequence: a four times, the inner knots, b four times.
+  double knot(int j) const { return j <= 3 ? a : j >= 3 + spans ? b : a + (j - 3) * width(); }
   std::vector<double> knots() const {
-    std::vector<double> k(4, a);
-    for (int i = 1; i < spans; ++i) k.push_back(a + i * width());
-    k.insert(k.end(), 4, b);
+    std::vector<double> k;
+    for (int j = 0; j < spans + 7; ++j) k.push_back(knot(j));
     return k;
   }
   // Greville abscissae: poles there make the spline of t equal to t.
-  double greville(int i) const {
-    const std::vector<double> k = knots();
-    return (k[size_t(i) + 1] + k[size_t(i) + 2] + k[size_t(i) + 3]) / 3;
-  }
+  double greville(int i) const { return (knot(i + 1) + knot(i + 2) + knot(i + 3)) / 3; }
   // The first of the four poles t depends on, and their weights (Cox-de Boor).
   int basis(double t, double w[4]) const {
-    const std::vector<double> k = knots();
     const int span = std::clamp(int((t - a) / width()), 0, spans - 1) + 3;  // k[span] <= t < k[span + 1]
     double left[4], right[4];
     w[0] = 1;
     for (int j = 1; j <= 3; ++j) {
-      left[j] = t - k[size_t(span + 1 - j)];
-      right[j] = k[size_t(span + j)] - t;
+      left[j] = t - knot(span + 1 - j);
+      right[j] = knot(span + j) - t;
       double saved = 0;
       for (int r = 0; r < j; ++r) {
         const double tmp = w[r] / (right[r + 1] + left[j - r]);

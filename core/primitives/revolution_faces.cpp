@@ -73,6 +73,16 @@ ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vec
   return part;
 }
 
+ShapePart hall_part(const Ring2& outer, double ground_z, double top_z) {
+  ShapePart part;
+  part.origin = Vec3(0, 0, ground_z);
+  part.v = Vec3::UnitY();
+  part.path = Vec3(0, 0, top_z - ground_z);
+  part.start = outer.front();
+  for (size_t i = 1; i < outer.size(); ++i) part.steps.push_back({ProfileStep::Kind::Line, {}, outer[i]});
+  return part;
+}
+
 Polygon2 oriented(Polygon2 p) {
   if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
   for (Ring2& h : p.holes)

@@ -43,6 +43,10 @@ void mark_walls(Building& b, int points);
 // axis.
 ShapePart round_part(const Vec2& axis, double floor_z, const Vec2& rim, std::vector<ProfileStep> roof);
 
+// The exact part of a hall: its footprint's outer ring swept up from
+// ground_z to top_z.
+ShapePart hall_part(const Ring2& outer, double ground_z, double top_z);
+
 // A footprint's rings as walls need them: outer counter-clockwise, holes
 // clockwise.
 Polygon2 oriented(Polygon2 p);
