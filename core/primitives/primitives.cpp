@@ -32,8 +32,6 @@ using Ransac = CGAL::Shape_detection::Efficient_RANSAC<Traits>;
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kNeighbours = 16;
 constexpr size_t kMaxPoints = 3000;
-// On the curved sample towns the kept surfaces bow 7-48 times their RMS.
-constexpr double kMinBowOverFit = 5;
 
 Vec3 vec(const Kernel::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 Vec3 vec(const Kernel::Vector_3& v) { return {v.x(), v.y(), v.z()}; }

@@ -61,6 +61,9 @@ struct PrimitiveSearch {
 // cm off flat is a plane whatever fits it best (on the AHN3 town no
 // candidate passed, docs/curved.md).
 constexpr double kBicMargin = 10, kMinBowM = 0.15;
+// A curved surface bows kMinBowOverFit times its RMS from its points at
+// least: on the curved sample towns the kept surfaces bow 7-48 times.
+constexpr double kMinBowOverFit = 5;
 // A roof surface explains its points to the scan's noise: a curved surface
 // fitting a textured or broken planar roof a little better than its planes
 // still leaves them farther (Cimahi: 1.8 times).

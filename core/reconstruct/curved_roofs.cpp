@@ -374,11 +374,12 @@ constexpr double kMaxBend = 2, kCurvatureStepM = 0.25;
 
 // Whether a free-form surface is b's roof: `why` not ("" when it is). It
 // must bend no tighter than kMaxBend (its largest curvature, `bend`), rest
-// on kPointsPerPole points a pole (as its knots stand 16 points
-// apart: a small roof's few points are no free surface) and, like a curved
-// primitive, hold kWholeRoofShare of the roof points, fit them to the noise,
-// bow away from flat and beat the modelled planes by the criterion on its
-// points: its many poles pay log n each.
+// on kPointsPerPole points a pole (as its knots stand 16 points apart: a
+// small roof's few points are no free surface) and, like a curved
+// primitive, hold kWholeRoofShare of the roof points, fit them to the
+// noise, bow away from flat (kMinBowM, and kMinBowOverFit times its fit)
+// and beat the modelled planes by the criterion on its points: its many
+// poles pay log n each.
 std::string judge_free_form(const Building& b, const HeightFieldRoof& hf, const std::vector<Vec3>& own,
                             double noise, const std::vector<Primitive>& curved, double bend) {
   std::vector<Vec3> inliers;
@@ -399,8 +400,8 @@ std::string judge_free_form(const Building& b, const HeightFieldRoof& hf, const 
     std::snprintf(why, sizeof why, "holds %.0f %% of the roof points", 100 * n / double(own.size()));
   else if (hf.rmse > kMaxFitOverNoise * noise)
     std::snprintf(why, sizeof why, "fits its points to %.3f m, the scan's noise is %.3f m", hf.rmse, noise);
-  else if (bowed < kMinBowM)
-    std::snprintf(why, sizeof why, "nearly flat: %.3f m off its best plane", bowed);
+  else if (bowed < kMinBowM || bowed < kMinBowOverFit * hf.rmse)
+    std::snprintf(why, sizeof why, "nearly flat: %.3f m off its best plane, fitted to %.3f m", bowed, hf.rmse);
   else if (curved_bic + kBicMargin >= flat)
     std::snprintf(why, sizeof why, "%d planes at %.3f m do as well (BIC %.0f, %.0f)", planes.planes, planes.rmse,
                   flat, curved_bic);
