@@ -87,6 +87,7 @@ void model_parcels(const std::vector<size_t>& todo, size_t total, int jobs, cons
       const std::string gap = unreachable(*scenes.inputs, i);
       ParcelResult r = gap.empty() ? reconstruct_parcel(make_scene(scenes, i), cfg.reconstruction)
                                    : failed_parcel(i, parcels[i].id, gap);
+      move_result(r, parcel_frame(parcels[i], scenes.frame), scenes.frame);
       check_model(r, scenes.frame.origin.z());
       ParcelValuation v = value_checked(parcels[i], r, cfg.valuation);
       std::lock_guard<std::mutex> lock(sink_mutex);

@@ -29,6 +29,24 @@ std::pair<Vec2, Vec2> bbox(const MultiPolygon2& mp) {
   return {lo, hi};
 }
 
+void move_faces(std::vector<Face>& faces, const Vec3& d) {
+  for (auto& f : faces) {
+    for (auto& v : f.ring) v += d;
+    for (auto& h : f.holes)
+      for (auto& v : h) v += d;
+  }
+}
+
+void move_building(Building& b, const Vec3& d) {
+  for (auto& e : b.elements) move_faces(e.faces, d);
+  move_faces(b.solid, d);
+  for (auto& l : b.lower_lods) move_faces(l.faces, d);
+  for (auto& part : b.exact.parts) {
+    part.origin += d;
+    for (auto& q : part.roof.poles) q += d;
+  }
+}
+
 // Parcels whose buffered boxes overlap: the candidates for shared roofs.
 std::vector<std::vector<int>> neighbour_lists(const ParcelLayer& layer, double reach) {
   size_t n = layer.parcels.size();
@@ -98,12 +116,25 @@ SceneSource prepare_scenes(const LoadedInputs& in, const RegionPoints& points, c
   return s;
 }
 
+LocalFrame parcel_frame(const Parcel& p, const LocalFrame& batch) {
+  const Vec2 lo = bbox(p.shape).first;
+  LocalFrame f = batch;
+  f.origin.head<2>() = Vec2(std::floor(lo.x() / 10) * 10, std::floor(lo.y() / 10) * 10);
+  return f;
+}
+
+void move_result(ParcelResult& r, const LocalFrame& from, const LocalFrame& to) {
+  const Vec3 d = from.origin - to.origin;
+  if (d == Vec3::Zero()) return;
+  for (auto& b : r.buildings) move_building(b, d);
+}
+
 ParcelScene make_scene(const SceneSource& src, size_t i) {
   const LoadedInputs& in = *src.inputs;
   const RegionPoints& pts = *src.points;
   const SceneGeometry& g = *src.geometry;
-  const LocalFrame& frame = src.frame;
   const Parcel& p = in.layer.parcels[i];
+  const LocalFrame frame = parcel_frame(p, src.frame);
   ParcelScene s;
   s.parcel_index = int(i);
   s.parcel_id = p.id;

@@ -2,7 +2,7 @@
 // Cutting the batch into parcel scenes: points clipped per parcel (roof points
 // with a wider context than the overhang buffer, so a roof across a boundary is
 // seen well enough to tell an overhang from a shared roof), the neighbours each
-// parcel must agree with, all in the batch's local frame.
+// parcel must agree with, each parcel in its own local frame.
 #include <map>
 #include <vector>
 
@@ -41,6 +41,17 @@ struct SceneSource {
 SceneSource prepare_scenes(const LoadedInputs& inputs, const RegionPoints& points, const Box& box,
                            const SceneGeometry& geometry, const LocalFrame& frame);
 
+// The frame a parcel is modelled in: the batch's, moved to the 10 m grid
+// corner below the parcel. Its model then does not depend on which other
+// parcels the batch holds: the primitive search and region growing turn on
+// the last bits of local coordinates (a vault of the curved town was
+// `suspect` or `ok` as its batch's frame moved).
+LocalFrame parcel_frame(const Parcel& parcel, const LocalFrame& batch);
+
+// The scene of one parcel, in its parcel_frame.
 ParcelScene make_scene(const SceneSource& source, size_t parcel);
+
+// A result modelled in `from`, moved into `to` (the frames differ in plan).
+void move_result(ParcelResult& result, const LocalFrame& from, const LocalFrame& to);
 
 }  // namespace c3d
