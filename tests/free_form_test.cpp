@@ -9,6 +9,8 @@
 
 #include "core/check/solid_check.h"
 #include "core/geometry/geometry.h"
+#include "core/optimizer/height_field_eval.h"
+#include "core/optimizer/optimizer.h"
 #include "core/primitives/exact_shape.h"
 #include "core/primitives/height_field.h"
 #include "core/synthetic/sample_town.h"
@@ -184,4 +186,28 @@ TEST(FreeForm, SlantedHallCloses) {
   const SolidCheck check = check_solid(b->solid);
   EXPECT_TRUE(check.ok) << check.summary();
   EXPECT_NEAR(area_of(*b, ElementType::Roof) / exact_roof_area(r), 1, 0.01);
+}
+
+// The optimizer snaps onto the height field as OpenCASCADE evaluates it
+// (core/optimizer/height_field_eval.h, in the spline's own frame turned off
+// the axes): a point of the surface is on it, its normal is OpenCASCADE's,
+// and a point lifted off along that normal comes back to it.
+TEST(FreeForm, OptimizerSeesTheSurfaceOpenCascadeHolds) {
+  const Roof r = saddle();
+  const auto hf = fit_height_field(scan(r, 20, 5), 0.03, 1 / std::sqrt(20.0), box(r), {std::cos(0.4), std::sin(0.4)});
+  ASSERT_TRUE(hf.has_value());
+  const HeightField occ(hf->surface);
+  CurvedPrimitive s;
+  s.kind = CurvedPrimitive::Kind::HeightField;
+  s.heights = std::make_shared<const HeightFieldData>(height_field_data(hf->surface).value());
+  for (double x = 1; x < r.L; x += 1.3)
+    for (double y = 1; y < r.W; y += 1.1) {
+      const Vec3 on(x, y, occ.z({x, y}));
+      const Vec3 n = Vec3(-occ.slope({x, y}).x(), -occ.slope({x, y}).y(), 1).normalized();
+      EXPECT_TRUE(s.spans(on, 0));
+      EXPECT_LT(s.distance(on), 1e-9) << x << " " << y;
+      EXPECT_GT(s.normal(on).dot(n), 1 - 1e-12) << x << " " << y;
+      EXPECT_LT((s.project(on + 0.1 * n) - on).norm(), 1e-6) << x << " " << y;
+    }
+  EXPECT_FALSE(s.spans({-3, -3, 5}, 0.5)) << "beyond its knots";
 }

@@ -1,6 +1,6 @@
 // The optimizer's surface snapping onto curved primitives (seed 000): the
 // dense mesh of a curved roof's points, snapped onto the surface the
-// primitive search fitted, lies at least 50 % closer to the true surface
+// primitive search or the free-form fit fitted, lies at least 50 % closer to the true surface
 // (Chamfer), and the Vulkan kernel moves each vertex where the CPU
 // reference does, within 1e-5 m.
 #include <gtest/gtest.h>
@@ -16,6 +16,8 @@
 #include "core/optimizer/mesh_distance.h"
 #include "core/optimizer/vulkan_compute.h"
 #include "core/optimizer/exact_surfaces.h"
+#include "core/optimizer/height_field_eval.h"
+#include "core/primitives/height_field.h"
 #include "core/primitives/primitives.h"
 #include "core/synthetic/sample_town.h"
 #include "tests/test_support.h"
@@ -30,15 +32,18 @@ struct CurvedRoof {
   std::vector<Triangle3> truth;  // its exact roof's faces (within 2 mm of the surface)
 };
 
-// The buildings of the curved town whose whole roof is one curved surface.
-std::vector<CurvedRoof> curved_roofs() {
+const std::set<SampleLayout> kPrimitiveRoofs{SampleLayout::Vault, SampleLayout::GroundVault, SampleLayout::Dome,
+                                             SampleLayout::ShallowDome, SampleLayout::Cone};
+const std::set<SampleLayout> kFreeFormRoofs{SampleLayout::Saddle, SampleLayout::Wave};
+
+// The buildings of the curved town whose whole roof is one curved surface
+// of the kinds `whole`.
+std::vector<CurvedRoof> curved_roofs(const std::set<SampleLayout>& whole = kPrimitiveRoofs) {
   SampleOptions opt;
   opt.curved = true;
-  opt.parcels = 8;
+  opt.parcels = 10;
   opt.seed = 7;
   const SampleTown town = make_sample_town(opt);
-  const std::set<SampleLayout> whole{SampleLayout::Vault, SampleLayout::GroundVault, SampleLayout::Dome,
-                                     SampleLayout::ShallowDome, SampleLayout::Cone};
   std::vector<CurvedRoof> out;
   for (size_t i = 0; i < town.parcels.size(); ++i) {
     if (!whole.count(town.layouts[i])) continue;
@@ -56,11 +61,27 @@ std::vector<CurvedRoof> curved_roofs() {
   return out;
 }
 
+// The height field fitted to a free-form roof's points (the sample's 3 cm
+// noise, 40 points/m2), over their plan.
+CurvedPrimitive fitted_height_field(const std::vector<Vec3>& points) {
+  Vec2 lo(1e9, 1e9), hi(-1e9, -1e9);
+  for (const Vec3& p : points) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+  const Ring2 cover{lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
+  const auto fit = fit_height_field(points, 0.03, 1 / std::sqrt(40.0), cover, Vec2::UnitX());
+  EXPECT_TRUE(fit.has_value());
+  CurvedPrimitive s;
+  s.kind = CurvedPrimitive::Kind::HeightField;
+  s.heights = std::make_shared<const HeightFieldData>(height_field_data(fit->surface).value());
+  return s;
+}
+
 // The dense mesh of the points and the curved surface fitted to them.
 std::pair<TriMesh, CurvedPrimitive> mesh_and_surface(const CurvedRoof& roof) {
+  TriMesh mesh = greedy_mesh(roof.points, DenseOptions{});
+  if (kFreeFormRoofs.count(roof.layout)) return {mesh, fitted_height_field(roof.points)};
   const PrimitiveFit fit = find_curved_surfaces(roof.points, {});
   EXPECT_EQ(fit.curved.size(), 1u);
-  return {greedy_mesh(roof.points, DenseOptions{}), snap_target(fit.curved.at(0)).value()};
+  return {mesh, snap_target(fit.curved.at(0)).value()};
 }
 
 }  // namespace
@@ -105,10 +126,14 @@ Chamfer chamfer_where_covered(const TriMesh& mesh, const std::vector<Vec3>& trut
   return {mean(distances(own, truth)), mean(distances(truth_samples, mesh.soup()))};
 }
 
+// Onto primitives (vault, dome, ground vault, cone, shallow dome) and onto
+// the B-spline height fields of free-form roofs (saddle, wave).
 TEST(OptimizerCurved, SnappingHalvesTheChamferToTheTrueSurface) {
   constexpr double kCoveredM = 0.1;  // 3.3 times the scan's noise
-  const std::vector<CurvedRoof> roofs = curved_roofs();
+  std::vector<CurvedRoof> roofs = curved_roofs(), free_form = curved_roofs(kFreeFormRoofs);
   ASSERT_EQ(roofs.size(), 5u);
+  ASSERT_EQ(free_form.size(), 2u);
+  roofs.insert(roofs.end(), free_form.begin(), free_form.end());
   for (const CurvedRoof& roof : roofs) {
     auto [mesh, surface] = mesh_and_surface(roof);
     ASSERT_GT(mesh.triangles.size(), 100u);
@@ -136,7 +161,9 @@ TEST(OptimizerCurved, SnappingHalvesTheChamferToTheTrueSurface) {
 TEST(OptimizerCurved, VulkanSnapsAsTheCpuReference) {
   std::string why;
   C3D_NEED(shared_vulkan(&why), "no Vulkan: " << why);
-  for (const CurvedRoof& roof : curved_roofs()) {
+  std::vector<CurvedRoof> roofs = curved_roofs(), free_form = curved_roofs(kFreeFormRoofs);
+  roofs.insert(roofs.end(), free_form.begin(), free_form.end());
+  for (const CurvedRoof& roof : roofs) {
     auto [cpu, surface] = mesh_and_surface(roof);
     TriMesh gpu = cpu;
     CurvedSnapOptions o;

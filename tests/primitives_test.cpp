@@ -366,7 +366,7 @@ void expect_alone_as_in_town(const std::string& dir, const std::string& parcel) 
 // flat roof with the dome on it, `ok`, within the same figures; an onion
 // dome on its surface of revolution where the wall scan saw its drum, else
 // `suspect` (its underside unknown); a saddle or a wave under its B-spline
-// height field. Each curved building's mesh is refined but the free-form ones.
+// height field. Each curved building's mesh is refined.
 // And a parcel modelled alone gets the figures it gets in its town: each is
 // modelled in its own frame (its third vault was `suspect` in the whole town,
 // `ok` alone, while the batch's frame followed the parcels it held).
@@ -411,9 +411,7 @@ TEST(Primitives, BatchModelsCurvedRoofsOnTheirSurfaces) {
              {"roof_area_m2", roof_tol}, {"wall_area_m2", wall_tol}, {"ground_area_m2", ground_tol},
              {"volume_m3", volume_tol}})
       EXPECT_NEAR(m[key].get<double>() / t[key].get<double>(), 1, tol) << layout << " " << key;
-    // The optimizer does not snap onto B-splines yet: no refinement claimed.
-    if (free_form) EXPECT_TRUE(m["mesh_refinement"].is_null()) << layout;
-    else expect_refined(m["mesh_refinement"], layout);
+    expect_refined(m["mesh_refinement"], layout);
   }
 }
 

@@ -1,7 +1,10 @@
 #include "core/optimizer/exact_surfaces.h"
 
+#include "core/optimizer/height_field_eval.h"
+
 #include <Eigen/Dense>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 namespace c3d {
@@ -103,8 +106,12 @@ void add_swept(const ShapePart& p, const Vec2& from, const ProfileStep& step, st
   out.push_back(s);
 }
 
+// The end caps of a swept part; a hall under a free-form roof has its
+// floor only, the roof closes it above.
 void add_caps(const ShapePart& p, std::vector<CurvedPrimitive>& out) {
-  for (const Vec3& at : {p.origin, Vec3(p.origin + p.path)}) {
+  std::vector<Vec3> ends{p.origin};
+  if (p.roof.empty()) ends.push_back(p.origin + p.path);
+  for (const Vec3& at : ends) {
     CurvedPrimitive cap;
     cap.kind = CurvedPrimitive::Kind::Plane;
     cap.point = at;
@@ -113,13 +120,37 @@ void add_caps(const ShapePart& p, std::vector<CurvedPrimitive>& out) {
   }
 }
 
+void add_roof(const ShapePart& p, std::vector<CurvedPrimitive>& out) {
+  if (p.roof.empty()) return;
+  const std::optional<HeightFieldData> data = height_field_data(p.roof);
+  if (!data) return;
+  CurvedPrimitive s;
+  s.kind = CurvedPrimitive::Kind::HeightField;
+  s.heights = std::make_shared<const HeightFieldData>(*data);
+  out.push_back(s);
+}
+
 }  // namespace
+
+std::optional<HeightFieldData> height_field_data(const SplineSurface& s) {
+  const size_t nu = size_t(s.poles_u), nv = size_t(s.poles_v);
+  if (s.degree_u != 3 || s.degree_v != 3 || nu < 4 || nv < 4 || s.poles.size() != nu * nv ||
+      s.knots_u.size() != nu + 4 || s.knots_v.size() != nv + 4)
+    return std::nullopt;
+  HeightFieldData f;
+  f.nu = int(nu), f.nv = int(nv);
+  f.ku = s.knots_u, f.kv = s.knots_v;
+  for (const Vec3& q : s.poles) f.z.push_back(q.z());
+  f.e1 = (s.poles[1] - s.poles[0]).head<2>().normalized();
+  f.origin = s.poles[0].head<2>() - s.knots_u.front() * f.e1 - s.knots_v.front() * f.e2();  // first Greville abscissae
+  return f;
+}
 
 std::vector<CurvedPrimitive> exact_surfaces(const ExactShape& shape) {
   std::vector<CurvedPrimitive> out;
   for (const ShapePart& p : shape.parts) {
     if (!p.revolve && p.path.norm() <= 0) continue;
-    if (!p.roof.empty()) continue;  // a free-form roof: no snapping onto B-splines yet (docs/curved.md)
+    add_roof(p, out);
     Vec2 from = p.start;
     std::vector<ProfileStep> steps = p.steps;
     steps.push_back({ProfileStep::Kind::Line, {}, p.start});  // the profile closes with a line

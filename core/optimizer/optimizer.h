@@ -8,6 +8,7 @@
 // optimization (normal clusters, one Kabsch rigid transform each, projection),
 // with the per-vertex work on Vulkan and a CPU reference of every kernel.
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -95,10 +96,13 @@ OptimizeReport optimize_views(ConstrainedMesh& m, const std::vector<Viewpoint>& 
 // E = alpha * fitness + beta * junction of the current mesh, on the CPU.
 double mesh_energy(const ConstrainedMesh& m, const OptimizerOptions& options);
 
+struct HeightFieldData;  // core/optimizer/height_field_eval.h
+
 // A surface the optimizer snaps a mesh onto (seed 000's primitives): a
-// sphere, a cylinder, a cone or a plane, perhaps bounded along a direction.
+// sphere, a cylinder, a cone or a plane, perhaps bounded along a direction,
+// or a free-form roof's B-spline height field, bounded by its knots' span.
 struct CurvedPrimitive {
-  enum class Kind { Sphere, Cylinder, Cone, Plane };
+  enum class Kind { Sphere, Cylinder, Cone, Plane, HeightField };
   Kind kind = Kind::Sphere;
   Vec3 point = Vec3::Zero();  // sphere: centre; cylinder: a point on its axis; cone: apex; plane: a point on it
   Vec3 axis = Vec3::UnitZ();  // cylinder: unit axis; cone: unit axis from the apex into the cone; plane: unit normal
@@ -109,6 +113,7 @@ struct CurvedPrimitive {
   // (unbounded where span is zero).
   Vec3 span = Vec3::Zero();
   double span_lo = 0, span_hi = 0;
+  std::shared_ptr<const HeightFieldData> heights;  // a height field's
   Vec3 project(const Vec3& p) const;  // the nearest point on the surface
   Vec3 normal(const Vec3& p) const;   // unit normal there, away from the axis or centre
   double distance(const Vec3& p) const { return (project(p) - p).norm(); }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/optimizer/height_field_eval.h"
 #include "core/optimizer/mesh_subdivision.h"
 #include "core/optimizer/optimizer.h"
 #include "core/optimizer/optimizer_kernels.h"
@@ -24,16 +25,38 @@ Vec3 across_axis(const Vec3& q, const Vec3& axis) {
   return radial.norm() > 0 ? Vec3(radial.normalized()) : Vec3(axis.unitOrthogonal());
 }
 
-// 12 floats per surface about `centre`, as the kernel reads them.
-std::vector<float> kernel_surfaces(const std::vector<CurvedPrimitive>& surfaces, const Vec3& centre) {
-  std::vector<float> out;
+// What the kernel reads of the surfaces, about `centre` (as
+// shaders/opt_snap_curved.comp lays it out): 12 floats per surface, and the
+// height fields' knots and pole heights.
+struct KernelSurfaces {
+  std::vector<float> surfaces, heights;
+};
+
+void append_heights(const HeightFieldData& f, double centre_z, std::vector<float>& out) {
+  for (double k : f.ku) out.push_back(static_cast<float>(k));
+  for (double k : f.kv) out.push_back(static_cast<float>(k));
+  for (double z : f.z) out.push_back(static_cast<float>(z - centre_z));
+}
+
+KernelSurfaces kernel_surfaces(const std::vector<CurvedPrimitive>& surfaces, const Vec3& centre) {
+  KernelSurfaces out;
   for (const CurvedPrimitive& s : surfaces) {
-    const Vec3 c = s.point - centre;
-    const double kind = double(int(s.kind));  // 0 sphere, 1 cylinder, 2 cone, 3 plane
-    for (double x : {c.x(), c.y(), c.z(), kind, s.axis.x(), s.axis.y(), s.axis.z(), s.radius, std::cos(s.angle),
-                     std::sin(s.angle), 0.0, 0.0})
-      out.push_back(static_cast<float>(x));
+    const double kind = double(int(s.kind));  // 0 sphere, 1 cylinder, 2 cone, 3 plane, 4 height field
+    std::vector<double> fields;
+    if (s.kind == CurvedPrimitive::Kind::HeightField) {
+      const HeightFieldData& f = *s.heights;
+      const Vec2 o = f.origin - centre.head<2>();
+      fields = {o.x(), o.y(), 0.0, kind, f.e1.x(), f.e1.y(), double(out.heights.size()), 0.0,
+                double(f.nu), double(f.nv), 0.0, 0.0};
+      append_heights(f, centre.z(), out.heights);
+    } else {
+      const Vec3 c = s.point - centre;
+      fields = {c.x(), c.y(), c.z(), kind, s.axis.x(), s.axis.y(), s.axis.z(), s.radius, std::cos(s.angle),
+                std::sin(s.angle), 0.0, 0.0};
+    }
+    for (double x : fields) out.surfaces.push_back(static_cast<float>(x));
   }
+  if (out.heights.empty()) out.heights.push_back(0);  // a buffer is never empty
   return out;
 }
 
@@ -119,7 +142,8 @@ void snap(TriMesh& mesh, const std::vector<std::int32_t>& vs, const std::vector<
   std::vector<float> v;
   for (const Vec3& p : mesh.vertices)
     for (int k = 0; k < 3; ++k) v.push_back(static_cast<float>(p[k] - centre[k]));
-  kernel_snap_curved(v, vs, kernel_surfaces(surfaces, centre), vk, threads);
+  const KernelSurfaces k = kernel_surfaces(surfaces, centre);
+  kernel_snap_curved(v, vs, k.surfaces, k.heights, vk, threads);
   for (size_t i = 0; i < mesh.vertices.size(); ++i)
     if (vs[i] >= 0) mesh.vertices[i] = centre + Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
 }
@@ -172,9 +196,26 @@ int subdivide_by_bending(TriMesh& mesh, const std::vector<CurvedPrimitive>& surf
   return total;
 }
 
+// The parameters of the point of a height field nearest p.
+Vec2 nearest_on(const HeightFieldData& f, const Vec3& p) {
+  const Vec2 q = f.uv(p.head<2>());
+  Vec2 uv;
+  nearest_parameters(f.ku.data(), f.nu, f.kv.data(), f.nv, f.z.data(), q.x(), q.y(), p.z(), uv.x(), uv.y());
+  return uv;
+}
+
+HeightSample<double> sample(const HeightFieldData& f, const Vec2& uv) {
+  return height_at(f.ku.data(), f.nu, f.kv.data(), f.nv, f.z.data(), uv.x(), uv.y());
+}
+
 }  // namespace
 
 Vec3 CurvedPrimitive::project(const Vec3& p) const {
+  if (kind == Kind::HeightField) {
+    const Vec2 uv = nearest_on(*heights, p);
+    const Vec2 plan = heights->plan(uv.x(), uv.y());
+    return {plan.x(), plan.y(), sample(*heights, uv).h};
+  }
   const Vec3 q = p - point;
   if (kind == Kind::Sphere) return q.norm() > 0 ? Vec3(point + q.normalized() * radius) : p;
   if (kind == Kind::Plane) return p - axis * q.dot(axis);
@@ -186,6 +227,11 @@ Vec3 CurvedPrimitive::project(const Vec3& p) const {
 }
 
 Vec3 CurvedPrimitive::normal(const Vec3& p) const {
+  if (kind == Kind::HeightField) {
+    const HeightSample<double> s = sample(*heights, nearest_on(*heights, p));
+    const Vec2 down = s.hu * heights->e1 + s.hv * heights->e2();  // the slope in plan
+    return Vec3(-down.x(), -down.y(), 1).normalized();
+  }
   const Vec3 q = p - point;
   if (kind == Kind::Sphere) return q.norm() > 0 ? Vec3(q.normalized()) : Vec3::UnitZ();
   if (kind == Kind::Plane) return axis;
@@ -195,6 +241,12 @@ Vec3 CurvedPrimitive::normal(const Vec3& p) const {
 }
 
 bool CurvedPrimitive::spans(const Vec3& p, double slack) const {
+  if (kind == Kind::HeightField) {
+    const Vec2 uv = heights->uv(p.head<2>());
+    const HeightFieldData& f = *heights;
+    return uv.x() >= f.ku[3] - slack && uv.x() <= f.ku[size_t(f.nu)] + slack && uv.y() >= f.kv[3] - slack &&
+           uv.y() <= f.kv[size_t(f.nv)] + slack;
+  }
   if (span.isZero()) return true;
   const double t = (p - point).dot(span);
   return t >= span_lo - slack && t <= span_hi + slack;

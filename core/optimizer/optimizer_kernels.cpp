@@ -8,6 +8,7 @@
 #include <cstring>
 #include <thread>
 
+#include "core/optimizer/height_field_eval.h"
 #include "core/optimizer/vulkan_compute.h"
 
 namespace c3d {
@@ -140,11 +141,31 @@ void kernel_refine(KernelState& s, const std::vector<std::uint32_t>& tasks, std:
   });
 }
 
+namespace {
+
+// The point of height field f (12 floats, its knots and poles in heights)
+// nearest p.
+F3 onto_height_field(F3 p, const float* f, const std::vector<float>& heights) {
+  const int nu = int(f[8]), nv = int(f[9]);
+  const float* ku = &heights[std::size_t(f[6])];
+  const float *kv = ku + nu + 4, *z = kv + nv + 4;
+  const float dx = p.x - f[0], dy = p.y - f[1], e1x = f[4], e1y = f[5];
+  const float pu = dx * e1x + dy * e1y, pv = dy * e1x - dx * e1y;
+  float u = 0, w = 0;
+  nearest_parameters(ku, nu, kv, nv, z, pu, pv, p.z, u, w);
+  const float h = height_at(ku, nu, kv, nv, z, u, w).h;
+  return {f[0] + u * e1x - w * e1y, f[1] + u * e1y + w * e1x, h};
+}
+
+}  // namespace
+
 void kernel_snap_curved(std::vector<float>& v, const std::vector<std::int32_t>& vsurface,
-                        const std::vector<float>& surfaces, VulkanCompute* vk, int threads) {
+                        const std::vector<float>& surfaces, const std::vector<float>& heights, VulkanCompute* vk,
+                        int threads) {
   if (vk) {
     std::uint32_t push[1] = {static_cast<std::uint32_t>(vsurface.size())};
-    vk->run("opt_snap_curved", {inout(v), in(vsurface), in(surfaces)}, push, sizeof push, vsurface.size());
+    vk->run("opt_snap_curved", {inout(v), in(vsurface), in(surfaces), in(heights)}, push, sizeof push,
+            vsurface.size());
     return;
   }
   parallel_for(vsurface.size(), threads, [&](std::size_t b, std::size_t e) {
@@ -155,7 +176,9 @@ void kernel_snap_curved(std::vector<float>& v, const std::vector<std::int32_t>& 
       const F3 c{f[0], f[1], f[2]}, a{f[4], f[5], f[6]}, q = sub(load(v, i), c);
       const float kind = f[3], r = f[7];
       F3 p;
-      if (kind == 3.0f) {
+      if (kind == 4.0f) {
+        p = onto_height_field(load(v, i), f, heights);
+      } else if (kind == 3.0f) {
         p = sub(load(v, i), mul(a, dot(q, a)));
       } else if (kind == 0.0f) {
         const float len = std::sqrt(dot(q, q));

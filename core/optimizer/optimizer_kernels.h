@@ -41,9 +41,11 @@ void kernel_transform(KernelState& s, const std::vector<std::int32_t>& vcluster,
 void kernel_refine(KernelState& s, const std::vector<std::uint32_t>& tasks,
                    std::uint32_t n_junction, VulkanCompute* vk, int threads = 1);
 // v_i snapped onto curved surface vsurface[i] >= 0 along its normal; surfaces
-// holds 12 floats each, laid out as shaders/opt_snap_curved.comp reads them.
+// holds 12 floats each, heights the height fields' knots and poles, laid out
+// as shaders/opt_snap_curved.comp reads them.
 void kernel_snap_curved(std::vector<float>& v, const std::vector<std::int32_t>& vsurface,
-                        const std::vector<float>& surfaces, VulkanCompute* vk, int threads = 1);
+                        const std::vector<float>& surfaces, const std::vector<float>& heights, VulkanCompute* vk,
+                        int threads = 1);
 // flags[t] = 1 when triangle t's centroid is inside the frustum of view_proj
 // (column-major, clip |x|,|y|,|z| <= w), it faces eye, and a vertex lies farther
 // than threshold from its plane.
