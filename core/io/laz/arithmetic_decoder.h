@@ -61,6 +61,9 @@ class Decoder {
   uint32_t read_int();
   // Bytes asked for past the end (a damaged or truncated stream).
   size_t overrun() const { return overrun_; }
+  // Bytes left unread, less those asked for past the end: a stream decoded
+  // whole ends at 0 (the encoder pads it to the decoder's last read).
+  long slack() const { return long(end_ - pos_) - long(overrun_); }
 
  private:
   uint8_t next_byte() {

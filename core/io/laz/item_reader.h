@@ -81,6 +81,9 @@ class ItemReader {
   virtual void load_layers(ByteCursor&) {}       // layered items only
   virtual void init(const uint8_t* first, uint32_t& context) = 0;
   virtual void decode(uint8_t* out, uint32_t& context) = 0;
+  // Layered items: the bytes their layers left unread or read past their
+  // ends, summed (0 when a chunk decoded whole).
+  virtual long layer_slack() const { return 0; }
 };
 
 // Symbol models keyed by a previous value, made on first use (as the encoder

@@ -38,6 +38,11 @@ class Point14Reader : public ItemReader {
   }
   void init(const uint8_t* first, uint32_t& context) override;
   void decode(uint8_t* out, uint32_t& context) override;
+  long layer_slack() const override {
+    long s = 0;
+    for (const Layer& l : layers_) s += l.slack();
+    return s;
+  }
 
  private:
   Point14Context& switch_channel(uint32_t& context);

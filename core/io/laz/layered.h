@@ -4,6 +4,7 @@
 // up to four model sets follow the scanner channel. The contexts, models and
 // per-channel state here serve the decoders (layered.cpp, layered_items.cpp)
 // and the encoders (layered_writer.cpp, layered_items_writer.cpp) alike.
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <vector>
@@ -26,6 +27,7 @@ struct Layer {
     changed = size > 0;
     if (changed || always) dec.start(p, p + size);
   }
+  long slack() const { return changed ? std::labs(dec.slack()) : 0; }
 };
 
 // The 30-byte POINT14 record, unpacked.

@@ -23,6 +23,7 @@ class Rgb14Reader : public ItemReader {
   }
   void init(const uint8_t* first, uint32_t& context) override { contexts_.begin_chunk(context, first); }
   void decode(uint8_t* out, uint32_t& context) override;
+  long layer_slack() const override { return rgb_.slack() + (nir_ ? nir_layer_.slack() : 0); }
 
  private:
   uint16_t decode_nir(RgbContext& c, uint16_t last);
@@ -67,6 +68,11 @@ class Byte14Reader : public ItemReader {
   }
   void init(const uint8_t* first, uint32_t& context) override { contexts_.begin_chunk(context, first); }
   void decode(uint8_t* out, uint32_t& context) override;
+  long layer_slack() const override {
+    long s = 0;
+    for (const Layer& l : layers_) s += l.slack();
+    return s;
+  }
 
  private:
   int version_;

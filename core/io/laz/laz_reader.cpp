@@ -2,6 +2,7 @@
 #include "core/io/laz/laz_reader.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <memory>
 
 #include "core/io/laz/integer_coder.h"
@@ -67,6 +68,8 @@ std::unique_ptr<Items> make_items(const LaszipVlr& vlr, uint32_t record_length) 
 
 struct Chunk {
   uint64_t begin = 0, end = 0, points = 0;
+  size_t index = 0, of = 1;  // its place in the chunk table, and the table's length
+  bool bounded = true;       // ends where its data does (a point-wise file's one chunk may not)
 };
 
 // The chunk table's position: after the chunks, named by the 8 bytes before
@@ -94,6 +97,7 @@ std::vector<Chunk> read_chunk_table(const PointData& in, uint32_t chunk_size) {
   int32_t points = 0, bytes = 0;
   uint64_t pos = chunks_start;
   for (Chunk& c : chunks) {
+    c.index = size_t(&c - chunks.data()), c.of = n;
     if (chunk_size == kVariableChunks) points = ic.decompress(dec, points, 0);
     bytes = ic.decompress(dec, bytes, 1);
     c.points = chunk_size == kVariableChunks ? uint32_t(points) : chunk_size;
@@ -118,8 +122,19 @@ uint32_t start_chunk(Items& items, ByteCursor& in, const uint8_t* first) {
   return context;
 }
 
-// Decodes `points` records of one chunk into out.
-void decode_chunk(Items& items, const PointData& in, const Chunk& chunk, uint64_t points, uint8_t* out) {
+// The bytes of a chunk its streams left unread or read past their ends.
+long chunk_slack(const Items& items, const ByteCursor& after_start) {
+  if (!items.layered) return std::labs(items.stream.slack());
+  long s = long(after_start.end - after_start.pos);  // bytes no layer holds
+  for (const auto& r : items.coders) s += r->layer_slack();
+  return s;
+}
+
+// Decodes `points` records of one chunk into out. Its streams must end
+// where its bytes do: LAZ has no checksum, but a damaged byte, or a point
+// count or chunk size that is not the data's, leaves the arithmetic decoder
+// out of step with the encoder's padding.
+void decode_chunk_records(Items& items, const PointData& in, const Chunk& chunk, uint64_t points, uint8_t* out) {
   ByteCursor cursor{in.file + chunk.begin, in.file + chunk.end};
   const uint8_t* first = cursor.take(in.record_length, "first point");
   std::memcpy(out, first, in.record_length);
@@ -128,6 +143,21 @@ void decode_chunk(Items& items, const PointData& in, const Chunk& chunk, uint64_
   for (uint64_t p = 1; p < points; ++p) {
     uint8_t* record = out + p * in.record_length;
     for (size_t i = 0; i < n_items; ++i) items.coders[i]->decode(record + items.offsets[i], context);
+  }
+  if (!chunk.bounded || points < 2) return;
+  if (const long off = chunk_slack(items, cursor))
+    throw FormatError("its " + std::to_string(points) + " points decode " + std::to_string(off) +
+                      " bytes out of step with its data: the points are damaged, or the header's point count "
+                      "or the LASzip chunk size is not the file's");
+}
+
+// decode_chunk_records, its errors naming the chunk.
+void decode_chunk(Items& items, const PointData& in, const Chunk& chunk, uint64_t points, uint8_t* out) {
+  try {
+    decode_chunk_records(items, in, chunk, points, out);
+  } catch (const FormatError& e) {
+    throw FormatError("chunk " + std::to_string(chunk.index + 1) + " of " + std::to_string(chunk.of) + ": " +
+                      e.what());
   }
 }
 
@@ -161,8 +191,16 @@ std::vector<Chunk> chunks_of(const PointData& in, const LaszipVlr& vlr) {
     throw FormatError("header claims " + std::to_string(in.count) + " points, more than " +
                       std::to_string(kMaxLazExpansion) + " times the " + std::to_string(compressed) +
                       " compressed bytes can hold");
-  return vlr.compressor == kCompressorPointwise ? std::vector<Chunk>{{in.point_offset, in.file_size, in.count}}
-                             : read_chunk_table(in, vlr.chunk_size);
+  if (vlr.compressor == kCompressorPointwise) return {{in.point_offset, in.file_size, in.count, 0, 1, false}};
+  std::vector<Chunk> chunks = read_chunk_table(in, vlr.chunk_size);
+  uint64_t held = 0;
+  for (const Chunk& c : chunks) {
+    if (held >= in.count && c.points > 0)
+      throw FormatError("the header says " + std::to_string(in.count) + " points, too few to fill the chunk table's " +
+                        std::to_string(chunks.size()) + " chunks");
+    held += c.points;
+  }
+  return chunks;
 }
 
 }  // namespace
