@@ -382,4 +382,42 @@ TEST(PostgisStore, WrongPasswordIsOneLine) {
   shell(as + bin + "/pg_ctl -D " + dir + "/data -m fast stop");
 }
 
+// GDAL's spelling of a PostgreSQL source, PG: and libpq's keywords, is the
+// same store as its URL; nothing is written under its name.
+TEST(PostgisStore, GdalConnectionStringIsTheStore) {
+  REQUIRE_POSTGRES();
+  PgDatabase db("c3d_pg_form");
+  // postgresql://user@host:port/name -> PG:host=... port=... dbname=... user=...
+  const std::string& u = db.url();
+  const size_t at = u.find('@'), colon = u.find(':', at), slash = u.find('/', at);
+  const size_t user = u.find("//") + 2;
+  const std::string pg = "PG:host=" + u.substr(at + 1, colon - at - 1) +
+                         " port=" + u.substr(colon + 1, slash - colon - 1) + " dbname=" + u.substr(slash + 1) +
+                         " user=" + u.substr(user, at - user);
+  std::string out;
+  const std::string dir = test::temp_dir("pg_form");
+  const int rc = test::run_cli(pg_batch("'" + pg + "'", dir + "/out"), &out);
+  ASSERT_TRUE(rc == 0 || rc == 3) << out;
+  EXPECT_FALSE(fs::exists(pg)) << "a GeoPackage named after the connection string";
+  expect_same_store(town().gpkg, pg);
+  expect_same_counts(db, town().gpkg);
+}
+
+// What reads as a connection but is none this reads is refused in one line,
+// and no GeoPackage is written under its name.
+TEST(PostgisStore, OtherConnectionsAreRefused) {
+  const std::string dir = test::temp_dir("pg_refused");
+  for (const std::string& loc : {std::string("mysql://root@localhost/cadastre"),
+                                 std::string("dbname=cadastre host=localhost password=secret")}) {
+    std::string out;
+    EXPECT_EQ(test::run_cli(e2e::batch_args(town().dir + "/town", dir + "/out") + " --store '" + loc + "' --quiet",
+                            &out),
+              1)
+        << out;
+    EXPECT_NE(out.find("PG:"), std::string::npos) << out;
+    EXPECT_EQ(out.find("secret"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(loc)) << loc;
+  }
+}
+
 }  // namespace

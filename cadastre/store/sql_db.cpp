@@ -9,11 +9,53 @@
 
 namespace c3d::sql {
 
+namespace {
+
+// GDAL's PostgreSQL source, its prefix in either case.
+bool is_gdal_pg(const std::string& loc) {
+  return loc.size() >= 3 && (loc.compare(0, 3, "PG:") == 0 || loc.compare(0, 3, "pg:") == 0);
+}
+
+// A connection string's password=... (quoted or not) masked.
+std::string masked_conninfo(const std::string& loc) {
+  const size_t key = loc.find("password=");
+  if (key == std::string::npos) return loc;
+  const size_t start = key + 9;
+  size_t end = start;
+  if (end < loc.size() && loc[end] == '\'') {
+    for (++end; end < loc.size() && loc[end] != '\''; ++end)
+      if (loc[end] == '\\') ++end;
+    end = std::min(loc.size(), end + 1);
+  } else {
+    while (end < loc.size() && loc[end] != ' ') ++end;
+  }
+  return loc.substr(0, start) + "***" + loc.substr(end);
+}
+
+}  // namespace
+
 bool is_postgres_url(const std::string& loc) {
-  return loc.rfind("postgresql://", 0) == 0 || loc.rfind("postgres://", 0) == 0;
+  return loc.rfind("postgresql://", 0) == 0 || loc.rfind("postgres://", 0) == 0 || is_gdal_pg(loc);
+}
+
+std::string libpq_conninfo(const std::string& loc) { return is_gdal_pg(loc) ? loc.substr(3) : loc; }
+
+void check_store_location(const std::string& loc) {
+  if (is_postgres_url(loc)) return;
+  const size_t scheme = loc.find("://");
+  const bool url = scheme != std::string::npos && scheme > 0 &&
+                   loc.find_first_of("/\\ ") == scheme + 1;  // no path before the scheme's colon
+  if (url)
+    throw InputError(loc, "not a store location this reads: give a GeoPackage path, postgresql://... or PG:...");
+  for (const char* key : {"dbname=", "host=", "user=", "port=", "service="})
+    if (loc.rfind(key, 0) == 0 || loc.find(std::string(" ") + key) != std::string::npos)
+      throw InputError(masked_conninfo(loc),
+                       "reads as a PostgreSQL connection string: give it as PG:<connection string> "
+                       "(GDAL's form) or as postgresql://...");
 }
 
 std::string display_name(const std::string& loc) {
+  if (is_gdal_pg(loc)) return masked_conninfo(loc);
   if (!is_postgres_url(loc)) return loc;
   // postgresql://user:secret@host/db -> postgresql://user:***@host/db
   const size_t start = loc.find("://") + 3, at = loc.find('@', start);
@@ -24,8 +66,10 @@ std::string display_name(const std::string& loc) {
 }
 
 Db::Db() = default;
-Db::Db(const std::string& loc, bool read_only)
-    : b_(is_postgres_url(loc) ? open_postgres(loc) : open_sqlite(loc, read_only)), loc_(loc) {}
+Db::Db(const std::string& loc, bool read_only) : loc_(loc) {
+  check_store_location(loc);
+  b_ = is_postgres_url(loc) ? open_postgres(loc) : open_sqlite(loc, read_only);
+}
 Db::~Db() = default;
 Db::Db(Db&& o) noexcept = default;
 Db& Db::operator=(Db&& o) noexcept = default;

@@ -18,10 +18,17 @@ namespace c3d::sql {
 class Backend;
 class Cursor;
 
-// True for a `postgresql://` or `postgres://` location.
+// True for a `postgresql://` or `postgres://` URL, or GDAL's `PG:` followed
+// by libpq's keyword=value connection string.
 bool is_postgres_url(const std::string& loc);
-// The location as messages name it: a URL's password masked.
+// What libpq connects with: the URL, or the connection string after `PG:`.
+std::string libpq_conninfo(const std::string& loc);
+// The location as messages name it: a password masked.
 std::string display_name(const std::string& loc);
+// Throws InputError where a store location that is no PostgreSQL location
+// reads as one (another URL scheme, libpq keywords without `PG:`): a
+// GeoPackage would be written under that name.
+void check_store_location(const std::string& loc);
 
 class Db {
  public:

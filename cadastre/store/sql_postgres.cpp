@@ -10,6 +10,7 @@
 #include <map>
 
 #include "cadastre/store/sql_backend.h"
+#include "cadastre/store/sql_db.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -229,7 +230,7 @@ class PgCursor : public Cursor {
 class PgBackend : public Backend {
  public:
   explicit PgBackend(const std::string& url) : where_(display_name(url)) {
-    conn_ = PQconnectdb(url.c_str());
+    conn_ = PQconnectdb(libpq_conninfo(url).c_str());
     if (!conn_ || PQstatus(conn_) != CONNECTION_OK) {
       const std::string msg = first_line(conn_ ? PQerrorMessage(conn_) : "out of memory");
       PQfinish(conn_);
