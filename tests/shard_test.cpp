@@ -196,6 +196,13 @@ TEST(ShardMerge, RefusesWhatIsNotOneRunsShards) {
   fs::copy_file(s.stores[1], other);
   test::sql_exec(other, "UPDATE run SET parameters = replace(parameters, '\"rate\":0.001', '\"rate\":0.002')");
   refused({s.stores[0], other}, other + ": was run with other parameters");
+  // A shard of another cloud under the same name (issue 49): merged without
+  // the inputs, it mixed two clouds' models.
+  const std::string regenerated = dir + "/regenerated.gpkg";
+  fs::copy_file(s.stores[1], regenerated);
+  test::sql_exec(regenerated, "UPDATE run_input SET sha256 = 'f00d' || substr(sha256, 5) WHERE role = 'cloud'");
+  refused({s.stores[0], regenerated}, regenerated + ": read ");
+  refused({s.stores[0], regenerated}, "shards of different clouds");
   // A parcel of shard 1 posing as shard 2 with other content; with the same content it is taken once.
   const std::string twin = dir + "/twin.gpkg";
   fs::copy_file(s.stores[0], twin);

@@ -71,9 +71,26 @@ std::vector<InputFile> merged_inputs(const std::vector<ShardStore>& stores) {
   return out;
 }
 
+// Refuses shards that read one point file as different contents: each
+// records the point files within its reach, so a file two shards read must
+// have one SHA-256 in both (a cloud regenerated between shards).
+void check_same_point_files(const std::vector<ShardStore>& stores) {
+  std::map<std::string, std::pair<std::string, std::string>> read;  // path -> (SHA-256, the store that read it)
+  for (const ShardStore& s : stores)
+    for (const InputFile& f : s.run.inputs) {
+      if (!is_point_input(f)) continue;
+      const auto [at, first] = read.emplace(f.path, std::make_pair(f.sha256, s.path));
+      if (!first && at->second.first != f.sha256)
+        throw InputError(s.path, "read " + f.path + " with SHA-256 " + f.sha256.substr(0, 12) + "..., " +
+                                     at->second.second + " read another file under that name (" +
+                                     at->second.first.substr(0, 12) + "...): shards of different clouds");
+    }
+}
+
 // Refuses stores that are not shards of the same run, or a shard given twice.
 void check_same_run(const std::vector<ShardStore>& stores) {
   const ShardStore& a = stores.front();
+  check_same_point_files(stores);
   std::map<int, std::string> seen;
   for (const ShardStore& s : stores) {
     if (s.shard.n != a.shard.n)
