@@ -5,6 +5,8 @@
 // Skipped with a message where PostgreSQL is not running (in CI: failed).
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -235,6 +237,39 @@ TEST(PostgisStore, TwoWritersAtOnce) {
     EXPECT_GE(parcels.size(), 6u) << dir;
     for (const auto& [id, n] : parcels) EXPECT_EQ(n, 1) << id << " in " << dir;
     if (std::string(dir) == "/two_rep") EXPECT_EQ(parcels.size(), 12u);
+  }
+}
+
+// Two writers of the same parcels with other settings (a tax rate of 0.002
+// for 0.001) started at once: the first to claim the store writes it, the
+// other is refused in one line and writes nothing (before, both passed the
+// check and the store mixed them). Three times: the order is the race's.
+TEST(PostgisStore, WritersOfOtherSettingsAtOnceNeverMix) {
+  REQUIRE_POSTGRES();
+  const std::string d = town().dir, config = d + "/rate2.toml";
+  {
+    std::string toml = e2e::read_file(std::string(C3D_SOURCE_DIR) + "/config/cadastre3d.toml");
+    toml.replace(toml.find("\nrate = 0.001"), 13, "\nrate = 0.002");
+    std::ofstream(config) << toml;
+  }
+  for (int round = 0; round < 3; ++round) {
+    PgDatabase db("c3d_test_mix");
+    const pid_t a = e2e::spawn_cli(pg_batch(db.url(), d + "/mix_a"), d + "/mix_a.log");
+    const pid_t b = e2e::spawn_cli(pg_batch(db.url(), d + "/mix_b", "--config " + config), d + "/mix_b.log");
+    int written = 0, refused = 0;
+    for (pid_t p : {a, b}) {
+      int status = 0;
+      waitpid(p, &status, 0);
+      const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      const std::string log = e2e::read_file(d + (p == a ? "/mix_a.log" : "/mix_b.log"));
+      written += rc == 0 || rc == 3;
+      refused += rc == 1 && log.find("parcel(s) of another run") != std::string::npos;
+    }
+    EXPECT_EQ(written, 1) << "round " << round;
+    EXPECT_EQ(refused, 1) << "round " << round;
+    EXPECT_EQ(db.number("SELECT count(*) FROM run"), 1) << "the refused writer left no run record";
+    EXPECT_EQ(db.number("SELECT count(DISTINCT run_id) FROM parcel_job"), 1) << "every parcel of one run";
+    EXPECT_EQ(db.number("SELECT count(DISTINCT tax_rate) FROM vm_valuation"), 1) << "one tax rate in the store";
   }
 }
 

@@ -8,30 +8,6 @@
 #include "core/io/crs.h"
 
 namespace c3d {
-namespace {
-
-// Refuses a store holding a parcel this run would not write with the same key:
-// another data set, other settings or other inputs. A rerun of the same run
-// (or a killed one's leftovers) passes. A shared database holds the parcels
-// of other writers (shards) by design: there only this run's parcels count.
-void refuse_other_run(const std::string& path, const std::vector<std::string>& keys,
-                      const std::vector<Parcel>& parcels) {
-  const std::set<std::string> ours(keys.begin(), keys.end());
-  std::set<std::string> ids;
-  const bool shared = is_database_url(path);
-  if (shared)
-    for (const Parcel& p : parcels) ids.insert(p.id);
-  size_t other = 0;
-  for (const JobRecord& j : load_jobs(path))
-    if (!shared || ids.count(j.parcel_id)) other += ours.count(j.inputs_key) == 0;
-  if (other > 0)
-    throw InputError(path, "holds " + std::to_string(other) +
-                               " parcel(s) of another run (other inputs, settings or parcels); "
-                               "--resume keeps them and adds this run's, --overwrite replaces "
-                               "the folder's outputs, or choose another --out");
-}
-
-}  // namespace
 
 void StoreSink::begin(const BatchRun& run) {
   parcels_ = run.parcels;
@@ -39,14 +15,16 @@ void StoreSink::begin(const BatchRun& run) {
   frame_ = run.frame;
   const auto dir = std::filesystem::path(path_).parent_path();
   if (!is_database_url(path_) && !dir.empty()) std::filesystem::create_directories(dir);
-  if (!keep_other_runs_ && store_exists(path_)) refuse_other_run(path_, keys_, *parcels_);
+  store_exists(path_);  // refuses a file that is no store, leaving it as it is
   store_.open(path_, run.crs_wkt, epsg_of(run.crs_wkt));
-  run_id_ = store_.begin_run(run.parameters, run.inputs, run.frame, run.shard);
+  Store::Claim claim{run.parameters, run.shard, run.inputs, run.frame, {}, {}, !keep_other_runs_, {}, keys_};
   // Only the run's own parcels are pending: a shard's store says nothing of the others.
-  std::vector<Parcel> own;
-  std::vector<std::string> own_keys;
-  for (size_t i : run.in_shard) own.push_back((*parcels_)[i]), own_keys.push_back(keys_[i]);
-  store_.mark_pending(own, own_keys);
+  for (size_t i : run.in_shard) claim.parcels.push_back((*parcels_)[i]), claim.keys.push_back(keys_[i]);
+  // A shared database holds the parcels of other writers (shards) by
+  // design: only this run's parcels count there.
+  if (is_database_url(path_))
+    for (const Parcel& p : *parcels_) claim.checked.push_back(p.id);
+  run_id_ = store_.claim_run(claim);
 }
 
 bool StoreSink::has_parcel(size_t i, const std::string& key) {

@@ -3,6 +3,7 @@
 #include <sqlite3.h>
 
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "cadastre/store/columns.h"
@@ -96,6 +97,11 @@ struct Store::Impl {
   store_lods::Writer lods;  // attributes and lower LoDs
 
   void prepare();
+  void insert_run(const std::string& params_json, const std::vector<InputFile>& inputs, const LocalFrame& frame,
+                  const std::string& shard);
+  void add_columns(const std::vector<Parcel>& parcels);
+  void insert_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& keys);
+  void refuse_other_runs(const Claim& claim);
   std::int64_t write_building(const Building& b, int index, std::int64_t su, const Vec3& off,
                               const std::string& parcel_id, const ParcelValuation& v,
                               std::map<std::pair<std::string, int>, std::int64_t>& elements);
@@ -159,8 +165,14 @@ void Store::Impl::prepare() {
 std::int64_t Store::begin_run(const std::string& params_json, const std::vector<InputFile>& inputs,
                               const LocalFrame& frame, const std::string& shard) {
   if (!impl_) throw InputError("store", "begin_run before open");
-  auto& db = impl_->db;
-  sql::Transaction tx(db);
+  sql::Transaction tx(impl_->db);
+  impl_->insert_run(params_json, inputs, frame, shard);
+  tx.commit();
+  return impl_->run_id;
+}
+
+void Store::Impl::insert_run(const std::string& params_json, const std::vector<InputFile>& inputs,
+                             const LocalFrame& frame, const std::string& shard) {
   // The parcel counts are written when the run ends.
   sql::Stmt run(db, store_columns::insert_sql(store_columns::kRun, {{"started", store_schema::now(db)},
                                                                     {"finished", "NULL"},
@@ -168,41 +180,74 @@ std::int64_t Store::begin_run(const std::string& params_json, const std::vector<
                                                                     {"parcels_empty", "NULL"},
                                                                     {"parcels_failed", "NULL"},
                                                                     {"parcels_suspect", "NULL"}}));
-  run.bind(std::string("cadastre3d ") + C3D_VERSION).bind(params_json).bind(impl_->srs)
+  run.bind(std::string("cadastre3d ") + C3D_VERSION).bind(params_json).bind(srs)
       .bind(frame.origin.x()).bind(frame.origin.y()).bind(frame.origin.z());
   if (shard.empty()) run.bind_null();
   else run.bind(shard);
   run.run();
-  impl_->run_id = db.last_id();
+  run_id = db.last_id();
   sql::Stmt in(db, store_columns::insert_sql(store_columns::kRunInput));
   for (const auto& f : inputs) {
-    in.bind(impl_->run_id).bind(f.path).bind(f.sha256).bind(f.bytes);
+    in.bind(run_id).bind(f.path).bind(f.sha256).bind(f.bytes);
     if (f.role.empty()) in.bind_null();  // a merged record from before roles
     else in.bind(f.role);
     in.run();
   }
-  tx.commit();
-  return impl_->run_id;
 }
 
 void Store::mark_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& keys) {
   if (!impl_) throw InputError("store", "mark_pending before open");
-  {
-    // The parcel layer's own fields become columns first, in a transaction
-    // of their own: an ALTER inside a parcel's would wait on other writers.
-    sql::Transaction tx(impl_->db);
-    impl_->gis.add_input_columns(parcels);
-    tx.commit();
-  }
+  impl_->add_columns(parcels);
   sql::Transaction tx(impl_->db);
+  impl_->insert_pending(parcels, keys);
+  tx.commit();
+}
+
+// The parcel layer's own fields become columns first, in a transaction of
+// their own: an ALTER inside a parcel's would wait on other writers.
+void Store::Impl::add_columns(const std::vector<Parcel>& parcels) {
+  sql::Transaction tx(db);
+  gis.add_input_columns(parcels);
+  tx.commit();
+}
+
+void Store::Impl::insert_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& keys) {
   for (size_t i = 0; i < parcels.size(); ++i) {
-    auto& s = impl_->pending_job;
+    auto& s = pending_job;
     s.bind(parcels[i].id).bind(parcels[i].index).bind(i < keys.size() ? keys[i] : "");
-    if (impl_->run_id) s.bind(impl_->run_id);
+    if (run_id) s.bind(run_id);
     else s.bind_null();
     s.run();
   }
+}
+
+// Refuses a store holding a parcel of `checked` (every parcel when empty)
+// under a key the run does not have: another data set, other settings or
+// other inputs. A rerun of the same run (or a killed one's leftovers) passes.
+void Store::Impl::refuse_other_runs(const Claim& c) {
+  const std::set<std::string> ours(c.run_keys.begin(), c.run_keys.end()), ids(c.checked.begin(), c.checked.end());
+  size_t other = 0;
+  sql::Stmt jobs(db, "SELECT parcel_id, inputs_key FROM parcel_job");
+  while (jobs.step())
+    if (ids.empty() || ids.count(jobs.get_text(0))) other += ours.count(jobs.get_text(1)) == 0;
+  if (other > 0)
+    throw InputError(sql::display_name(db.path()),
+                     "holds " + std::to_string(other) +
+                         " parcel(s) of another run (other inputs, settings or parcels); --resume keeps them "
+                         "and adds this run's, --overwrite replaces the folder's outputs, or choose another --out");
+}
+
+std::int64_t Store::claim_run(const Claim& c) {
+  if (!impl_) throw InputError("store", "claim_run before open");
+  impl_->add_columns(c.parcels);
+  sql::Transaction tx(impl_->db);
+  if (impl_->db.postgres())  // released at commit; SQLite's BEGIN IMMEDIATE holds its write lock
+    impl_->db.exec("SELECT pg_advisory_xact_lock(hashtext('cadastre3d: a run claims its parcels'))");
+  if (c.refuse_others) impl_->refuse_other_runs(c);
+  impl_->insert_run(c.params_json, c.inputs, c.frame, c.shard);
+  impl_->insert_pending(c.parcels, c.keys);
   tx.commit();
+  return impl_->run_id;
 }
 
 bool Store::parcel_done(const std::string& parcel_id, const std::string& inputs_key) {

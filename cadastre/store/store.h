@@ -56,6 +56,22 @@ class Store {
                          const LocalFrame& frame = {}, const std::string& shard = "");
   // Marks parcels pending (one transaction) unless already done with the same key.
   void mark_pending(const std::vector<Parcel>& parcels, const std::vector<std::string>& inputs_keys);
+  // begin_run and mark_pending of the run's own parcels in one transaction
+  // under the store's run lock (PostgreSQL: an advisory lock; SQLite: its
+  // write lock), after refusing a store where another run holds a parcel of
+  // `checked` under a key not among `run_keys`: two writers starting at once
+  // cannot both pass and then mix their settings.
+  struct Claim {
+    std::string params_json, shard;
+    std::vector<InputFile> inputs;
+    LocalFrame frame;
+    std::vector<Parcel> parcels;       // the run's own, marked pending
+    std::vector<std::string> keys;     // theirs
+    bool refuse_others = true;         // false: keep other runs' parcels (--resume)
+    std::vector<std::string> checked;  // parcel ids whose jobs must hold a key of run_keys; none: all
+    std::vector<std::string> run_keys;  // every key the run has (its whole layer's)
+  };
+  std::int64_t claim_run(const Claim& claim);
   // True when the parcel was stored ok/empty from the same inputs (for --resume).
   bool parcel_done(const std::string& parcel_id, const std::string& inputs_key);
   // Replaces every row of this parcel in one transaction. Geometry in result is
