@@ -29,6 +29,16 @@ TEST(Shard, ParsesKOfNAndRefusesTheRest) {
   EXPECT_EQ(to_string(Shard{}), "");
   for (const char* bad : {"0/3", "4/3", "3", "/3", "1/", "a/b", "1/3x", "-1/3", "1/0", ""})
     EXPECT_THROW(parse_shard(bad), InputError) << bad;
+  try {  // K/N indeed, but more shards than an int holds: said so, not "not K/N"
+    parse_shard("1/9999999999");
+    ADD_FAILURE() << "parsed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("more shards than 999999999"), std::string::npos) << e.what();
+  }
+  // A bad --shard is a usage error, exit code 2, as the other options' are.
+  std::string out;
+  EXPECT_EQ(test::run_cli("batch --cloud c.las --parcels p.gpkg --out o --shard 0/3", &out), 2) << out;
+  EXPECT_NE(out.find("'0/3' is not K/N"), std::string::npos) << out;
 }
 
 TEST(Shard, PartsCoverTheLayerOnceAndAreCompact) {

@@ -24,8 +24,11 @@ Vec2 box_centre(const Parcel& p) {
 }
 
 // A whole positive decimal number, or -1.
+// Digits only (at most kMaxDigits: an int), else -1; -2 for more digits.
+constexpr size_t kMaxDigits = 9;
 long whole_number(const std::string& s) {
-  if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos) return -1;
+  if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos) return -1;
+  if (s.size() > kMaxDigits) return -2;
   return std::strtol(s.c_str(), nullptr, 10);
 }
 
@@ -35,6 +38,8 @@ Shard parse_shard(const std::string& text) {
   const auto slash = text.find('/');
   const long k = slash == std::string::npos ? -1 : whole_number(text.substr(0, slash));
   const long n = slash == std::string::npos ? -1 : whole_number(text.substr(slash + 1));
+  if (k == -2 || n == -2)
+    throw InputError("--shard", "'" + text + "' has more shards than " + std::string(kMaxDigits, '9'));
   if (k < 1 || n < 1 || k > n)
     throw InputError("--shard", "'" + text + "' is not K/N with 1 <= K <= N (e.g. 2/4)");
   return {int(k), int(n)};
