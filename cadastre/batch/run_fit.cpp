@@ -58,9 +58,13 @@ void check_parcels(const LoadedInputs& in, const std::vector<std::string>& keys,
       if (!r.shard.empty()) shards.insert(parse_shard(r.shard).k), n = parse_shard(r.shard).n;
     for (const JobRecord& j : load_jobs(store)) {
       const auto i = at.find(j.parcel_id);
-      if (i == at.end() || keys[i->second] != j.inputs_key)
+      if (i == at.end())
         throw InputError(store, "parcel " + j.parcel_id +
-                                    " is not one these inputs select, as they select it: other --layer, --where or --bbox?");
+                                    " is not one these inputs select: other --layer, --where or --bbox?");
+      if (keys[i->second] != j.inputs_key)
+        throw InputError(store, "parcel " + j.parcel_id +
+                                    " was modelled from other inputs than these give it: its points, DTM, "
+                                    "settings or shape changed since");
       held.insert(j.parcel_id);
     }
   }
