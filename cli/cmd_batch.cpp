@@ -14,7 +14,6 @@
 #include "cadastre/batch/store_sink.h"
 #include "cli/commands.h"
 #include "cli/progress.h"
-#include "core/error.h"
 #include "core/log.h"
 #include "ifc_citygml/export.h"
 
@@ -190,19 +189,9 @@ void register_batch(CLI::App& app, bool parse_only) {
   cmd->add_flag("--overwrite", opt->overwrite,
                 "Replace what an earlier batch wrote into OUT (store, report, exports, previews)")
       ->excludes(resume);
-  cmd->add_option("--shard", opt->shard,
-                  "Model and store only shard K of N (K/N, spatial parts of the whole layer); "
-                  "writes the store only, `merge` joins the shards (docs/scale.md)")
-      ->check(CLI::Validator(
-          [](std::string& text) {  // a usage error (exit 2), as the other options'
-            try {
-              parse_shard(text);
-              return std::string();
-            } catch (const InputError& e) {
-              return std::string(e.what()).substr(std::string("--shard: ").size());
-            }
-          },
-          "K/N"));
+  cmd->add_option("--shard", opt->shard, "Model and store only shard K of N (K/N, spatial parts of the whole "
+                  "layer); writes the store only, `merge` joins the shards (docs/scale.md)")
+      ->check(CLI::Validator([](std::string& text) { return shard_problem(text); }, "K/N"));  // usage: exit 2
   cmd->add_flag("--quiet", opt->quiet, "Print nothing but warnings and errors");
   cmd->callback([opt, parse_only] {
     if (!parse_only) exit_code() = run(*opt);

@@ -71,9 +71,8 @@ void register_slurm(CLI::App& app) {
     plan->workdir = fs::current_path().string();
     const SlurmScripts s = write_slurm_scripts(*plan);
     std::cout << "array:  " << s.shards << "\nfinish: " << s.finish << "\nrerun:  " << s.rerun << " K  (a killed task)\n";
-    if (!*submit)
-      std::cout << "submit: job=$(sbatch --parsable " << shell_quote(s.shards) << ") && sbatch --dependency=afterok:$job "
-                << shell_quote(s.finish) << "\n";
+    if (!*submit)  // quoted: OUT may hold spaces
+      std::cout << "submit: job=$(sbatch --parsable " << shell_quote(s.shards) << ") && sbatch --dependency=afterok:$job " << shell_quote(s.finish) << "\n";
     else {
       const SlurmJobs j = submit_slurm(s);
       std::cout << "shards: job " << j.shards << " (array 1-" << plan->shards << ")\nfinish: job " << j.finish << "\n";

@@ -34,14 +34,27 @@ long whole_number(const std::string& s) {
 
 }  // namespace
 
-Shard parse_shard(const std::string& text) {
+namespace {
+
+// K and N of "K/N", each -1 (not a whole number) or -2 (too many digits) where not.
+std::pair<long, long> shard_numbers(const std::string& text) {
   const auto slash = text.find('/');
-  const long k = slash == std::string::npos ? -1 : whole_number(text.substr(0, slash));
-  const long n = slash == std::string::npos ? -1 : whole_number(text.substr(slash + 1));
-  if (k == -2 || n == -2)
-    throw InputError("--shard", "'" + text + "' has more shards than " + std::string(kMaxDigits, '9'));
-  if (k < 1 || n < 1 || k > n)
-    throw InputError("--shard", "'" + text + "' is not K/N with 1 <= K <= N (e.g. 2/4)");
+  if (slash == std::string::npos) return {-1, -1};
+  return {whole_number(text.substr(0, slash)), whole_number(text.substr(slash + 1))};
+}
+
+}  // namespace
+
+std::string shard_problem(const std::string& text) {
+  const auto [k, n] = shard_numbers(text);
+  if (k == -2 || n == -2) return "'" + text + "' has more shards than " + std::string(kMaxDigits, '9');
+  if (k < 1 || n < 1 || k > n) return "'" + text + "' is not K/N with 1 <= K <= N (e.g. 2/4)";
+  return "";
+}
+
+Shard parse_shard(const std::string& text) {
+  if (const std::string problem = shard_problem(text); !problem.empty()) throw InputError("--shard", problem);
+  const auto [k, n] = shard_numbers(text);
   return {int(k), int(n)};
 }
 

@@ -20,6 +20,8 @@ struct Shard {
 
 // "K/N" -> Shard; throws InputError("--shard", ...) unless 1 <= K <= N.
 Shard parse_shard(const std::string& text);
+// Why text is no K/N for parse_shard ("" when it is).
+std::string shard_problem(const std::string& text);
 // "K/N", or "" when not sharded.
 std::string to_string(const Shard& s);
 
