@@ -26,4 +26,10 @@ done
 for k in 0 1 2; do
   [ "$(cat "$out/task-$k" 2>/dev/null)" = "$k" ] || { echo "Slurm array task $k did not run"; exit 1; }
 done
-echo "PostGIS and a 3-task Slurm array ran"
+# The scripts `cadastre3d slurm` writes, from a folder named with spaces,
+# quotes and '%', submitted and run (tests/slurm_scripts_test.cpp).
+if [ -n "${1:-}" ]; then
+  "$1/tests/slurm_scripts_test" --gtest_filter=SlurmScripts.ForScript_SubmittedFromAHostileFolder >/dev/null ||
+    { echo "a script written in a folder named with spaces, quotes and % did not run on Slurm"; exit 1; }
+fi
+echo "PostGIS and a 3-task Slurm array ran; so did a script from a hostile folder"

@@ -127,12 +127,16 @@ TEST(SlurmScripts, ControlCharactersAreRefused) {
 }
 
 // Spaces, quotes and '%' in the folders: the #SBATCH lines quote them as
-// sbatch reads them, the commands as bash does. Submitted to the local Slurm
-// of scripts/services.sh where it runs: the task starts in its folder, logs
-// where the script says and runs the stand-in.
-TEST(SlurmScripts, PathsWithSpacesQuotesAndPercentRunAsWritten) {
+// sbatch reads them, the commands as bash does. (Submitted to a real Slurm
+// by tests/services_check.sh: ForScript_SubmittedFromAHostileFolder.)
+fs::path hostile_folder() {
   const fs::path dir = fs::path(temp_dir("slurm_scripts_spaces")) / "a b \"q\" 50%";
   fs::create_directories(dir);
+  return dir;
+}
+
+TEST(SlurmScripts, PathsWithSpacesQuotesAndPercentRunAsWritten) {
+  const fs::path dir = hostile_folder();
   const SlurmScripts s = write_slurm_scripts(stand_in_plan(dir, 0));
   const std::string text = read(s.shards);
   std::string quoted;
@@ -142,13 +146,16 @@ TEST(SlurmScripts, PathsWithSpacesQuotesAndPercentRunAsWritten) {
   EXPECT_NE(text.find("50%%"), std::string::npos) << "a literal % in the log's path: " << text;
   ASSERT_EQ(run_bash(s.shards, "SLURM_ARRAY_TASK_ID=2"), 0);
   EXPECT_EQ(read(dir / "calls"), "launch task-2\nc3d batch\n");
-  const std::string conf = shell_output("bash " + std::string(C3D_SOURCE_DIR) +
-                                              "/scripts/services.sh env | sed -n 's/^export SLURM_CONF=//p'");
+}
+
+// Run by tests/services_check.sh with its Slurm (SLURM_CONF set): the task
+// starts in the hostile folder, logs where the script says and runs the stand-in.
+TEST(SlurmScripts, ForScript_SubmittedFromAHostileFolder) {
+  ASSERT_NE(std::getenv("SLURM_CONF"), nullptr) << "run by tests/services_check.sh";
+  const fs::path dir = hostile_folder();
+  const SlurmScripts s = write_slurm_scripts(stand_in_plan(dir, 0));
   int rc = 1;
-  shell_output("SLURM_CONF=" + conf + " scontrol ping 2>&1 | grep -q UP", &rc);
-  C3D_NEED(!conf.empty() && rc == 0, "no local Slurm running (scripts/services.sh start, as root)");
-  fs::remove(dir / "calls");
-  shell_output("SLURM_CONF=" + conf + " sbatch --wait --array=1 " + shell_quote(s.shards), &rc);
+  shell_output("sbatch --wait --array=1 " + shell_quote(s.shards), &rc);
   EXPECT_EQ(rc, 0);
   EXPECT_EQ(read(dir / "calls"), "launch task-1\nc3d batch\n");
   EXPECT_TRUE(fs::exists(dir / "out" / "slurm" / "shard-1.log"));
