@@ -151,34 +151,6 @@ TEST(LazDecode, CompressedWithoutLaszipVlr) {
   expect_laz_error(path, "LAZ: compressed points but no LASzip VLR");
 }
 
-// Damaged LAZ files: each a one-line InputError, never a crash.
-TEST(LazDecode, DamagedFilesAreInputErrors) {
-  C3D_REQUIRE_LAZ();
-  const std::string good = file_bytes(test::laz_dir() + "/simple.laz");
-  const std::string dir = test::temp_dir("laz_damaged");
-  uint32_t point_offset, vlr = 0;
-  std::memcpy(&point_offset, good.data() + 96, 4);
-  for (size_t pos = 227; pos + 54 < point_offset; pos += 54 + uint8_t(good[pos + 20]) + 256 * uint8_t(good[pos + 21]))
-    if (good.compare(pos + 2, 14, "laszip encoded") == 0) vlr = uint32_t(pos + 54);
-  ASSERT_NE(vlr, 0u) << "no LASzip VLR in simple.laz";
-  const std::vector<std::pair<std::function<void(std::string&)>, std::string>> damage = {
-      {[](std::string& b) { b.resize(b.size() - 100); }, "chunk table offset"},
-      {[&](std::string& b) { b.resize(point_offset + 4); }, "the 4 compressed bytes"},
-      {[&](std::string& b) { b[vlr] = 9; }, "unknown LASzip compressor 9"},
-      {[&](std::string& b) { b[vlr + 34 + 4] = 7; }, "item type 6 version 7"},
-      {[](std::string& b) { std::memset(&b[107], 0x7F, 4); }, "times the"},
-  };
-  for (size_t i = 0; i < damage.size(); ++i) {
-    std::string bytes = good;
-    damage[i].first(bytes);
-    const std::string path = dir + "/damaged" + std::to_string(i) + ".laz";
-    write_bytes(path, bytes);
-    expect_laz_error(path, damage[i].second);
-  }
-}
-
-void expect_flips_caught(const std::string& path, size_t step);
-
 // The LASzip VLR's payload in a LAZ file's bytes (0: none).
 size_t laszip_vlr(const std::string& file) {
   uint32_t point_offset;
@@ -190,6 +162,40 @@ size_t laszip_vlr(const std::string& file) {
     if (file.compare(pos + 2, 14, "laszip encoded") == 0) return pos + 54;
   return 0;
 }
+
+// Each change of `good` written to DIR/NAME<i>.laz and read: a one-line
+// error naming the file and saying what its case expects.
+using Damage = std::vector<std::pair<std::function<void(std::string&)>, std::string>>;
+void expect_each_refused(const std::string& good, const std::string& dir, const std::string& name,
+                         const Damage& cases) {
+  for (size_t i = 0; i < cases.size(); ++i) {
+    std::string bytes = good;
+    cases[i].first(bytes);
+    const std::string path = dir + "/" + name + std::to_string(i) + ".laz";
+    write_bytes(path, bytes);
+    expect_laz_error(path, cases[i].second);
+  }
+}
+
+// Damaged LAZ files: each a one-line InputError, never a crash.
+TEST(LazDecode, DamagedFilesAreInputErrors) {
+  C3D_REQUIRE_LAZ();
+  const std::string good = file_bytes(test::laz_dir() + "/simple.laz");
+  const std::string dir = test::temp_dir("laz_damaged");
+  uint32_t point_offset;
+  std::memcpy(&point_offset, good.data() + 96, 4);
+  const size_t vlr = laszip_vlr(good);
+  ASSERT_NE(vlr, 0u) << "no LASzip VLR in simple.laz";
+  expect_each_refused(good, dir, "damaged", {
+      {[](std::string& b) { b.resize(b.size() - 100); }, "chunk table offset"},
+      {[&](std::string& b) { b.resize(point_offset + 4); }, "the 4 compressed bytes"},
+      {[&](std::string& b) { b[vlr] = 9; }, "unknown LASzip compressor 9"},
+      {[&](std::string& b) { b[vlr + 34 + 4] = 7; }, "item type 6 version 7"},
+      {[](std::string& b) { std::memset(&b[107], 0x7F, 4); }, "times the"},
+  });
+}
+
+void expect_flips_caught(const std::string& path, size_t step);
 
 // What the header and the LASzip VLR claim, against the data: a point count
 // 1,000 too low or one too high, a chunk size one short. Each is an error
@@ -206,20 +212,12 @@ TEST(LazDecode, ClaimsThatAreNotTheDataAreErrors) {
   ASSERT_EQ(count, 110000u);
   ASSERT_EQ(chunk, 50000u);
   const auto set = [](std::string& b, size_t at, uint32_t v) { std::memcpy(&b[at], &v, 4); };
-  const std::vector<std::pair<std::function<void(std::string&)>, std::string>> claims = {
+  expect_each_refused(good, test::temp_dir("laz_claims"), "claim", {
       {[&](std::string& b) { set(b, 107, count - 1000); }, "chunk 3 of 3"},
       {[&](std::string& b) { set(b, 107, count + 1); }, "chunk 3 of 3"},
       {[&](std::string& b) { set(b, 107, 99000); }, "too few to fill the chunk table's 3 chunks"},
       {[&](std::string& b) { set(b, vlr + 12, chunk - 1); }, "chunk 1 of 3"},
-  };
-  const std::string dir = test::temp_dir("laz_claims");
-  for (size_t i = 0; i < claims.size(); ++i) {
-    std::string bytes = good;
-    claims[i].first(bytes);
-    const std::string path = dir + "/claim" + std::to_string(i) + ".laz";
-    write_bytes(path, bytes);
-    expect_laz_error(path, claims[i].second);
-  }
+  });
 }
 
 // Where in a LAZ's point data a byte lies: its chunk table's chunks, from
