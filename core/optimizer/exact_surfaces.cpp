@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <tuple>
 
 namespace c3d {
 
@@ -132,6 +133,12 @@ void add_roof(const ShapePart& p, std::vector<CurvedPrimitive>& out) {
 
 }  // namespace
 
+std::pair<Vec2, Vec2> spline_plan_frame(const SplineSurface& s) {
+  const Vec2 e1 = (s.poles[1] - s.poles[0]).head<2>().normalized(), e2(-e1.y(), e1.x());
+  // The first poles stand at their Greville abscissae, the first knots.
+  return {s.poles[0].head<2>() - s.knots_u.front() * e1 - s.knots_v.front() * e2, e1};
+}
+
 std::optional<HeightFieldData> height_field_data(const SplineSurface& s) {
   const size_t nu = size_t(s.poles_u), nv = size_t(s.poles_v);
   if (s.degree_u != 3 || s.degree_v != 3 || nu < 4 || nv < 4 || s.poles.size() != nu * nv ||
@@ -141,8 +148,7 @@ std::optional<HeightFieldData> height_field_data(const SplineSurface& s) {
   f.nu = int(nu), f.nv = int(nv);
   f.ku = s.knots_u, f.kv = s.knots_v;
   for (const Vec3& q : s.poles) f.z.push_back(q.z());
-  f.e1 = (s.poles[1] - s.poles[0]).head<2>().normalized();
-  f.origin = s.poles[0].head<2>() - s.knots_u.front() * f.e1 - s.knots_v.front() * f.e2();  // first Greville abscissae
+  std::tie(f.origin, f.e1) = spline_plan_frame(s);
   return f;
 }
 

@@ -6,6 +6,7 @@
 // shaders/opt_snap_curved.comp and the optimizer's choices run in double.
 #include <algorithm>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/types.h"
@@ -24,6 +25,10 @@ struct HeightFieldData {
   Vec2 uv(const Vec2& q) const { return {(q - origin).dot(e1), (q - origin).dot(e2())}; }
   Vec2 plan(double u, double v) const { return origin + u * e1 + v * e2(); }
 };
+
+// The plan frame a spline's poles stand on: the plan point of parameters
+// (0, 0) and the unit direction of u (core/optimizer/exact_surfaces.cpp).
+std::pair<Vec2, Vec2> spline_plan_frame(const SplineSurface& s);
 
 // The data of a cubic spline's height field; none for other degrees
 // (core/optimizer/exact_surfaces.cpp).

@@ -3,8 +3,10 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "core/geometry/geometry.h"
+#include "core/optimizer/height_field_eval.h"
 #include "core/primitives/primitives.h"
 #include "core/primitives/spline_surface.h"
 
@@ -166,11 +168,8 @@ struct HeightField::Surface {
 HeightField::HeightField(const SplineSurface& s) {
   auto f = std::make_shared<Surface>();
   f->occ = occ_surface(s);
-  const Vec2 p00 = s.poles[0].head<2>(), p10 = s.poles[1].head<2>();
-  f->e1 = (p10 - p00).normalized();
+  std::tie(f->origin, f->e1) = spline_plan_frame(s);
   f->e2 = Vec2(-f->e1.y(), f->e1.x());
-  const double u0 = s.knots_u.front(), v0 = s.knots_v.front();  // the first poles' Greville abscissae
-  f->origin = p00 - u0 * f->e1 - v0 * f->e2;
   surface_ = f;
 }
 
