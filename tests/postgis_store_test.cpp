@@ -12,6 +12,11 @@
 #include <cstdio>
 #include <thread>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "core/error.h"
@@ -27,15 +32,19 @@ using namespace c3d;
 namespace fs = std::filesystem;
 
 // stdout of a shell command (stderr dropped), and its exit status.
-std::string shell(const std::string& cmd, int* rc = nullptr) {
-  std::string out;
-  FILE* p = popen((cmd + " 2>/dev/null").c_str(), "r");
-  if (!p) return out;
-  std::array<char, 4096> buf{};
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+std::string shell(const std::string& cmd, int* rc = nullptr) { return test::shell(cmd + " 2>/dev/null", rc); }
+
+// A TCP port on 127.0.0.1 that nothing was bound to a moment ago (the kernel's pick).
+int free_tcp_port() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof addr;
+  const bool ok = fd >= 0 && bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
+                  getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0;
+  if (fd >= 0) close(fd);
+  return ok ? ntohs(addr.sin_port) : 55400 + getpid() % 90;
 }
 
 // The server's base URL (database cadastre3d) of scripts/services.sh, which
@@ -400,14 +409,24 @@ TEST(PostgisStore, WrongPasswordIsOneLine) {
   REQUIRE_POSTGRES();
   const std::string bin = "/usr/lib/postgresql/15/bin", dir = test::temp_dir("pw_cluster");
   const std::string as = getuid() == 0 ? "runuser -u postgres -- " : "";
-  const std::string port = std::to_string(55400 + getpid() % 90);
   int rc = 1;
   shell("echo right > " + dir + "/pw && chmod 755 " + dir + " && chmod 644 " + dir + "/pw" +
             (getuid() == 0 ? " && chown -R postgres: " + dir : "") + " && " + as + bin + "/initdb -D " + dir +
-            "/data -U postgres --auth=scram-sha-256 --pwfile=" + dir + "/pw && " + as + bin + "/pg_ctl -D " + dir +
-            "/data -l " + dir + "/log -w -o '-p " + port + " -k " + dir + " -c listen_addresses=127.0.0.1' start",
+            "/data -U postgres --auth=scram-sha-256 --pwfile=" + dir + "/pw",
         &rc);
-  C3D_NEED(rc == 0, "could not start a password-checking PostgreSQL cluster in " << dir);
+  C3D_NEED(rc == 0, "initdb of a password-checking PostgreSQL cluster in " << dir << " failed");
+  // A port the kernel has just handed out is free; another process may take
+  // it before the server binds, so a few tries.
+  std::string port;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    port = std::to_string(free_tcp_port());
+    shell(as + bin + "/pg_ctl -D " + dir + "/data -l " + dir + "/log -w -o '-p " + port + " -k " + dir +
+              " -c listen_addresses=127.0.0.1' start",
+          &rc);
+    if (rc == 0) break;
+  }
+  C3D_NEED(rc == 0, "could not start a password-checking PostgreSQL cluster in "
+                        << dir << ":\n" << shell("tail -n 5 " + dir + "/log"));
   std::string out;
   const std::string url = "postgresql://postgres:secret@127.0.0.1:" + port + "/postgres";
   EXPECT_EQ(test::run_cli(pg_batch(url, town().dir + "/pw"), &out), 1) << out;

@@ -130,16 +130,7 @@ TEST(Report, CliWritesReportFromStoreAndChromiumRendersIt) {
 
   // Rendering check with a real browser: runs wherever chromium is installed
   // (scripts/setup.sh installs it), skips elsewhere.
-  std::string chromium;
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    FILE* p = popen(("command -v " + std::string(name) + " 2>/dev/null").c_str(), "r");
-    char buf[512] = {0};
-    if (p && fgets(buf, sizeof buf, p)) chromium = buf;
-    if (p) pclose(p);
-    while (!chromium.empty() && std::isspace(static_cast<unsigned char>(chromium.back())))
-      chromium.pop_back();
-    if (!chromium.empty()) break;
-  }
+  const std::string chromium = test::chromium();
   C3D_NEED(!chromium.empty(), "no chromium for the rendering check");
   std::string png = dir + "/report.png";
   std::string cmd = "timeout 90 " + chromium + " --headless --no-sandbox --disable-gpu "

@@ -30,19 +30,6 @@ std::string read(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-std::string chromium() {
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    std::string path;
-    FILE* p = popen(("command -v " + std::string(name) + " 2>/dev/null").c_str(), "r");
-    char buf[512] = {0};
-    if (p && fgets(buf, sizeof buf, p)) path = buf;
-    if (p) pclose(p);
-    while (!path.empty() && std::isspace(static_cast<unsigned char>(path.back()))) path.pop_back();
-    if (!path.empty()) return path;
-  }
-  return "";
-}
-
 // PDF page objects ("/Type /Page", not "/Pages").
 int pdf_pages(const std::string& pdf) {
   static const std::regex re("/Type\\s*/Page[^s]");

@@ -56,18 +56,6 @@ int run_bash(const std::string& script, const std::string& env) {
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
 
-// What a shell command prints, its exit status in *rc.
-std::string shell_output(const std::string& cmd, int* rc = nullptr) {
-  FILE* pipe = popen((cmd + " 2>/dev/null").c_str(), "r");
-  std::string out;
-  char buf[256];
-  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
-  const int status = pipe ? pclose(pipe) : -1;
-  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  while (!out.empty() && out.back() == '\n') out.pop_back();
-  return out;
-}
-
 }  // namespace
 
 TEST(SlurmScripts, WithoutLauncherTheTasksRunCadastre3dItself) {
@@ -155,7 +143,7 @@ TEST(SlurmScripts, ForScript_SubmittedFromAHostileFolder) {
   const fs::path dir = hostile_folder();
   const SlurmScripts s = write_slurm_scripts(stand_in_plan(dir, 0));
   int rc = 1;
-  shell_output("sbatch --wait --array=1 " + shell_quote(s.shards), &rc);
+  test::shell("sbatch --wait --array=1 " + shell_quote(s.shards), &rc);
   EXPECT_EQ(rc, 0);
   EXPECT_EQ(read(dir / "calls"), "launch task-1\nc3d batch\n");
   EXPECT_TRUE(fs::exists(dir / "out" / "slurm" / "shard-1.log"));

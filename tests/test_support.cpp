@@ -119,17 +119,34 @@ std::string temp_dir(const std::string& name) {
   return p.string();
 }
 
-int run_cli(const std::string& args, std::string* output) {
-  std::string cmd = std::string(C3D_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return -1;
-  std::array<char, 4096> buf;
+std::string shell(const std::string& cmd, int* rc) {
   std::string out;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  int status = pclose(pipe);
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) {
+    if (rc) *rc = -1;
+    return out;
+  }
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+std::string chromium() {
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    std::string path = shell("command -v " + std::string(name) + " 2>/dev/null");
+    while (!path.empty() && std::isspace(static_cast<unsigned char>(path.back()))) path.pop_back();
+    if (!path.empty()) return path;
+  }
+  return "";
+}
+
+int run_cli(const std::string& args, std::string* output) {
+  int rc = -1;
+  std::string out = shell(std::string(C3D_CLI_PATH) + " " + args + " 2>&1", &rc);
   if (output) *output = out;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return rc;
 }
 
 std::string sample_and_batch(const std::string& dir, const std::string& sample_args, const std::string& batch_args) {

@@ -56,6 +56,11 @@ double sql_number(const std::string& path, const std::string& query);
 // itself fails with no feature named); nullopt when val3dity is absent. A
 // ".jsonl" file (CityJSONSeq) is judged as one CityJSON file of its features.
 std::optional<std::vector<std::string>> val3dity_invalid(const std::string& cityjson);
+// What `sh -c cmd` prints on stdout (redirect stderr in cmd to keep or drop
+// it), its exit status in *rc (-1 when it did not exit).
+std::string shell(const std::string& cmd, int* rc = nullptr);
+// The path of the first of chromium, chromium-browser, google-chrome on PATH; "" when none.
+std::string chromium();
 // Runs the cadastre3d binary with the given argument string; returns the exit
 // code and fills output with stdout+stderr.
 int run_cli(const std::string& args, std::string* output = nullptr);
