@@ -14,6 +14,7 @@
 #include "core/primitives/revolved_roof.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
+#include "core/reconstruct/outline/outline.h"
 
 namespace c3d {
 
@@ -189,16 +190,24 @@ Polygon2 overhanging_outline(const Building& b, const Polygon2& footprint) {
 // placed most of its walls; else under the roof's edge, as the other curved
 // buildings' walls stand without them (the planar model's assumed overhang
 // is a pitched roof's eaves, which such a hall may not have).
-Polygon2 hall_outline(const Building& b) {
-  int walls = 0, measured = 0;
+MultiPolygon2 roof_plan(const Building& b) {
   std::vector<MultiPolygon2> roof;
-  for (const Element& e : b.elements) {
-    if (e.type == ElementType::Wall) ++walls, measured += e.evidence == WallEvidence::Measured;
+  for (const Element& e : b.elements)
     if (e.type == ElementType::Roof)
       for (const Face& f : e.faces) roof.push_back(poly::make_valid({Polygon2{to_2d(f.ring), {}}}));
-  }
-  if (walls > 0 && 2 * measured > walls) return ground_footprint(b);
-  return poly::largest(poly::simplify(poly::unite_all(roof), kOutlineToleranceM));
+  return poly::unite_all(roof);
+}
+
+bool walls_measured(const Building& b) {
+  int walls = 0, measured = 0;
+  for (const Element& e : b.elements)
+    if (e.type == ElementType::Wall) ++walls, measured += e.evidence == WallEvidence::Measured;
+  return walls > 0 && 2 * measured > walls;
+}
+
+Polygon2 hall_outline(const Building& b) {
+  if (walls_measured(b)) return ground_footprint(b);
+  return poly::largest(poly::simplify(roof_plan(b), kOutlineToleranceM));
 }
 
 // A flat roof's level among the points: the median height of those on no
@@ -447,11 +456,60 @@ std::string judge_free_form(const Building& b, const HeightFieldRoof& hf, const 
 // its ridges away (the criterion agrees, at a cost).
 constexpr int kMinFacets = 4;
 
+// The longest side's direction of a ring: the spline's plan frame.
+Vec2 longest_side(const Ring2& ring) {
+  Vec2 along = Vec2::UnitX();
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 side = ring[(i + 1) % ring.size()] - ring[i];
+    if (side.norm() > along.norm() || i == 0) along = side;
+  }
+  return along;
+}
+
+// A free-form roof over its whole extent. The planar model cut the surface
+// into roof levels whose outlines leave steps and notches along straight
+// walls (a saddle's walls 5 % long, its ground 1.5 % short), and its points
+// were taken within them. The surface is one roof: its points are the
+// parcel's roof points on it (within 2.5 noise) up to its finest knot span
+// (4 point spacings) beyond that outline, its edge their outline
+// (outline.h), set in by the overhang the planar model's measured walls
+// showed (its roof's plan against its footprint, per metre of footprint).
+struct OneRoof {
+  Polygon2 footprint;
+  std::vector<Vec3> points;
+};
+constexpr double kOneRoofReachSpacings = 4;
+OneRoof one_roof(const Building& b, const Polygon2& planar, const HeightFieldRoof& hf,
+                 const std::vector<Vec3>& nearby, double noise, double spacing) {
+  OneRoof r;
+  const MultiPolygon2 reach = poly::buffer({planar}, kOneRoofReachSpacings * spacing);
+  const HeightField f(hf.surface);
+  std::vector<Vec2> plan;
+  for (const Vec3& q : nearby)
+    if (std::abs(f.distance(q)) <= 2.5 * noise && poly::covers(reach, q.head<2>()))
+      r.points.push_back(q), plan.push_back(q.head<2>());
+  OutlineOptions opt;
+  opt.spacing = spacing;
+  const Polygon2 edge = roof_outline(plan, opt);
+  if (edge.outer.size() < 3) return {};
+  r.footprint = edge;
+  if (!walls_measured(b)) return r;
+  double perimeter = 0;
+  for (size_t i = 0; i < planar.outer.size(); ++i)
+    perimeter += (planar.outer[(i + 1) % planar.outer.size()] - planar.outer[i]).norm();
+  const double overhang = (area(roof_plan(b)) - area(planar)) / perimeter;
+  if (overhang <= kOutlineToleranceM) return r;
+  r.footprint = poly::largest(poly::buffer({edge}, -overhang));
+  if (r.footprint.outer.size() < 3) return {};
+  return r;
+}
+
 // b modelled under a free-form roof (height_field.h), where its planes leave
 // the roof points farther than the noise allows or take many facets, and a
-// B-spline height field over its footprint is its roof by judge_free_form.
-bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const PrimitiveFit& fit, double spacing,
-                       double storey_height) {
+// B-spline height field over its footprint is its roof by judge_free_form;
+// then fitted again over the roof's whole extent (one_roof).
+bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
+                       const PrimitiveFit& fit, double spacing, double storey_height) {
   const double noise = fit.noise;
   const PlanarAccount planes = planar_account(roof_plane_index(b), own);
   if (planes.rmse <= kMaxFitOverNoise * noise && planes.planes < kMinFacets) return false;
@@ -459,12 +517,7 @@ bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const Primitiv
   in.footprint = hall_outline(b);
   if (in.footprint.outer.size() < 3) return false;
   const Ring2& ring = in.footprint.outer;
-  Vec2 along = Vec2::UnitX();  // the longest side's direction
-  for (size_t i = 0; i < ring.size(); ++i) {
-    const Vec2 side = ring[(i + 1) % ring.size()] - ring[i];
-    if (side.norm() > along.norm() || i == 0) along = side;
-  }
-  const std::optional<HeightFieldRoof> hf = fit_height_field(own, noise, spacing, ring, along);
+  std::optional<HeightFieldRoof> hf = fit_height_field(own, noise, spacing, ring, longest_side(ring));
   if (!hf) return false;
   Vec2 lo = ring.front(), hi = lo;
   for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
@@ -474,6 +527,11 @@ bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const Primitiv
     log::debug(b.id + ": not a free-form roof: " + hf->describe() + ": " + why);
     return false;
   }
+  const OneRoof whole = one_roof(b, in.footprint, *hf, nearby, noise, spacing);
+  std::optional<HeightFieldRoof> refit;
+  if (!whole.points.empty())
+    refit = fit_height_field(whole.points, noise, spacing, whole.footprint.outer, longest_side(whole.footprint.outer));
+  if (refit) hf = refit, in.footprint = whole.footprint;
   in.building_id = b.id;
   in.roof = hf->surface;
   in.ground_z = b.terrain_z;
@@ -504,7 +562,7 @@ std::string model_curved_roof(Building& b, const std::vector<Vec3>& own, const s
     return "";
   if (!fit.curved.empty() && remodel_domed(b, fit, own, nearby, spacing, storey_height)) return "";
   if (!round && remodel_revolved(b, fit, own, nearby, walls, spacing, storey_height, nullptr, unsure)) return unsure;
-  if (remodel_free_form(b, own, fit, spacing, storey_height)) return "";
+  if (remodel_free_form(b, own, nearby, fit, spacing, storey_height)) return "";
   if (fit.curved.empty()) return "";
   std::string note;
   for (const Primitive& q : fit.curved)
