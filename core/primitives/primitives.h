@@ -24,7 +24,7 @@ struct Primitive {
   double radius = 0;          // cylinder, sphere
   double angle = 0;           // cone: half-angle at the apex, rad
   std::vector<int> inliers;   // indices into the points searched (every k-th of a large set)
-  int share = 0;              // percent of the points searched that it holds
+  int share = 0;  // percent of the points searched that lie on it (within the search tolerance)
   double rmse = 0;            // of the inliers' distances to the surface, m
   // The planar account that competes with it best (by the criterion): the
   // RMS distance of the inliers to those planes and how many planes that takes.
