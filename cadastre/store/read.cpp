@@ -80,6 +80,7 @@ sql::Db open_store(const std::string& path) {
   try {
     db = sql::Db(path, false);
     db.exec("PRAGMA query_only = 1");
+    db.has_table("parcel_job");  // the first read: on read-only media it fails for a WAL-mode file
   } catch (const InputError&) {
     db = sql::Db(path, true);
   }

@@ -1,6 +1,9 @@
 // The SQLite backend of cadastre/store/sql_db.h: the GeoPackage file.
 #include <sqlite3.h>
 
+#include <cstdio>
+#include <filesystem>
+
 #include "cadastre/store/sql_backend.h"
 #include "core/error.h"
 
@@ -12,6 +15,21 @@ namespace {
 std::string write_hint(sqlite3* db) {
   const int code = sqlite3_errcode(db);
   return code == SQLITE_FULL || code == SQLITE_IOERR ? " (is the disk full?)" : "";
+}
+
+// A file path as a URI's path: the characters a URI gives meaning escaped.
+std::string uri_path(const std::string& path) {
+  std::string out;
+  for (unsigned char c : path) {
+    if (c == '%' || c == '?' || c == '#' || c <= ' ' || c >= 0x7f) {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      out += hex;
+    } else {
+      out += char(c);
+    }
+  }
+  return out;
 }
 
 class SqliteCursor : public Cursor {
@@ -74,12 +92,12 @@ class SqliteCursor : public Cursor {
 class SqliteBackend : public Backend {
  public:
   SqliteBackend(const std::string& path, bool read_only) : path_(path) {
-    const int flags = read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-    if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
-      std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    open(path.c_str(), read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE));
+    try {
+      if (read_only && !readable()) open_immutable();
+    } catch (...) {  // no destructor runs for a constructor that throws
       sqlite3_close(db_);
-      db_ = nullptr;
-      throw InputError(path, "cannot open SQLite database: " + msg);
+      throw;
     }
     sqlite3_busy_timeout(db_, 10000);
   }
@@ -108,6 +126,33 @@ class SqliteBackend : public Backend {
   sqlite3* sqlite() const override { return db_; }
 
  private:
+  void open(const char* name, int flags) {
+    if (sqlite3_open_v2(name, &db_, flags, nullptr) != SQLITE_OK) {
+      std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+      sqlite3_close(db_);
+      db_ = nullptr;
+      throw InputError(path_, "cannot open SQLite database: " + msg);
+    }
+  }
+  // Whether the schema reads: a store left in WAL mode (a run killed before
+  // it closed, or an earlier version's) cannot be read where its folder is
+  // read-only, as SQLite cannot make the -shm file there.
+  bool readable() {
+    return sqlite3_exec(db_, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr) == SQLITE_OK;
+  }
+  // Read-only media: the file as it is, no locks and no WAL index. Writes
+  // still in a -wal file beside it would go unread, so such a store is refused.
+  void open_immutable() {
+    std::error_code ec;
+    if (std::filesystem::file_size(path_ + "-wal", ec) > 0 && !ec)
+      throw InputError(path_, "cannot open SQLite database: its folder is read-only and " + path_ +
+                                  "-wal holds writes not yet in it; copy both to writable storage");
+    sqlite3_close(db_);
+    db_ = nullptr;
+    open(("file:" + uri_path(path_) + "?immutable=1").c_str(), SQLITE_OPEN_READONLY | SQLITE_OPEN_URI);
+    if (!readable()) throw InputError(path_, std::string("cannot open SQLite database: ") + sqlite3_errmsg(db_));
+  }
+
   std::string path_;
   sqlite3* db_ = nullptr;
 };

@@ -379,8 +379,14 @@ void mark_run_finished(const std::string& path, std::int64_t run_id) {
 
 void Store::close() {
   if (!impl_) return;
-  // Fold the WAL back so the .gpkg alone is complete for copying / QGIS.
-  if (sqlite3* h = impl_->db.get()) sqlite3_wal_checkpoint_v2(h, nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
+  // Fold the WAL back so the .gpkg alone is complete for copying / QGIS, and
+  // leave WAL mode where no other writer has the file open: a WAL-mode file
+  // cannot be read from read-only media (the next writer turns WAL on again).
+  if (sqlite3* h = impl_->db.get()) {
+    sqlite3_wal_checkpoint_v2(h, nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
+    sqlite3_busy_timeout(h, 0);
+    sqlite3_exec(h, "PRAGMA journal_mode = DELETE", nullptr, nullptr, nullptr);
+  }
   impl_.reset();
 }
 
