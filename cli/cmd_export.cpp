@@ -2,12 +2,13 @@
 // Reads the model from a store (or a CityJSON file this tool wrote) and writes the
 // requested exchange formats.
 #include <algorithm>
-#include <chrono>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cadastre/batch/out_dir.h"
+#include "cadastre/batch/outputs.h"
 #include "cadastre/store/pages.h"
 #include "cadastre/store/store.h"
 #include "cli/commands.h"
@@ -15,10 +16,6 @@
 
 namespace c3d::cli {
 namespace {
-
-bool is_cityjson(const std::string& path) {
-  return path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
-}
 
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
@@ -53,19 +50,11 @@ void register_export(CLI::App& app) {
     const std::vector<std::string> formats = split(args->formats);
     std::vector<PagesExport> done;
     size_t buildings = 0;
-    if (is_cityjson(args->store)) {  // a file this tool wrote: small enough to read whole
-      BatchModel model = read_cityjson(args->store);
-      for (const auto& r : model.results) buildings += r.buildings.size();
-      for (const auto& f : formats) {
-        auto t0 = std::chrono::steady_clock::now();
-        PagesExport e{f};
-        e.files = export_formats(model, args->out, {f}, &e.skipped);
-        e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        done.push_back(std::move(e));
-      }
-    } else {  // a store, a page of parcels at a time
-      done = export_pages(StorePages(args->store), args->out, formats, &buildings);
-    }
+    write_staged_into(args->out, [&](const std::string& stage) {
+      done = export_store(args->store, stage, formats, buildings);
+      for (auto& e : done)
+        for (auto& f : e.files) f = moved(f, stage, args->out);
+    }, {"obj", "step"});
     for (const auto& e : done) {
       for (const auto& w : e.skipped) std::cerr << "export " << e.format << ": skipped " << w << "\n";
       std::cout << "export " << e.format << ": " << e.files.size() << " file(s), " << buildings

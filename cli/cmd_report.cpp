@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cadastre/batch/out_dir.h"
 #include "cli/commands.h"
 #include "core/config/config.h"
 #include "cadastre/report/report.h"
@@ -27,7 +28,9 @@ void register_report(CLI::App& app) {
   cmd->callback([args] {
     bool revalue = !args->config.empty();
     Config cfg = revalue ? load_config(args->config) : default_config();
-    write_report_from_store(args->store, args->out, cfg, revalue);
+    write_staged_into(
+        args->out, [&](const std::string& stage) { write_report_from_store(args->store, stage, cfg, revalue); },
+        {"report"});
     namespace fs = std::filesystem;
     std::cout << "report: " << (fs::path(args->out) / "report.html").string() << "\n"
               << "pages:  " << (fs::path(args->out) / "report").string() << "/\n"

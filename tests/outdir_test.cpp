@@ -60,7 +60,7 @@ TEST(OutDir, ASecondBatchOnTheSameFolderIsRefusedWhileTheFirstHoldsIt) {
   int rc = 0;
   std::string log = run(batch_args(dir + "/town", out), &rc);
   EXPECT_EQ(rc, 1) << log;
-  EXPECT_TRUE(has(log, out + ": another cadastre3d batch")) << log;
+  EXPECT_TRUE(has(log, out + ": another cadastre3d command")) << log;
   EXPECT_FALSE(fs::exists(out + "/cadastre.gpkg")) << "refused before writing anything";
   close(fd);  // released: the next batch runs
   log = run(batch_args(dir + "/town", out) + " --quiet", &rc);
@@ -82,7 +82,7 @@ TEST(OutDir, TwoBatchesStartedTogetherOneIsRefused) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << read_file(dir + "/first.log");
   EXPECT_EQ(rc, 1) << log;
-  EXPECT_TRUE(has(log, "another cadastre3d batch")) << log;
+  EXPECT_TRUE(has(log, "another cadastre3d command")) << log;
   Sqlite db(out + "/cadastre.gpkg");
   EXPECT_EQ(db.number("SELECT count(*) FROM run"), 1) << "only the first batch ran";
   EXPECT_EQ(db.number("SELECT parcels_ok + parcels_empty + parcels_failed FROM run"), 8);
@@ -261,4 +261,48 @@ TEST(OutDir, AStoreFileWithoutTablesLeftByAKilledBatchIsTakenOverButAForeignFile
   EXPECT_EQ(rc, 1) << log;
   EXPECT_TRUE(has(log, store + ": not a GeoPackage or SQLite file")) << log;
   EXPECT_EQ(read_file(store), "not a database\n") << "a foreign file is left as it was";
+}
+
+// `report` and `export` into a batch's folder take its lock (refused in one
+// line while a batch holds it, OUT untouched), write whole files or none (a
+// report that cannot finish leaves the batch's report.csv as it was, not
+// empty) and replace their folders whole (no page of an earlier report stays).
+TEST(OutDir, ReportAndExportTakeTheLockAndWriteWholeFiles) {
+  const std::string dir = test::temp_dir("report_export");
+  make_town(dir + "/town", 4, 2);
+  const std::string out = dir + "/out", store = out + "/cadastre.gpkg";
+  int rc = 0;
+  std::string log = run(batch_args(dir + "/town", out) + " --quiet", &rc);
+  ASSERT_EQ(rc, 0) << log;
+  const std::string csv = read_file(out + "/report.csv"), ifc = read_file(out + "/buildings.ifc");
+  {
+    int fd = open((out + "/.cadastre3d.lock").c_str(), O_RDWR | O_CREAT, 0644);
+    ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);
+    for (const std::string cmd : {"report", "export"}) {
+      log = run(cmd + " --store " + store + " --out " + out, &rc);
+      EXPECT_EQ(rc, 1) << log;
+      EXPECT_TRUE(has(log, out + ": another cadastre3d command")) << log;
+    }
+    close(fd);
+  }
+  EXPECT_EQ(read_file(out + "/report.csv"), csv);
+  int status = 0;
+  waitpid(spawn_cli("report --store " + store + " --out " + out, dir + "/limited.log", 1000), &status, 0);
+  EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(dir + "/limited.log");
+  EXPECT_EQ(read_file(out + "/report.csv"), csv) << "a report that could not finish changed OUT";
+  waitpid(spawn_cli("export --formats ifc --store " + store + " --out " + out, dir + "/limited.log", 1000), &status, 0);
+  EXPECT_EQ(read_file(out + "/buildings.ifc"), ifc) << "an export that could not finish changed OUT";
+
+  std::ofstream(out + "/report/parcels-999.html") << "an earlier report's page";
+  fs::create_directories(out + "/obj");
+  std::ofstream(out + "/obj/gone.obj") << "an earlier export's building";
+  for (const std::string cmd : {"report", "export --formats obj"}) {
+    log = run(cmd + " --store " + store + " --out " + out, &rc);
+    EXPECT_EQ(rc, 0) << log;
+  }
+  EXPECT_FALSE(fs::exists(out + "/report/parcels-999.html"));
+  EXPECT_FALSE(fs::exists(out + "/obj/gone.obj"));
+  EXPECT_FALSE(fs::exists(out + "/.staging"));
+  EXPECT_EQ(read_file(out + "/report.csv"), csv);
+  EXPECT_TRUE(fs::exists(out + "/report.html"));
 }

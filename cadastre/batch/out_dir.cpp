@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <set>
 #include <system_error>
 
 #include "core/error.h"
@@ -28,7 +29,7 @@ OutDirLock::OutDirLock(const std::string& out_dir) {
     if (err != EWOULDBLOCK) throw InputError(out_dir, std::string("cannot lock: ") + std::strerror(err));
     std::string holder = n > 0 ? std::string(pid, size_t(n)) : std::string("?");
     while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
-    throw InputError(out_dir, "another cadastre3d batch (pid " + holder +
+    throw InputError(out_dir, "another cadastre3d command (pid " + holder +
                                   ") is writing to this folder; wait for it or choose another --out");
   }
   // The pid only words a refused batch's message: failing to write it is harmless.
@@ -43,7 +44,8 @@ OutDirLock::~OutDirLock() {
 
 std::string staging_dir(const std::string& out_dir) { return (fs::path(out_dir) / ".staging").string(); }
 
-void publish_staged(const std::string& staging, const std::string& out_dir) {
+void publish_staged(const std::string& staging, const std::string& out_dir, const std::vector<std::string>& whole) {
+  std::set<fs::path> published;
   for (const auto& e : fs::recursive_directory_iterator(staging)) {
     if (!e.is_regular_file()) continue;
     const fs::path to = fs::path(out_dir) / fs::relative(e.path(), staging);
@@ -51,8 +53,34 @@ void publish_staged(const std::string& staging, const std::string& out_dir) {
     fs::create_directories(to.parent_path(), ec);
     fs::rename(e.path(), to, ec);
     if (ec) throw InputError(to.string(), "cannot move the finished file into place: " + ec.message());
+    published.insert(to);
+  }
+  for (const std::string& folder : whole) {
+    std::error_code ec;
+    if (!fs::is_directory(fs::path(staging) / folder, ec)) continue;
+    std::vector<fs::path> stale;
+    for (const auto& e : fs::recursive_directory_iterator(fs::path(out_dir) / folder, ec))
+      if (e.is_regular_file() && !published.count(e.path())) stale.push_back(e.path());
+    for (const fs::path& f : stale) fs::remove(f, ec);
   }
   fs::remove_all(staging);
+}
+
+std::string moved(const std::string& path, const std::string& from, const std::string& to) {
+  return (fs::path(to) / fs::relative(path, from)).string();
+}
+
+void write_staged_into(const std::string& out_dir, const std::function<void(const std::string& stage)>& write,
+                       const std::vector<std::string>& whole) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw InputError(out_dir, "cannot create the output folder: " + ec.message());
+  const OutDirLock lock(out_dir);
+  const std::string stage = staging_dir(out_dir);
+  fs::remove_all(stage);
+  fs::create_directories(stage);
+  write(stage);
+  publish_staged(stage, out_dir, whole);
 }
 
 void remove_batch_outputs(const std::string& out_dir) {

@@ -167,11 +167,6 @@ class SummaryWriter {
   int ok_ = 0, empty_ = 0, failed_ = 0, suspect_ = 0;
 };
 
-// The same relative path under `to` as `path` has under `from`.
-std::string moved(const std::string& path, const std::string& from, const std::string& to) {
-  return (fs::path(to) / fs::relative(path, from)).string();
-}
-
 // One standalone picture per parcel with buildings, coloured by element type,
 // named by file_stem_for_id (an id can neither leave the folder nor share a file).
 void write_previews(const BatchModel& model, const std::string& dir) {
@@ -247,6 +242,30 @@ WrittenOutputs write_outputs(const BatchReport& report, const StorePages& pages,
   out.report = (fs::path(out_dir) / "report.html").string();
   out.preview_dir = (fs::path(out_dir) / "preview").string();
   return out;
+}
+
+namespace {
+
+bool is_cityjson(const std::string& path) {
+  return path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
+}
+
+}  // namespace
+
+std::vector<PagesExport> export_store(const std::string& store, const std::string& dir,
+                                     const std::vector<std::string>& formats, size_t& buildings) {
+  if (!is_cityjson(store)) return export_pages(StorePages(store), dir, formats, &buildings);
+  std::vector<PagesExport> done;
+  BatchModel model = read_cityjson(store);
+  for (const auto& r : model.results) buildings += r.buildings.size();
+  for (const auto& f : formats) {
+    auto t0 = std::chrono::steady_clock::now();
+    PagesExport e{f};
+    e.files = export_formats(model, dir, {f}, &e.skipped);
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    done.push_back(std::move(e));
+  }
+  return done;
 }
 
 }  // namespace c3d

@@ -35,4 +35,10 @@ WrittenOutputs write_outputs(const BatchReport& report, const StorePages& pages,
                              const std::vector<std::string>& formats,
                              const OutputProgress& progress = {});
 
+// Each of `formats` of `store` written into `dir`: a store a page of parcels
+// at a time, or a CityJSON file this tool wrote (small enough to read whole);
+// `buildings` counts the buildings exported.
+std::vector<PagesExport> export_store(const std::string& store, const std::string& dir,
+                                      const std::vector<std::string>& formats, size_t& buildings);
+
 }  // namespace c3d
