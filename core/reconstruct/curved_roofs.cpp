@@ -12,6 +12,7 @@
 #include "core/primitives/exact_shape.h"
 #include "core/primitives/height_field.h"
 #include "core/primitives/revolved_roof.h"
+#include "core/reconstruct/envelope/elements.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
 #include "core/reconstruct/outline/outline.h"
@@ -173,23 +174,7 @@ void inherit_walls(const Building& planar, Building& domed, double boundary_sigm
   }
 }
 
-// The planar model's roof outline in plan where its roof reaches past the
-// footprint by more than kMinOverhangM2 (an overhang); empty otherwise.
-Polygon2 overhanging_outline(const Building& b, const Polygon2& footprint) {
-  constexpr double kMinOverhangM2 = 0.5;
-  std::vector<MultiPolygon2> parts{{footprint}};
-  for (const Element& e : b.elements)
-    if (e.type == ElementType::Roof)
-      for (const Face& f : e.faces) parts.push_back(poly::make_valid({Polygon2{to_2d(f.ring), {}}}));
-  const Polygon2 outline = poly::largest(poly::unite_all(parts));
-  return area(outline) - area(footprint) > kMinOverhangM2 ? outline : Polygon2{};
-}
-
-// Where a hall's walls stand under a curved roof (a free-form one, a flat
-// one carrying domes): the planar model's footprint where wall points
-// placed most of its walls; else under the roof's edge, as the other curved
-// buildings' walls stand without them (the planar model's assumed overhang
-// is a pitched roof's eaves, which such a hall may not have).
+// The planar model's roof faces in plan, united.
 MultiPolygon2 roof_plan(const Building& b) {
   std::vector<MultiPolygon2> roof;
   for (const Element& e : b.elements)
@@ -198,6 +183,15 @@ MultiPolygon2 roof_plan(const Building& b) {
   return poly::unite_all(roof);
 }
 
+// The planar model's roof outline in plan where its roof reaches past the
+// footprint by more than kMinOverhangM2 (an overhang); empty otherwise.
+Polygon2 overhanging_outline(const Building& b, const Polygon2& footprint) {
+  constexpr double kMinOverhangM2 = 0.5;
+  const Polygon2 outline = poly::largest(poly::unite(roof_plan(b), {footprint}));
+  return area(outline) - area(footprint) > kMinOverhangM2 ? outline : Polygon2{};
+}
+
+// Whether wall points placed most of the planar model's walls.
 bool walls_measured(const Building& b) {
   int walls = 0, measured = 0;
   for (const Element& e : b.elements)
@@ -205,6 +199,11 @@ bool walls_measured(const Building& b) {
   return walls > 0 && 2 * measured > walls;
 }
 
+// Where a hall's walls stand under a curved roof (a free-form one, a flat
+// one carrying domes): the planar model's footprint where wall points
+// placed most of its walls; else under the roof's edge, as the other curved
+// buildings' walls stand without them (the planar model's assumed overhang
+// is a pitched roof's eaves, which such a hall may not have).
 Polygon2 hall_outline(const Building& b) {
   if (walls_measured(b)) return ground_footprint(b);
   return poly::largest(poly::simplify(roof_plan(b), kOutlineToleranceM));
@@ -494,10 +493,7 @@ OneRoof one_roof(const Building& b, const Polygon2& planar, const HeightFieldRoo
   if (edge.outer.size() < 3) return {};
   r.footprint = edge;
   if (!walls_measured(b)) return r;
-  double perimeter = 0;
-  for (size_t i = 0; i < planar.outer.size(); ++i)
-    perimeter += (planar.outer[(i + 1) % planar.outer.size()] - planar.outer[i]).norm();
-  const double overhang = (area(roof_plan(b)) - area(planar)) / perimeter;
+  const double overhang = (area(roof_plan(b)) - area(planar)) / envelope::perimeter(planar.outer);
   if (overhang <= kOutlineToleranceM) return r;
   r.footprint = poly::largest(poly::buffer({edge}, -overhang));
   if (r.footprint.outer.size() < 3) return {};
