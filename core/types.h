@@ -133,6 +133,9 @@ struct Element {
   std::vector<Face> faces;
   double area = 0;          // true 3D area, m2 (outer ceiling: plan area, see DESIGN.md)
   double plan_area = 0;     // horizontal projection, m2
+  // area and plan_area were measured on the exact curved surface, finer than
+  // the faces' chords: measuring the faces again must not replace them.
+  bool on_surface = false;
   double slope_deg = 0;
   double azimuth_deg = 0;   // direction the surface faces, clockwise from grid north
   double sigma_area = 0;    // 1-sigma uncertainty of area, m2

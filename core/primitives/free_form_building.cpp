@@ -127,11 +127,24 @@ void add_walls(const HeightField& f, const Ring2& ring, double ground_z, double 
   }
 }
 
-double roof_area(const HeightField& f, const MultiPolygon2& plan, double step) {
-  double a = 0;
-  for (const Polygon2& p : plan)
-    for (const Face& t : roof_triangles(f, oriented(p), step)) a += area(t);
-  return a;
+// The roof's sigma: each footprint edge moved out by its own sigma, on its
+// own, adds the surface over that strip (the edge's length lifted by the
+// roof's slope along it); the shift all edges share adds the whole rim's.
+double roof_sigma(const HeightField& f, const Polygon2& foot, const FreeFormInput& in) {
+  std::vector<const Ring2*> rings{&foot.outer};
+  for (const Ring2& h : foot.holes) rings.push_back(&h);
+  double own = 0, rim = 0;
+  size_t k = 0;
+  for (const Ring2* ring : rings)
+    for (size_t i = 0; i < ring->size(); ++i, ++k) {
+      const Vec2 a = (*ring)[i], b = (*ring)[(i + 1) % ring->size()];
+      double lifted = 0;
+      for (int j = 0; j < 8; ++j) lifted += std::sqrt(1 + f.slope(a + (b - a) * ((j + 0.5) / 8)).squaredNorm()) / 8;
+      lifted *= (b - a).norm();
+      if (k < in.edge_sigma.size()) own += std::pow(lifted * in.edge_sigma[k], 2);
+      rim += lifted;
+    }
+  return std::hypot(std::sqrt(own), rim * in.common_sigma);
 }
 
 // The exact part: the footprint's outer ring swept up past the roof, cut
@@ -169,8 +182,7 @@ std::optional<Building> free_form_building(const FreeFormInput& in) {
   for (const Ring2& h : foot.holes) add_walls(f, h, in.ground_z, step, b);
   b.elements.push_back(element_of(ElementType::Ground, {face_at(foot, in.ground_z, false)}));
   Element& r = b.elements.front();
-  r.sigma_area = std::abs(roof_area(f, poly::buffer({foot}, in.boundary_sigma), step) -
-                          roof_area(f, poly::buffer({foot}, -in.boundary_sigma), step)) / 2;
+  r.sigma_area = roof_sigma(f, foot, in);
   if (foot.holes.empty()) b.exact.parts.push_back(hall_under(foot.outer, in.ground_z, top, in.roof));
   close_curved(b, in.building_id, in.ground_z);
   return b;

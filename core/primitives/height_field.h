@@ -54,14 +54,17 @@ struct FreeFormInput {
   SplineSurface roof;
   Polygon2 footprint;           // the hall's, from its planar model
   double ground_z = 0;          // local
-  double boundary_sigma = 0.1;  // of the footprint's edges, m
+  // 1-sigma position of each footprint edge (outer ring, then holes), its
+  // own part, and the shift all of them share, m (docs/accuracy.md).
+  std::vector<double> edge_sigma;
+  double common_sigma = 0;
   double chord = kModelChordM;  // largest distance of the roof's triangles from the surface, m
 };
 
 // The hall under its free-form roof: elements [roof, one wall per footprint
 // edge (outer ring, then holes) up to the surface, ground]; the roof's
 // triangles within `chord` of the surface, its sigma_area from moving the
-// footprint's edges by boundary_sigma. None where the footprint is not a
+// footprint's edges by their sigma. None where the footprint is not a
 // polygon or the roof does not stand kMinWallM above the ground everywhere.
 std::optional<Building> free_form_building(const FreeFormInput& in);
 

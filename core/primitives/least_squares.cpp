@@ -77,50 +77,94 @@ Primitive plane_by_pca(const Primitive& start, const std::vector<Vec3>& pts) {
   return p;
 }
 
+// A curved primitive's parameters and its distance function.
+struct Model {
+  Params x;
+  Distance d;
+};
+
+Model model_of(const Primitive& p) {
+  double theta = 0, phi = 0;
+  angles_of(p.axis, &theta, &phi);
+  Model m;
+  switch (p.kind) {
+    case PrimitiveKind::Sphere:
+      m.x.resize(4);
+      m.x << p.point.x(), p.point.y(), p.point.z(), p.radius;
+      m.d = [](const Params& y, const Vec3& q) { return (q - Vec3(y(0), y(1), y(2))).norm() - y(3); };
+      break;
+    case PrimitiveKind::Cylinder:
+      m.x.resize(6);
+      m.x << p.point.x(), p.point.y(), p.point.z(), theta, phi, p.radius;
+      m.d = [](const Params& y, const Vec3& q) {
+        const Vec3 u = axis_of(y(3), y(4)), v = q - Vec3(y(0), y(1), y(2));
+        return (v - v.dot(u) * u).norm() - y(5);
+      };
+      break;
+    case PrimitiveKind::Cone:
+      m.x.resize(6);
+      m.x << p.point.x(), p.point.y(), p.point.z(), theta, phi, p.angle;
+      m.d = [](const Params& y, const Vec3& q) {
+        const Vec3 u = axis_of(y(3), y(4)), v = q - Vec3(y(0), y(1), y(2));
+        const double h = v.dot(u);
+        return (v - h * u).norm() * std::cos(y(5)) - h * std::sin(y(5));
+      };
+      break;
+    case PrimitiveKind::Plane: break;
+  }
+  return m;
+}
+
+Primitive with_params(Primitive p, const Params& x) {
+  p.point = Vec3(x(0), x(1), x(2));
+  if (p.kind == PrimitiveKind::Sphere) p.radius = std::abs(x(3));
+  if (p.kind == PrimitiveKind::Cylinder) p.axis = axis_of(x(3), x(4)), p.radius = std::abs(x(5));
+  if (p.kind == PrimitiveKind::Cone) p.axis = axis_of(x(3), x(4)), p.angle = x(5);
+  return p;
+}
+
 }  // namespace
 
 Primitive refit(const Primitive& start, const std::vector<Vec3>& pts) {
   if (pts.size() < 8) return start;
-  Primitive p = start;
-  double theta = 0, phi = 0;
-  angles_of(start.axis, &theta, &phi);
-  switch (start.kind) {
-    case PrimitiveKind::Plane: return plane_by_pca(start, pts);
-    case PrimitiveKind::Sphere: {
-      Params x(4);
-      x << start.point.x(), start.point.y(), start.point.z(), start.radius;
-      x = minimise(x, pts, [](const Params& y, const Vec3& q) { return (q - Vec3(y(0), y(1), y(2))).norm() - y(3); });
-      p.point = Vec3(x(0), x(1), x(2)), p.radius = x(3);
-      break;
-    }
-    case PrimitiveKind::Cylinder: {
-      Params x(6);
-      x << start.point.x(), start.point.y(), start.point.z(), theta, phi, start.radius;
-      x = minimise(x, pts, [](const Params& y, const Vec3& q) {
-        const Vec3 u = axis_of(y(3), y(4)), v = q - Vec3(y(0), y(1), y(2));
-        return (v - v.dot(u) * u).norm() - y(5);
-      });
-      p.point = Vec3(x(0), x(1), x(2)), p.axis = axis_of(x(3), x(4)), p.radius = x(5);
-      break;
-    }
-    case PrimitiveKind::Cone: {
-      // The axis runs from the apex into the cone: most points lie ahead of it.
-      double ahead = 0;
-      for (const Vec3& q : pts) ahead += (q - start.point).dot(start.axis);
-      if (ahead < 0) angles_of(-start.axis, &theta, &phi);
-      Params x(6);
-      x << start.point.x(), start.point.y(), start.point.z(), theta, phi, start.angle;
-      x = minimise(x, pts, [](const Params& y, const Vec3& q) {
-        const Vec3 u = axis_of(y(3), y(4)), v = q - Vec3(y(0), y(1), y(2));
-        const double h = v.dot(u);
-        return (v - h * u).norm() * std::cos(y(5)) - h * std::sin(y(5));
-      });
-      p.point = Vec3(x(0), x(1), x(2)), p.axis = axis_of(x(3), x(4)), p.angle = x(5);
-      break;
-    }
+  if (start.kind == PrimitiveKind::Plane) return plane_by_pca(start, pts);
+  Primitive from = start;
+  if (start.kind == PrimitiveKind::Cone) {  // the axis runs from the apex into the cone: most points lie ahead of it
+    double ahead = 0;
+    for (const Vec3& q : pts) ahead += (q - start.point).dot(start.axis);
+    if (ahead < 0) from.axis = -start.axis;
   }
-  p.radius = std::abs(p.radius);
-  return p;
+  const Model m = model_of(from);
+  return with_params(from, minimise(m.x, pts, m.d));
+}
+
+std::vector<std::pair<Primitive, Primitive>> fit_variations(const Primitive& p, const std::vector<Vec3>& pts) {
+  if (p.kind == PrimitiveKind::Plane) return {};
+  const Model m = model_of(p);
+  const long n = long(pts.size()), k = m.x.size();
+  if (n <= k) return {};
+  Eigen::MatrixXd J(n, k);
+  double rss = 0;
+  for (long i = 0; i < n; ++i) rss += std::pow(m.d(m.x, pts[size_t(i)]), 2);
+  for (long j = 0; j < k; ++j) {
+    const double h = 1e-6 * (1 + std::abs(m.x(j)));
+    Params a = m.x, b = m.x;
+    a(j) += h, b(j) -= h;
+    for (long i = 0; i < n; ++i) J(i, j) = (m.d(a, pts[size_t(i)]) - m.d(b, pts[size_t(i)])) / (2 * h);
+  }
+  // Covariance s^2 (J'J)^-1, taken along its principal directions; a
+  // direction the points do not fix (a cylinder's point sliding along its
+  // axis) moves no surface and is left out.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(J.transpose() * J);
+  const double s = std::sqrt(rss / double(n - k)), top = eig.eigenvalues().maxCoeff();
+  std::vector<std::pair<Primitive, Primitive>> out;
+  for (long j = 0; j < k; ++j) {
+    const double lambda = eig.eigenvalues()(j);
+    if (lambda <= 1e-10 * top) continue;
+    const Params dx = eig.eigenvectors().col(j) * (s / std::sqrt(lambda));
+    out.push_back({with_params(p, m.x - dx), with_params(p, m.x + dx)});
+  }
+  return out;
 }
 
 }  // namespace c3d

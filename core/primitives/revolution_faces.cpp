@@ -125,4 +125,40 @@ void mark_walls(Building& b, int points) {
     if (e.type == ElementType::Wall) mark_wall(e, points);
 }
 
+double quantile_se(size_t n) {
+  return std::sqrt(kRimQuantile * (1 - kRimQuantile) / double(std::max<size_t>(n, 1)));
+}
+
+double quantile(std::vector<double> v, double q) {
+  const size_t k = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return v[k];
+}
+
+double revolved_z(const Primitive& p, double rho) {
+  if (p.kind == PrimitiveKind::Sphere) return p.point.z() + std::sqrt(std::max(0.0, p.radius * p.radius - rho * rho));
+  return p.point.z() - rho / std::tan(p.angle);  // a cone with its apex on top
+}
+
+RevolvedFaces cap_faces(const Primitive& p, double r, double chord) {
+  const double top_angle = std::asin(std::min(1.0, r / std::max(p.radius, r)));
+  const int rings = p.kind == PrimitiveKind::Sphere ? arc_steps(p.radius, top_angle, chord) : 1;
+  std::vector<Vec2> profile{{r, revolved_z(p, r)}};
+  for (int j = 1; j <= rings; ++j) {
+    const double rho = p.kind == PrimitiveKind::Sphere ? p.radius * std::sin(top_angle * (1 - double(j) / rings))
+                                                       : r * (1 - double(j) / rings);
+    profile.push_back({j == rings ? 0.0 : rho, revolved_z(p, j == rings ? 0.0 : rho)});
+  }
+  return revolution_faces(p.point.head<2>(), profile, arc_steps(r, 2 * kPi, chord));
+}
+
+// The exact curve of a sphere's or cone's profile from radius r in to its
+// apex on the axis.
+std::vector<ProfileStep> cap_curve(const Primitive& p, double r) {
+  const Vec2 apex(0, revolved_z(p, 0));
+  if (p.kind != PrimitiveKind::Sphere) return {{ProfileStep::Kind::Line, {}, apex}};
+  const double mid = p.radius * std::sin(std::asin(std::min(1.0, r / p.radius)) / 2);
+  return {{ProfileStep::Kind::Arc, {Vec2(mid, revolved_z(p, mid))}, apex}};
+}
+
 }  // namespace c3d

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/primitives/primitives.h"
 #include "core/types.h"
 
 namespace c3d {
@@ -77,5 +78,26 @@ constexpr double kModelChordM = 0.01;
 // Steps that keep an arc of `radius` over `angle` within `chord` of its
 // chords (at least 8).
 int arc_steps(double radius, double angle, double chord);
+
+// Areas are measured on a tessellation this many times finer than the
+// faces': the chords' shortfall (up to 0.3 % of a drum's disc) is then under
+// a hundredth of it, well below any sigma.
+constexpr double kMeasureFiner = 100;
+
+// q-quantile of v (0 <= q <= 1).
+double quantile(std::vector<double> v, double q);
+// Standard error of a kRimQuantile-quantile of n values spread evenly over
+// a range of 1 (its variance q (1 - q) / n over the density squared).
+double quantile_se(size_t n);
+
+// Height of a sphere or a cone standing on its base at plan distance rho
+// from its axis.
+double revolved_z(const Primitive& p, double rho);
+// A sphere's or cone's surface from radius r in to its axis (rings evenly
+// in polar angle on a sphere; a cone needs none between rim and apex).
+RevolvedFaces cap_faces(const Primitive& p, double r, double chord);
+// The exact curve of a sphere's or cone's profile from radius r in to its
+// apex on the axis.
+std::vector<ProfileStep> cap_curve(const Primitive& p, double r);
 
 }  // namespace c3d

@@ -12,6 +12,7 @@
 #include "core/primitives/exact_shape.h"
 #include "core/primitives/height_field.h"
 #include "core/primitives/revolved_roof.h"
+#include "core/reconstruct/envelope/area_sigma.h"
 #include "core/reconstruct/envelope/elements.h"
 #include "core/reconstruct/lower_lods.h"
 #include "core/reconstruct/measure/measure.h"
@@ -234,6 +235,16 @@ FlatLevel flat_level(const std::vector<Vec3>& own, const std::vector<Primitive>&
 // b modelled as a flat roof carrying its curved surfaces (domes, cones),
 // where those and one level hold kWholeRoofShare of its roof points and the
 // model is valid.
+// The sigma of the planar model's level roof planes (within 5 deg): the
+// flat roof carrying caps keeps their outline, placed and its sigma
+// calibrated as any planar roof's (docs/accuracy.md).
+double level_roof_sigma(const Building& planar) {
+  double var = 0;
+  for (const Element& e : planar.elements)
+    if (e.type == ElementType::Roof && e.slope_deg < 5) var += e.sigma_area * e.sigma_area;
+  return std::sqrt(var);
+}
+
 bool remodel_domed(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>& own,
                    const std::vector<Vec3>& nearby, double spacing, double storey_height) {
   const double tol = 2.5 * fit.noise;
@@ -254,7 +265,7 @@ bool remodel_domed(Building& b, const PrimitiveFit& fit, const std::vector<Vec3>
     Element& flat = domed->elements.front();
     flat.support_points = int(level.on_level);
     flat.rmse = fit.noise;
-    flat.sigma_area = sigma_area_from_plane(flat.faces, flat.rmse, flat.support_points, spacing / 2);
+    flat.sigma_area = std::hypot(level_roof_sigma(b), flat.sigma_area);  // its outline's, and its caps' rims
     inherit_walls(b, *domed, spacing / 2);
   }
   std::string caps;
@@ -500,6 +511,22 @@ OneRoof one_roof(const Building& b, const Polygon2& planar, const HeightFieldRoo
   return r;
 }
 
+// Each footprint edge's sigma as the outline stage placed it from the roof
+// points' density (envelope::RoofEdgeNoise, docs/accuracy.md).
+void edge_sigma(const Polygon2& foot, double noise, double density, FreeFormInput& in) {
+  const envelope::RoofEdgeNoise n{noise, density};
+  std::vector<const Ring2*> rings{&foot.outer};
+  for (const Ring2& h : foot.holes) rings.push_back(&h);
+  double sampled = 0;
+  for (const Ring2* ring : rings)
+    for (size_t i = 0; i < ring->size(); ++i) {
+      const double length = ((*ring)[(i + 1) % ring->size()] - (*ring)[i]).norm();
+      in.edge_sigma.push_back(n.edge(length));
+      sampled += std::max(0.0, sampled_edge_length(length));
+    }
+  in.common_sigma = n.common(sampled);
+}
+
 // b modelled under a free-form roof (height_field.h), where its planes leave
 // the roof points farther than the noise allows or take many facets, and a
 // B-spline height field over its footprint is its roof by judge_free_form;
@@ -531,7 +558,7 @@ bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const std::vec
   in.building_id = b.id;
   in.roof = hf->surface;
   in.ground_z = b.terrain_z;
-  in.boundary_sigma = spacing / 2;
+  edge_sigma(oriented(in.footprint), noise, double(hf->inliers.size()) / area(in.footprint), in);
   std::optional<Building> model = free_form_building(in);
   if (model) {
     log::debug(b.id + ": free-form roof of " + std::to_string(model->elements.front().faces.size()) + " triangles");

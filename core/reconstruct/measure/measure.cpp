@@ -106,14 +106,16 @@ double sigma_area_from_plane(const Face& face, double rmse, int n_points, double
 }
 
 void measure_element(Element& e, double boundary_sigma_m) {
-  e.area = e.plan_area = 0;
-  for (const auto& f : e.faces) {
-    e.area += area(f);
-    // A roof's plan area is what is seen from above: not the underside of
-    // an onion dome's bulge, which faces down.
-    if (e.type != ElementType::Roof || newell_normal(f.ring).z() >= 0) e.plan_area += plan_area(f);
+  if (!e.on_surface) {
+    e.area = e.plan_area = 0;
+    for (const auto& f : e.faces) {
+      e.area += area(f);
+      // A roof's plan area is what is seen from above: not the underside of
+      // an onion dome's bulge, which faces down.
+      if (e.type != ElementType::Roof || newell_normal(f.ring).z() >= 0) e.plan_area += plan_area(f);
+    }
+    if (e.type == ElementType::OuterCeiling) e.area = e.plan_area;
   }
-  if (e.type == ElementType::OuterCeiling) e.area = e.plan_area;
   const Vec3 n = area_normal(e.faces);
   const double len = n.norm();
   e.slope_deg = len > 0 ? std::acos(std::min(1.0, std::abs(n.z()) / len)) * kDeg : 0;
