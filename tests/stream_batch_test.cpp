@@ -4,8 +4,10 @@
 // the points inside; a file streamed in blocks is the file read whole.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "cadastre/batch/batch.h"
 #include "cadastre/batch/run_fit.h"
@@ -179,6 +181,52 @@ TEST(StreamBatch, ATileOutOfTheParcelsReachIsNotRead) {
   BatchInputs other = in;
   other.clouds = {four_tiles() + "/tile_0.las", four_tiles() + "/tile_1.las", four_tiles() + "/tile_2.las"};
   EXPECT_THROW(load_run_inputs(RunInputs{other, cfg}, {store}), InputError);  // tile_3 missing
+}
+
+// A tile whose header's bounds do not hold its points (issue 49: a writer
+// left them stale, moved them, or wrote zeros) looked out of the parcels'
+// reach and was not read: its parcels came out empty or short, exit 0. A
+// sample of its points now shows the bounds wrong; its extent is read from
+// its points, a warning names it, and the store is the one the town gives.
+TEST(StreamBatch, ATileWhoseHeaderBoundsAreWrongIsStillRead) {
+  const CloudExtent good = read_cloud_extent(four_tiles() + "/tile_2.las");
+  ASSERT_TRUE(good.from_header);
+  const double w = good.max_x - good.min_x, h = good.max_y - good.min_y;
+  const std::vector<std::array<double, 4>> wrong = {  // max x, min x, max y, min y as the header holds them
+      {good.min_x + w / 4, good.min_x, good.min_y + h / 4, good.min_y},
+      {good.max_x + 10000, good.min_x + 10000, good.max_y, good.min_y},
+      {0, 0, 0, 0}};
+  for (size_t k = 0; k < wrong.size(); ++k) {
+    const std::string dir = test::temp_dir("bounds_" + std::to_string(k));
+    for (int t = 0; t < 4; ++t) {
+      const std::string name = "/tile_" + std::to_string(t) + ".las";
+      fs::copy_file(four_tiles() + name, dir + name);
+    }
+    // The same tile as LAZ (its first chunk is read); the LAS one in the folder.
+    write_laz(dir + "/tile_2.laz", read_point_cloud(dir + "/tile_2.las"));
+    for (const std::string& name : {"/tile_2.las", "/tile_2.laz"}) {
+      {
+        std::fstream f(dir + name, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(179);
+        f.write(reinterpret_cast<const char*>(wrong[k].data()), 32);
+      }
+      const CloudExtent e = read_cloud_extent(dir + name);
+      EXPECT_FALSE(e.from_header) << k << name;
+      EXPECT_NE(e.note.find("outside the header's bounds"), std::string::npos) << k << name << ": " << e.note;
+      EXPECT_DOUBLE_EQ(e.min_x, good.min_x) << k << name;
+      EXPECT_DOUBLE_EQ(e.max_y, good.max_y) << k << name;
+    }
+    fs::remove(dir + "/tile_2.laz");
+    BatchInputs in = town().inputs;
+    in.clouds = {dir};
+    const std::string store = test::temp_dir("bounds_out_" + std::to_string(k)) + "/cadastre.gpkg";
+    const BatchReport r = run_into(in, store, 5);
+    expect_same_store(whole_file_run().store, store);
+    expect_same_figures(whole_file_run().report, r);
+    bool named = false;
+    for (const std::string& warning : r.warnings) named |= warning.find("tile_2.las") != std::string::npos;
+    EXPECT_TRUE(named) << k;
+  }
 }
 
 TEST(StreamBatch, FolderWithoutCloudsAndUnmatchedGlobAreErrors) {

@@ -101,6 +101,7 @@ void index_tiles(const BatchInputs& inputs, const std::string& wanted, bool have
   std::vector<PointCloud> named;  // what reconcile_crs reads of a cloud: its name and CRS
   for (const auto& f : files) {
     extents.push_back(read_cloud_extent(f));
+    if (!extents.back().note.empty()) in.warnings.push_back(f + ": " + extents.back().note);
     named.push_back(PointCloud{f, {}, {}, extents.back().crs_wkt});
   }
   const std::string layer_crs = in.layer.crs_wkt;

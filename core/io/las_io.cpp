@@ -43,6 +43,13 @@ std::string number_text(double v) {
   return buf;
 }
 
+// A coordinate in full, to the centimetre (%g would round 9240012 to 9.24e+06).
+std::string coordinate_text(double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.2f", v);
+  return buf;
+}
+
 // Point record sizes per format 0-10 (LAS 1.4 R15, table 7ff).
 constexpr std::array<int, 11> kLasRecordSize = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 
@@ -379,6 +386,49 @@ void point_io_detail::stream_las(const std::string& path, size_t block_points,
   }
 }
 
+namespace {
+
+// How many records of an uncompressed file are checked against its header's bounds.
+constexpr uint64_t kBoundsSamples = 4096;
+
+// The first of n records (rec) that lies outside e by more than half a
+// coordinate step, if any: its plan position.
+std::optional<Vec2> outside_bounds(const LasHeader& h, const char* rec, size_t n, size_t stride, const CloudExtent& e) {
+  const double tx = h.scale[0] / 2 + 1e-9, ty = h.scale[1] / 2 + 1e-9;
+  for (size_t i = 0; i < n; ++i, rec += stride) {
+    const double x = get<int32_t>(rec) * h.scale[0] + h.offset[0], y = get<int32_t>(rec + 4) * h.scale[1] + h.offset[1];
+    if (x < e.min_x - tx || x > e.max_x + tx || y < e.min_y - ty || y > e.max_y + ty) return Vec2(x, y);
+  }
+  return std::nullopt;
+}
+
+// A point of the file outside the header's bounds, from a sample: an
+// uncompressed file's records evenly through it, a LAZ file's first chunk.
+// Writers that left the bounds stale (or zero) would make a tile look out of
+// the parcels' reach, and it would not be read.
+std::optional<Vec2> sampled_outside(const std::string& path, const LasPrefix& p, MappedFile& file,
+                                    const CloudExtent& e) {
+  const LasHeader& h = p.header;
+  if (h.point_count == 0) return std::nullopt;
+  if (!h.compressed) {
+    const uint64_t n = std::min(h.point_count, kBoundsSamples), step = std::max<uint64_t>(1, h.point_count / n);
+    if (h.point_offset + ((n - 1) * step + 1) * uint64_t(h.record_length) > file.size()) return std::nullopt;
+    return outside_bounds(h, file.data() + h.point_offset, size_t(n), size_t(step * uint64_t(h.record_length)), e);
+  }
+  struct FirstChunkRead {};  // decoding stops after the first chunk
+  std::optional<Vec2> out;
+  try {
+    stream_laz(path, p, file, [&](const char* rec, size_t n) {
+      out = outside_bounds(h, rec, n, size_t(h.record_length), e);
+      throw FirstChunkRead{};
+    });
+  } catch (const FirstChunkRead&) {
+  }
+  return out;
+}
+
+}  // namespace
+
 std::optional<CloudExtent> point_io_detail::las_header_extent(const std::string& path) {
   MappedFile file(path);
   const LasPrefix p = las_prefix(path, file);
@@ -391,6 +441,11 @@ std::optional<CloudExtent> point_io_detail::las_header_extent(const std::string&
   const bool usable = std::isfinite(e.min_x) && std::isfinite(e.max_x) && std::isfinite(e.min_y) &&
                       std::isfinite(e.max_y) && e.min_x <= e.max_x && e.min_y <= e.max_y;
   if (!usable && e.points > 0) return std::nullopt;
+  if (const auto q = sampled_outside(path, p, file, e)) {
+    e.note = "a point at " + coordinate_text(q->x()) + ", " + coordinate_text(q->y()) +
+             " lies outside the header's bounds (x " + coordinate_text(e.min_x) + " to " + coordinate_text(e.max_x) +
+             ", y " + coordinate_text(e.min_y) + " to " + coordinate_text(e.max_y) + "): extent read from the points";
+  }
   return e;
 }
 

@@ -187,12 +187,15 @@ void for_each_point_block(const std::string& path, const std::function<void(cons
 
 CloudExtent read_cloud_extent(const std::string& path) {
   check_regular_file(path);
+  std::string note;
   if (is_las(path))
     if (auto e = las_header_extent(path)) {
-      e->from_header = true;
-      return *e;
+      e->from_header = e->note.empty();
+      if (e->from_header) return *e;
+      note = e->note;
     }
   CloudExtent e;
+  e.note = note;
   e.min_x = e.min_y = 1e300, e.max_x = e.max_y = -1e300;
   for_each_point_block(path, [&](const PointCloud& c) {
     e.crs_wkt = c.crs_wkt;

@@ -27,10 +27,13 @@ struct CloudExtent {
   std::string crs_wkt;
   uint64_t points = 0;
   bool from_header = false;  // read from a LAS/LAZ header alone, not from the points
+  std::string note;          // why a LAS/LAZ header's bounds were not taken (a warning), if so
 };
-// LAS and LAZ: from the header (the bytes before the points), trusting its
-// bounds as the format requires writers to set them; other formats, and a
-// header whose bounds are unusable, from one pass over the points.
+// LAS and LAZ: from the header (the bytes before the points), where a sample
+// of the points (4,096 records through an uncompressed file, a LAZ file's
+// first chunk) lies within its bounds; other formats, a header whose bounds
+// are unusable, and one a sampled point lies outside (`note` says which),
+// from one pass over the points.
 CloudExtent read_cloud_extent(const std::string& path);
 
 // The raw point records of a LAS or LAZ file (LAZ decoded), in file order:
