@@ -484,7 +484,7 @@ TEST(Primitives, CurvedSigmaMatchesTheScatterOfItsErrors) {
   for (int trial = 0; trial < 40; ++trial) {
     CurvedBuildingInput dome;
     dome.roof.kind = PrimitiveKind::Sphere, dome.roof.point = Vec3(0.02, -0.01, 4.03), dome.roof.radius = 5.02;
-    dome.spacing = 1 / std::sqrt(density), dome.ground_z = terrain(rng);
+    dome.spacing = 1 / std::sqrt(density), dome.ground_z = terrain(rng), dome.ground_sigma = 0.005;
     for (int i = 0; i < int(density * M_PI * 16); ++i) {
       const double r = 4 * std::sqrt(u(rng)), a = 2 * M_PI * u(rng);
       const Vec3 q(r * std::cos(a), r * std::sin(a), 4 + std::sqrt(25 - r * r));
@@ -497,7 +497,7 @@ TEST(Primitives, CurvedSigmaMatchesTheScatterOfItsErrors) {
     CurvedBuildingInput hangar;
     hangar.roof.kind = PrimitiveKind::Cylinder, hangar.roof.point = Vec3(0, 0.02, -0.03);
     hangar.roof.axis = Vec3::UnitX(), hangar.roof.radius = 5.03;
-    hangar.spacing = dome.spacing, hangar.ground_z = terrain(rng);
+    hangar.spacing = dome.spacing, hangar.ground_z = terrain(rng), hangar.ground_sigma = 0.005;
     for (int i = 0; i < int(density * 200); ++i) {
       const double x = 20 * u(rng), y = -5 + 10 * u(rng);
       hangar.roof_points.push_back(Vec3(x, y, std::sqrt(25 - y * y)) + Vec3(noise(rng), noise(rng), noise(rng)));

@@ -16,9 +16,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // A vault whose arc ends this close to the ground springs from it.
 constexpr double kSpringsM = 0.5;
-// The ground floor level, the DTM's mean over the footprint, is known to 5 mm
-// (docs/accuracy.md, "Area sigma calibration").
-constexpr double kGroundSigmaM = 0.005;
 // Side walls further off centre than this about a vault's axis are not taken.
 constexpr double kMaxAxisOffsetM = 0.1;
 
@@ -208,20 +205,15 @@ Building build(const CurvedBuildingInput& in, const Outline& o) {
 void measure_on_surface(const CurvedBuildingInput& in, const Outline& o, Building& b) {
   CurvedBuildingInput fine = in;
   fine.chord = in.chord / kMeasureFiner;
-  const Building m = build(fine, o);
-  for (size_t k = 0; k < b.elements.size() && k < m.elements.size(); ++k)
-    if (m.elements[k].type == b.elements[k].type) {
-      b.elements[k].area = m.elements[k].area, b.elements[k].plan_area = m.elements[k].plan_area;
-      b.elements[k].on_surface = true;
-    }
+  take_surface_areas(build(fine, o), b);
 }
 
 // Each element's sigma from the independent sources of its error, each
 // moved by its standard error both ways: the rim (a, b, half, as the points
-// placed it), the ground floor level, and the surface along each principal
-// direction of its fit. A move that changes the building's make-up (a vault
-// no longer springing from the ground) says nothing of small errors and is
-// left out.
+// placed it), the ground floor level (in.ground_sigma), and the surface
+// along each principal direction of its fit. A move that changes the
+// building's make-up (a vault no longer springing from the ground) says
+// nothing of small errors and is left out.
 void add_sigma(const CurvedBuildingInput& in, const Outline& o, Building& b) {
   std::vector<std::pair<Building, Building>> moves;
   auto rim_move = [&](double Outline::*field, double sigma) {
@@ -233,10 +225,12 @@ void add_sigma(const CurvedBuildingInput& in, const Outline& o, Building& b) {
   rim_move(&Outline::b, o.sigma_b);
   if (!o.springs) rim_move(&Outline::half, o.sigma_half);
   CurvedBuildingInput lo = in, hi = in;
-  lo.ground_z -= kGroundSigmaM, hi.ground_z += kGroundSigmaM;
-  moves.push_back({build(lo, o), build(hi, o)});
-  for (const auto& [minus, plus] : fit_variations(in.roof, in.roof_points)) {
+  if (in.ground_sigma > 0) {
+    lo.ground_z -= in.ground_sigma, hi.ground_z += in.ground_sigma;
+    moves.push_back({build(lo, o), build(hi, o)});
     lo.ground_z = hi.ground_z = in.ground_z;
+  }
+  for (const auto& [minus, plus] : fit_variations(in.roof, in.roof_points)) {
     lo.roof = minus, hi.roof = plus;
     moves.push_back({build(lo, o), build(hi, o)});
   }

@@ -21,6 +21,7 @@ struct CurvedBuildingInput {
   std::vector<Vec3> roof_points; // the points it explains (local coordinates)
   std::vector<Vec3> wall_points; // wall points near it, if any: they place the walls where they see them
   double ground_z = 0;           // ground floor level (local)
+  double ground_sigma = 0;       // its standard error, m (the terrain model's, envelope::kTerrainSigma)
   double spacing = 0.2;          // typical point spacing in plan, m
   double chord = kModelChordM;   // largest distance of the tessellation from the surface, m
 };

@@ -171,12 +171,7 @@ Building domed(const DomedRoofInput& in, const Polygon2& foot, const std::vector
 void measure_and_sigma(const DomedRoofInput& in, const Polygon2& foot, const std::vector<double>& rims, Building& b) {
   DomedRoofInput fine = in;
   fine.chord = in.chord / kMeasureFiner;
-  const Building m = domed(fine, foot, rims);
-  for (size_t k = 0; k < b.elements.size() && k < m.elements.size(); ++k)
-    if (m.elements[k].type == b.elements[k].type) {
-      b.elements[k].area = m.elements[k].area, b.elements[k].plan_area = m.elements[k].plan_area;
-      b.elements[k].on_surface = true;
-    }
+  take_surface_areas(domed(fine, foot, rims), b);
   double holes = 0;
   size_t drum = 1 + in.caps.size();
   for (size_t k = 0; k < in.caps.size(); ++k) {
@@ -192,12 +187,11 @@ void measure_and_sigma(const DomedRoofInput& in, const Polygon2& foot, const std
 }  // namespace
 
 std::optional<Building> domed_roof_building(const DomedRoofInput& given) {
+  if (given.caps.empty() || given.caps.size() != given.cap_points.size() || given.roof_z - given.ground_z < kMinWallM)
+    return std::nullopt;
   // Each cap on its surface fitted to all its points (the search's to a sample).
   DomedRoofInput in = given;
-  for (size_t k = 0; k < in.caps.size() && k < in.cap_points.size(); ++k)
-    in.caps[k] = refit(given.caps[k], given.cap_points[k]);
-  if (in.caps.empty() || in.caps.size() != in.cap_points.size() || in.roof_z - in.ground_z < kMinWallM)
-    return std::nullopt;
+  for (size_t k = 0; k < in.caps.size(); ++k) in.caps[k] = refit(given.caps[k], given.cap_points[k]);
   const Polygon2 foot = oriented(in.footprint);
   if (foot.outer.size() < 3) return std::nullopt;
   std::vector<double> rims;

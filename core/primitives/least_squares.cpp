@@ -26,22 +26,29 @@ double cost(const Params& x, const std::vector<Vec3>& pts, const Distance& d) {
   return s;
 }
 
-// Levenberg-Marquardt with a central-difference Jacobian: few parameters,
-// a few thousand points. The damping also settles a gauge freedom (a point
-// on a cylinder's axis may slide along it).
-Params minimise(Params x, const std::vector<Vec3>& pts, const Distance& d) {
+// The distances' Jacobian at x by central differences: few parameters, a
+// few thousand points.
+Eigen::MatrixXd jacobian(const Params& x, const std::vector<Vec3>& pts, const Distance& d) {
   const long n = long(pts.size()), k = x.size();
+  Eigen::MatrixXd J(n, k);
+  for (long j = 0; j < k; ++j) {
+    const double h = 1e-6 * (1 + std::abs(x(j)));
+    Params a = x, b = x;
+    a(j) += h, b(j) -= h;
+    for (long i = 0; i < n; ++i) J(i, j) = (d(a, pts[size_t(i)]) - d(b, pts[size_t(i)])) / (2 * h);
+  }
+  return J;
+}
+
+// Levenberg-Marquardt on the distances. The damping also settles a gauge
+// freedom (a point on a cylinder's axis may slide along it).
+Params minimise(Params x, const std::vector<Vec3>& pts, const Distance& d) {
+  const long n = long(pts.size());
   double lambda = 1e-3, c = cost(x, pts, d);
   for (int it = 0; it < 50 && lambda < 1e10; ++it) {
-    Eigen::MatrixXd J(n, k);
+    const Eigen::MatrixXd J = jacobian(x, pts, d);
     Eigen::VectorXd r(n);
     for (long i = 0; i < n; ++i) r(i) = d(x, pts[size_t(i)]);
-    for (long j = 0; j < k; ++j) {
-      const double h = 1e-6 * (1 + std::abs(x(j)));
-      Params a = x, b = x;
-      a(j) += h, b(j) -= h;
-      for (long i = 0; i < n; ++i) J(i, j) = (d(a, pts[size_t(i)]) - d(b, pts[size_t(i)])) / (2 * h);
-    }
     const Eigen::MatrixXd A = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * r;
     bool better = false;
@@ -143,15 +150,8 @@ std::vector<std::pair<Primitive, Primitive>> fit_variations(const Primitive& p, 
   const Model m = model_of(p);
   const long n = long(pts.size()), k = m.x.size();
   if (n <= k) return {};
-  Eigen::MatrixXd J(n, k);
-  double rss = 0;
-  for (long i = 0; i < n; ++i) rss += std::pow(m.d(m.x, pts[size_t(i)]), 2);
-  for (long j = 0; j < k; ++j) {
-    const double h = 1e-6 * (1 + std::abs(m.x(j)));
-    Params a = m.x, b = m.x;
-    a(j) += h, b(j) -= h;
-    for (long i = 0; i < n; ++i) J(i, j) = (m.d(a, pts[size_t(i)]) - m.d(b, pts[size_t(i)])) / (2 * h);
-  }
+  const Eigen::MatrixXd J = jacobian(m.x, pts, m.d);
+  const double rss = cost(m.x, pts, m.d);
   // Covariance s^2 (J'J)^-1, taken along its principal directions; a
   // direction the points do not fix (a cylinder's point sliding along its
   // axis) moves no surface and is left out.

@@ -125,6 +125,14 @@ void mark_walls(Building& b, int points) {
     if (e.type == ElementType::Wall) mark_wall(e, points);
 }
 
+void take_surface_areas(const Building& fine, Building& b) {
+  for (size_t k = 0; k < b.elements.size() && k < fine.elements.size(); ++k)
+    if (fine.elements[k].type == b.elements[k].type) {
+      b.elements[k].area = fine.elements[k].area, b.elements[k].plan_area = fine.elements[k].plan_area;
+      b.elements[k].on_surface = true;
+    }
+}
+
 double quantile_se(size_t n) {
   return std::sqrt(kRimQuantile * (1 - kRimQuantile) / double(std::max<size_t>(n, 1)));
 }

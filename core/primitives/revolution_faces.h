@@ -83,6 +83,10 @@ int arc_steps(double radius, double angle, double chord);
 // faces': the chords' shortfall (up to 0.3 % of a drum's disc) is then under
 // a hundredth of it, well below any sigma.
 constexpr double kMeasureFiner = 100;
+// b's elements take the areas and plan areas of `fine`, the same building
+// tessellated kMeasureFiner times finer (same elements, same order), and are
+// marked measured on the surface.
+void take_surface_areas(const Building& fine, Building& b);
 
 // q-quantile of v (0 <= q <= 1).
 double quantile(std::vector<double> v, double q);

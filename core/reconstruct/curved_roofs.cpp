@@ -115,6 +115,7 @@ bool remodel_on(Building& b, const Primitive& p, std::vector<Vec3> points, const
   in.roof_points = std::move(points);
   in.wall_points = walls;
   in.ground_z = b.terrain_z;
+  in.ground_sigma = envelope::kTerrainSigma;
   in.spacing = spacing;
   return adopt(b, curved_building(in), "on its " + p.describe(), storey_height);
 }
