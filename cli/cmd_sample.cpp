@@ -79,7 +79,11 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--occlusion", a->opt.wall_occlusion, "Share of exterior walls without points")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_flag("--curved", a->opt.curved, "Vaults, domes, cones (docs/curved.md) and a gable house");
+  CLI::Option* curved =
+      cmd->add_flag("--curved", a->opt.curved, "Vaults, domes, cones (docs/curved.md) and a gable house");
+  cmd->add_flag("--curved-plans", a->opt.curved_plans,
+                "Flat roofs over round towers and apsed halls (docs/curved.md) and gable houses")
+      ->excludes(curved);
   cmd->add_option("--format", a->format, "Parcel file format")
       ->capture_default_str()
       ->check(CLI::IsMember({"gpkg", "geojson"}));

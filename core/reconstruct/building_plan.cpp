@@ -6,6 +6,7 @@
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
+#include "core/reconstruct/outline/arcs.h"
 #include "core/reconstruct/outline/outline.h"
 
 namespace c3d {
@@ -87,10 +88,14 @@ std::vector<BuildingPlan> plan_buildings(const ParcelScene& s, const Segmentatio
       u = poly::unite(u, {outlines[i]});
       comps.insert(comps.end(), roof_comps[i].begin(), roof_comps[i].end());
     }
-    u = poly::buffer(poly::buffer(u, kCloseLevelsM), -kCloseLevelsM);  // close gaps between roof levels
+    // Close gaps between roof levels, and straighten runs of vertices; but a
+    // single roof ending on a circle (outline/arcs.h) is kept as drawn: both
+    // would move its chords' vertices.
+    const bool as_drawn = group.size() == 1 && !arcs_in_ring(outlines[size_t(group[0])].outer).arcs.empty();
+    if (!as_drawn) u = poly::buffer(poly::buffer(u, kCloseLevelsM), -kCloseLevelsM);
     if (!cut.empty()) u = poly::subtract(u, cut);
     // The cut may leave several buildings, and needles where it grazes a corner.
-    for (Polygon2& part : poly::drop_needles(poly::simplify(u, kSimplifyM), kNeedleAngle)) {
+    for (Polygon2& part : poly::drop_needles(as_drawn ? u : poly::simplify(u, kSimplifyM), kNeedleAngle)) {
       part.holes.clear();
       if (part.outer.size() >= 3 && area(part) >= kMinOutlineArea) plans.push_back({part, comps, {}});
     }

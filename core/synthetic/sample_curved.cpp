@@ -1,7 +1,8 @@
 // Curved truth buildings: barrel vaults (on walls and springing from the
 // ground), domes, shallow domes, cones and onion domes on round drums, and a
-// square hall with a dome on its flat roof, and halls under free-form roofs (a
-// saddle, a wave). Their areas and volumes are exact (closed forms; the
+// square hall with a dome on its flat roof, halls under free-form roofs (a
+// saddle, a wave), and flat roofs over curved plans (a round tower, a hall
+// ending in a half-circle apse). Their areas and volumes are exact (closed forms; the
 // onion's and the free-form roofs' by quadratures accurate to 1e-8); the faces
 // are a tessellation within kChord of the surface, used to scan the points.
 #include <algorithm>
@@ -120,6 +121,12 @@ Profile onion(double r, double h, double z0) {
   return {[=](double t) { return r * std::pow(1 - t, 1.5) * (1 + 2.5 * t); }, [=](double t) { return z0 + h * t; },
           [=](double t) { return r * (-1.5 * std::sqrt(1 - t) * (1 + 2.5 * t) + 2.5 * std::pow(1 - t, 1.5)); },
           [=](double) { return h; }};
+}
+
+// A flat disc of radius r at height z0 (a round tower's roof).
+Profile disc(double r, double z0) {
+  return {[=](double t) { return r * (1 - t); }, [=](double) { return z0; }, [=](double) { return -r; },
+          [=](double) { return 0.0; }};
 }
 
 // Widest radius of a profile (its roof's plan outline).
@@ -250,6 +257,35 @@ TruthBuilding dome_on_flat(double s, double H, double a, double h) {
   return finish(std::move(tb), foot, "dome_on_flat", s * s * H + kPi * h * h * (3 * R - h) / 3);
 }
 
+// A hall of width W and length L under a flat roof at H, ending at u = L in a
+// half-circle apse of radius W / 2 (its centre at (L - W / 2, W / 2)).
+TruthBuilding apsed_hall(double L, double W, double H) {
+  const double r = W / 2, a = L - r;
+  const int n = arc_steps(r, kPi);
+  Ring2 foot{{0, 0}, {a, 0}};
+  for (int k = 1; k < n; ++k) foot.push_back(Vec2(a, r) + r * Vec2(std::sin(kPi * k / n), -std::cos(kPi * k / n)));
+  foot.push_back({a, W}), foot.push_back({0, W});
+  const double plan = a * W + kPi * r * r / 2;
+  const Vec3 mid(a / 2, r, H / 2);
+  auto wall = [&](size_t i) {
+    const Vec2 p = foot[i], q = foot[(i + 1) % foot.size()];
+    return facing_away({{p.x(), p.y(), 0}, {q.x(), q.y(), 0}, {q.x(), q.y(), H}, {p.x(), p.y(), H}}, mid);
+  };
+  std::vector<Face> apse;  // edges 1 .. size - 3: from (a, 0) round to (a, W)
+  for (size_t i = 1; i + 2 < foot.size(); ++i) apse.push_back(wall(i));
+  Ring3 roof, ground;
+  for (const Vec2& q : foot) roof.push_back({q.x(), q.y(), H});
+  for (auto it = foot.rbegin(); it != foot.rend(); ++it) ground.push_back({it->x(), it->y(), 0});
+  TruthBuilding tb;
+  tb.model.elements.push_back(element_of(ElementType::Roof, {{roof, {}}}, plan, plan));
+  tb.model.elements.push_back(element_of(ElementType::Wall, {wall(0)}, a * H, 0));
+  tb.model.elements.push_back(element_of(ElementType::Wall, std::move(apse), kPi * r * H, 0));
+  tb.model.elements.push_back(element_of(ElementType::Wall, {wall(foot.size() - 2)}, a * H, 0));
+  tb.model.elements.push_back(element_of(ElementType::Wall, {wall(foot.size() - 1)}, W * H, 0));
+  tb.model.elements.push_back(element_of(ElementType::Ground, {{ground, {}}}, plan, plan));
+  return finish(std::move(tb), foot, "apsed_hall", plan * H);
+}
+
 // A free-form roof over the hall [0, L] x [0, W]: its height z(u, v), and the
 // slopes dz/du, dz/dv.
 struct HeightField {
@@ -343,7 +379,9 @@ bool sample_detail::is_curved(SampleLayout l) {
     case SampleLayout::OnionDome:
     case SampleLayout::DomeOnFlat:
     case SampleLayout::Saddle:
-    case SampleLayout::Wave: return true;
+    case SampleLayout::Wave:
+    case SampleLayout::RoundTower:
+    case SampleLayout::ApsedHall: return true;
     default: return false;
   }
 }
@@ -372,6 +410,8 @@ TruthBuilding sample_detail::make_curved_building(const BuildingParams& p) {
     case SampleLayout::DomeOnFlat: tb = dome_on_flat(p.length, H, p.dome_radius, h); break;
     case SampleLayout::Saddle: tb = saddle(p.length, p.width, H, h); break;
     case SampleLayout::Wave: tb = wave(p.length, p.width, H, h); break;
+    case SampleLayout::RoundTower: tb = on_drum(r, H, disc(r, H), 1, kPi * r * r, 0, "round_tower"); break;
+    case SampleLayout::ApsedHall: tb = apsed_hall(p.length, p.width, H); break;
     default: throw std::invalid_argument("make_curved_building: not a curved layout");
   }
   tb.params = p;

@@ -37,6 +37,8 @@ const char* to_string(SampleLayout l) {
     case SampleLayout::DomeOnFlat: return "dome_on_flat";
     case SampleLayout::Saddle: return "saddle";
     case SampleLayout::Wave: return "wave";
+    case SampleLayout::RoundTower: return "round_tower";
+    case SampleLayout::ApsedHall: return "apsed_hall";
   }
   return "?";
 }
@@ -92,8 +94,9 @@ std::vector<TownParcel> lay_out_parcels(int n, Rng& rng) {
 
 // Which layout each parcel gets; a row of attached houses spans 2-3 parcels of one
 // block side. Every layout appears within the first 10 parcels. A curved town
-// cycles through the curved layouts and a gable house, the planar control.
-std::vector<std::pair<SampleLayout, int>> assign_layouts(int n, bool curved) {
+// cycles through the curved layouts and a gable house, the planar control; a
+// town of curved plans through a round tower, an apsed hall and a gable.
+std::vector<std::pair<SampleLayout, int>> assign_layouts(int n, const SampleOptions& opt) {
   static const SampleLayout planar[] = {SampleLayout::Gable,    SampleLayout::Hip,
                                         SampleLayout::CrossGable, SampleLayout::Shed,
                                         SampleLayout::Flat,     SampleLayout::TwoLevel,
@@ -103,8 +106,11 @@ std::vector<std::pair<SampleLayout, int>> assign_layouts(int n, bool curved) {
                                        SampleLayout::DomeOnFlat,  SampleLayout::ShallowDome,
                                        SampleLayout::OnionDome,   SampleLayout::Gable,
                                        SampleLayout::Saddle,      SampleLayout::Wave};
-  const SampleLayout* cycle = curved ? round : planar;
-  const int kinds = curved ? int(std::size(round)) : int(std::size(planar));
+  static const SampleLayout plans[] = {SampleLayout::RoundTower, SampleLayout::ApsedHall, SampleLayout::Gable};
+  const SampleLayout* cycle = opt.curved_plans ? plans : opt.curved ? round : planar;
+  const int kinds = opt.curved_plans ? int(std::size(plans))
+                    : opt.curved     ? int(std::size(round))
+                                     : int(std::size(planar));
   std::vector<std::pair<SampleLayout, int>> out;  // (layout, houses in the row starting here)
   int slot = 0, rows = 0;
   for (int i = 0; i < n;) {
@@ -158,6 +164,8 @@ void curved_params(BuildingParams& p, Rng& r) {
     case SampleLayout::Wave:
       p.length = r.uniform(14, 20), p.width = r.uniform(9, 12), p.rise = r.uniform(1.5, 3);
       break;
+    case SampleLayout::RoundTower: p.length = p.width = d, p.eave_height = r.uniform(6, 12); break;
+    case SampleLayout::ApsedHall: p.length = r.uniform(14, 20), p.width = r.uniform(8, 12); break;
     default: break;
   }
 }
@@ -411,7 +419,7 @@ SampleTown make_sample_town(const SampleOptions& opt) {
   const double town_angle = rng.uniform(-25, 25) * kPi / 180;
   town.frame.origin = Vec3(opt.origin_easting, opt.origin_northing, std::round(terrain.z0));
   const auto tp = lay_out_parcels(opt.parcels, rng);
-  const auto layouts = assign_layouts(opt.parcels, opt.curved);
+  const auto layouts = assign_layouts(opt.parcels, opt);
   Placement toloc{Vec2::Zero(), town_angle};
   for (size_t i = 0; i < tp.size(); ++i) {
     Parcel p;

@@ -47,8 +47,10 @@ enum class SampleLayout {
   // Curved roofs (SampleOptions::curved): a barrel vault on walls, one springing
   // from the ground (end walls only), domes, a shallow dome, a cone and an onion
   // dome on round drums, a square hall with a dome on its flat roof, halls
-  // under free-form roofs: a hyperbolic paraboloid (saddle), a wave.
-  Vault, GroundVault, Dome, ShallowDome, Cone, OnionDome, DomeOnFlat, Saddle, Wave
+  // under free-form roofs: a hyperbolic paraboloid (saddle), a wave; and
+  // (SampleOptions::curved_plans) flat roofs over curved plans: a round
+  // tower, a hall ending in a half-circle apse.
+  Vault, GroundVault, Dome, ShallowDome, Cone, OnionDome, DomeOnFlat, Saddle, Wave, RoundTower, ApsedHall
 };
 const char* to_string(SampleLayout l);
 
@@ -111,6 +113,9 @@ struct SampleOptions {
   // A town of curved buildings (every curved layout and a gable house as the
   // planar control) instead of the planar layouts.
   bool curved = false;
+  // A town of flat roofs over curved plans (round towers, apsed halls) and
+  // gable houses instead.
+  bool curved_plans = false;
   int epsg = 32748;
   double origin_easting = 781000, origin_northing = 9240000;  // south-west of the town
   bool with_points = true;          // false: parcels, DTM and truth only

@@ -8,6 +8,8 @@
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
 #include "core/log.h"
+#include "core/reconstruct/envelope/arc_walls.h"
+#include "core/reconstruct/outline/arcs.h"
 #include "core/reconstruct/envelope/common.h"
 
 namespace c3d::envelope {
@@ -319,11 +321,13 @@ namespace {
 // neighbour) marked, with the boundary's sigma.
 std::vector<OutlineEdge> outline_edges(const EnvelopeInput& in) {
   const Ring2& ring = in.outline.outer;
+  const std::vector<int> arc = arcs_in_ring(ring).of_edge;
   std::vector<OutlineEdge> edges(ring.size());
   for (size_t i = 0; i < ring.size(); ++i) {
     OutlineEdge& e = edges[i];
     e.a = ring[i];
     e.b = ring[(i + 1) % ring.size()];
+    e.arc = arc[i];
     e.party = i < in.party_edge.size() && in.party_edge[i];
     if (e.party) e.evidence = WallEvidence::ParcelBoundary, e.sigma = kPartySigma, e.sigma_shared = 0;
   }
@@ -345,6 +349,7 @@ std::vector<SeenWall> measure_own_walls(const EnvelopeInput& in, std::vector<Out
     e.evidence = WallEvidence::Measured;
     e.support = fit.support;
     e.rms = fit.rms;
+    e.outside = std::max(0.0, fit.offset);
     // A wall seen outside the outline stays under the roof at the outline:
     // its distance to the points it stands for is part of its error; the
     // footprint built on it keeps its vertices to kGrowSimplify (uniform).
@@ -394,6 +399,7 @@ std::vector<OutlineEdge> measure_edges(const EnvelopeInput& in) {
   const std::vector<FacadePoints> low =
       facade_offsets(in, edges, in.wall_points.empty() ? in.roof_points : in.wall_points);
   const std::vector<SeenWall> seen = measure_own_walls(in, edges, low);
+  pool_arcs(edges, kGrowSimplify);
   if (seen.empty()) continue_neighbours_facades(in, edges);
   double spread = kUnseenSpread;
   double typical = unseen_overhang(in, edges);
@@ -501,9 +507,12 @@ GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2&
     if (i < in.party_edge.size() && in.party_edge[i]) continue;
     OutlineEdge e;
     e.a = ring[i], e.b = ring[(i + 1) % n];
-    const WallFit fit = fit_edge_wall(in, e);
-    if (fit.found && fit.offset > kMinOutside) fits[i] = fit;
+    fits[i] = fit_edge_wall(in, e);
   }
+  const RingArcs arcs = arcs_in_ring(ring);
+  pool_arc_fits(ring, arcs.of_edge, fits);
+  for (WallFit& fit : fits)
+    if (!(fit.found && fit.offset > kMinOutside)) fit = WallFit{};
   auto out = [&](size_t i) { return fits[i % n].found ? fits[i % n].offset : 0.0; };
   GrownOutline g{in.outline, {}};
   MultiPolygon2 grown{in.outline};
@@ -512,12 +521,17 @@ GrownOutline grow_to_walls_outside(const EnvelopeInput& in, const MultiPolygon2&
     const Vec2 a = ring[i], b = ring[(i + 1) % n], d = (b - a).normalized(), o = outward(d) * out(i);
     // Run on past each end by the next edge's growth, so that two grown edges
     // meet in a corner rather than leave a notch (at a reflex corner the run
-    // on lies inside the outline already).
-    const Vec2 a0 = a - d * out(i + n - 1), b0 = b + d * out(i + 1);
-    const MultiPolygon2 strip = poly::intersect({Polygon2{{a0, b0, b0 + o, a0 + o}, {}}}, room);
+    // on lies inside the outline already). An arc's chords grow away from
+    // its centre, onto the concentric circle.
+    Vec2 a0 = a - d * out(i + n - 1), b0 = b + d * out(i + 1), a1 = a0 + o, b1 = b0 + o;
+    if (const int k = arcs.of_edge[i]; k >= 0) {
+      const Vec2 c = arcs.arcs[size_t(k)].centre;
+      a0 = a, b0 = b, a1 = a + (a - c).normalized() * out(i), b1 = b + (b - c).normalized() * out(i);
+    }
+    const MultiPolygon2 strip = poly::intersect({Polygon2{{a0, b0, b1, a1}, {}}}, room);
     if (area(strip) < kMinGrowth) continue;  // no land to grow on
     grown = poly::unite(grown, strip);
-    g.walls.push_back({a0 + o, b0 + o, fits[i]});
+    g.walls.push_back({a1, b1, fits[i]});
   }
   Polygon2 best = poly::largest(poly::simplify(grown, kGrowSimplify));
   best.holes.clear();

@@ -26,8 +26,10 @@ struct OutlineEdge {
   double sigma_shared = kUnseenSpread;  // m
   int support = 0;
   double rms = 0;  // m, of the support points about the wall, in plan
+  double outside = 0;  // m, how far outside the edge its wall was seen (it stands at the edge)
   bool party = false;
   WallEvidence evidence = WallEvidence::Default;
+  int arc = -1;  // the outline arc this edge is a chord of (outline/arcs.h); -1: a straight edge
 };
 
 // Every outline edge of `in` with its wall: measured, propagated or default;

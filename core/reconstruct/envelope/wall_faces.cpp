@@ -82,6 +82,10 @@ void add_position_sigmas(const Ring2& fp, const std::vector<Face>& walls, const 
   }
 }
 
+// Whether footprint edges under outline edges a and b are one wall element:
+// under one edge, or under the chords of one outline arc (a curved wall).
+bool one_wall(const OutlineEdge& a, const OutlineEdge& b) { return &a == &b || (a.arc >= 0 && a.arc == b.arc); }
+
 // Area over plan length of a vertical element (its faces' widest plan extents).
 double mean_height(const Element& e) {
   double len = 0;
@@ -244,8 +248,8 @@ const OutlineEdge& source_edge(const std::vector<OutlineEdge>& edges, const Vec2
 Facades facade_walls(const Polygon2& fp, const std::vector<OutlineEdge>& edges, double ground_z,
                      const std::vector<Face>& inside, const RoofEdgeNoise& noise) {
   // Walls along the footprint, from the terrain up to the roof underside: one
-  // element per outline edge they stand under (a notch in the footprint does
-  // not split a facade into separate elements).
+  // element per outline edge they stand under, or per outline arc (a notch
+  // in the footprint does not split a facade into separate elements).
   Facades out;
   const size_t m = fp.outer.size();
   std::vector<Face> walls(m);
@@ -256,12 +260,12 @@ Facades facade_walls(const Polygon2& fp, const std::vector<OutlineEdge>& edges, 
     walls[i] = wall_under(fp.outer[i], fp.outer[(i + 1) % m], ground_z, inside);
     if (walls[i].ring.size() < 3) continue;
     src[i] = &source_edge(edges, fp.outer[i], fp.outer[(i + 1) % m]);
-    if (facades.empty() || facades.back().src != src[i]) facades.push_back({src[i], {}, {}});
+    if (facades.empty() || !one_wall(*facades.back().src, *src[i])) facades.push_back({src[i], {}, {}});
     facade_of[i] = int(facades.size()) - 1;
     out.faces.push_back(walls[i]);
     facades.back().faces.push_back(walls[i]);
   }
-  if (facades.size() > 1 && facades.front().src == facades.back().src) {  // wraps round
+  if (facades.size() > 1 && one_wall(*facades.front().src, *facades.back().src)) {  // wraps round
     Facade& last = facades.back();
     facades.front().faces.insert(facades.front().faces.begin(), last.faces.begin(), last.faces.end());
     for (int& f : facade_of)

@@ -6,6 +6,7 @@
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
+#include "core/reconstruct/outline/arcs.h"
 
 namespace c3d {
 namespace {
@@ -33,6 +34,7 @@ constexpr double kRoofMinEdge = 1.5;         // shorter roof outline edges are h
 constexpr double kEdgeEndMargin = 0.5;       // an edge's ends belong to the corners: up to this much...
 constexpr double kEdgeEndShare = 0.2;        // ...or a fifth of the edge is left out at each end
 constexpr double kFallbackSpacings = 0.5;    // an edge too short to measure moves half a spacing out
+constexpr double kArcChord = 0.02;           // an arc's chords within 2 cm of it, as the exports' (their area the circle's)
 constexpr double kMaxRebuildChange = 0.3;    // an outline changing the hull's area by more went wrong
 constexpr double kDensityBeyond = 1.0;       // points further out than this are not the roof's
 constexpr long kMinBandPoints = 15;          // fewer points in the density band measure nothing
@@ -450,7 +452,9 @@ Polygon2 roof_outline(const std::vector<Vec2>& points, const OutlineOptions& opt
   // A rebuilt outline far from the hull means the regularisation went wrong.
   if (std::abs(area(best) - area(biggest)) > kMaxRebuildChange * area(biggest)) return biggest;
   best.holes.clear();
-  return best;
+  // Where a run of the hull lies on a circle the points' edge follows, the
+  // roof ends on that circle (arcs.h).
+  return with_outline_arcs(biggest.outer, best, points, opt.spacing, kArcChord);
 }
 
 }  // namespace c3d
