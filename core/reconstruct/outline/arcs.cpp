@@ -8,6 +8,7 @@
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
+#include "core/primitives/revolution_faces.h"
 
 namespace c3d {
 namespace {
@@ -43,10 +44,9 @@ constexpr double kMinBlur = 0.01, kMaxBlur = 1.0, kBlurStep = 1.05, kStray = 0.0
 // An arc over nearly the whole turn is a full circle; one over most of it
 // is tried as one too.
 constexpr double kFullTurn = 2 * kPi - 0.3, kMostOfTurn = 1.5 * kPi;
-// An arc's first radius is read from its sector's points (sector_radius):
-// at least this many.
+// An arc's first radius is read from its sector's points (sector_radius),
+// as a drum's rim (revolution_faces.h, kRimQuantile): at least this many.
 constexpr size_t kMinSectorPoints = 30;
-constexpr double kRimQuantile = 0.95;
 // Then centre, radius and the edge's blur are refined to the most likely
 // (Nelder-Mead): first steps 10 cm and a third of the blur's log, stopping
 // at 1e-4 in the log-likelihood or after 300 steps.
@@ -93,6 +93,9 @@ Circle fit_circle(const std::vector<Vec2>& pts) {
   return c;
 }
 
+// The angle from direction u to direction v, counter-clockwise positive.
+double turn(const Vec2& u, const Vec2& v) { return std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v)); }
+
 // A stretch of hull vertices: `count` of them from `first` on.
 struct Run {
   size_t first = 0, count = 0;
@@ -119,9 +122,7 @@ double sector_radius(const std::vector<Vec2>& points, const OutlineArc& arc) {
   for (const Vec2& q : points)
     if (angle_from(q, arc.centre, arc.from) <= arc.span) rho2.push_back((q - arc.centre).squaredNorm());
   if (rho2.size() < kMinSectorPoints) return kNaN;
-  const size_t k = std::min(rho2.size() - 1, size_t(kRimQuantile * double(rho2.size() - 1) + 0.5));
-  std::nth_element(rho2.begin(), rho2.begin() + long(k), rho2.end());
-  return std::sqrt(rho2[k] / kRimQuantile);
+  return std::sqrt(quantile(std::move(rho2), kRimQuantile) / kRimQuantile);
 }
 
 // Whether the sector (to just inside the arc) lies within the polygon: the
@@ -143,8 +144,8 @@ Ring2 from_sharpest_turn(const Ring2& ring) {
   double sharpest = -1;
   for (size_t i = 0; i < ring.size(); ++i) {
     const Vec2 a = ring[(i + ring.size() - 1) % ring.size()], b = ring[i], c = ring[(i + 1) % ring.size()];
-    const double turn = std::abs(std::atan2((b - a).x() * (c - b).y() - (b - a).y() * (c - b).x(), (b - a).dot(c - b)));
-    if (turn > sharpest) sharpest = turn, start = i;
+    const double at = std::abs(turn(b - a, c - b));
+    if (at > sharpest) sharpest = at, start = i;
   }
   Ring2 out(ring.begin() + long(start), ring.end());
   out.insert(out.end(), ring.begin(), ring.begin() + long(start));
@@ -201,13 +202,10 @@ std::optional<OutlineArc> group_arc(const Ring2& ring, const std::vector<Run>& g
   if (!(c.radius >= kMinRadius && c.radius <= kMaxRadius)) return std::nullopt;
   const size_t first = group.front().first, n = ring.size();
   const size_t last = (group.back().first + group.back().count - 1) % n;
-  auto turn = [&](size_t k) {  // about the centre, from vertex k to k + 1
-    const Vec2 d0 = ring[k % n] - c.centre, d1 = ring[(k + 1) % n] - c.centre;
-    return std::atan2(d0.x() * d1.y() - d0.y() * d1.x(), d0.dot(d1));
-  };
+  auto about_centre = [&](size_t k) { return turn(ring[k % n] - c.centre, ring[(k + 1) % n] - c.centre); };
   const size_t covered = (last + n - first) % n + 1;
   double span = 0, whole = 0;
-  for (size_t k = 0; k < n; ++k) (k + 1 < covered ? span : whole) += turn(first + k);
+  for (size_t k = 0; k < n; ++k) (k + 1 < covered ? span : whole) += about_centre(first + k);
   whole += span;
   OutlineArc arc{c.centre, c.radius, std::atan2(ring[first].y() - c.centre.y(), ring[first].x() - c.centre.x()), span};
   if (n - covered < kMinRunVertices && std::abs(whole - 2 * kPi) < 0.1) arc.span = 2 * kPi;
@@ -465,9 +463,8 @@ RingArcs arcs_in_ring(const Ring2& ring) {
   if (n < kMinArcVertices) return out;
   std::vector<bool> gentle(n);  // turning left by a chord's angle at most
   for (size_t i = 0; i < n; ++i) {
-    const Vec2 u = ring[i] - ring[(i + n - 1) % n], v = ring[(i + 1) % n] - ring[i];
-    const double turn = std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
-    gentle[i] = turn > 0 && turn <= kMaxChordTurn;
+    const double at = turn(ring[i] - ring[(i + n - 1) % n], ring[(i + 1) % n] - ring[i]);
+    gentle[i] = at > 0 && at <= kMaxChordTurn;
   }
   // Start after a vertex that is not gentle, so that no run is cut by the
   // ring's start; a whole circle has none.
