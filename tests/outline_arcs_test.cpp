@@ -126,3 +126,13 @@ TEST(OutlineArcs, BatchEndsFlatRoofsOnTheirCircles) {
   }
   EXPECT_EQ(curved, 8);
 }
+
+// A town is either curved or of curved plans: asked for both, `sample` says
+// so and does nothing (a usage error).
+TEST(OutlineArcs, CurvedAndCurvedPlansTownsExcludeEachOther) {
+  std::string out;
+  const std::string dir = test::temp_dir("outline_arcs_exclusive");
+  EXPECT_EQ(test::run_cli("sample --curved --curved-plans --out " + dir + "/town", &out), 2) << out;
+  EXPECT_NE(out.find("--curved excludes --curved-plans"), std::string::npos) << out;
+  EXPECT_FALSE(std::ifstream(dir + "/town/truth.json").good());
+}
