@@ -11,6 +11,7 @@
 #include "cadastre/batch/batch.h"
 #include "cadastre/batch/out_dir.h"
 #include "cadastre/batch/outputs.h"
+#include "cadastre/batch/tile_extents.h"
 #include "cadastre/batch/store_sink.h"
 #include "cli/commands.h"
 #include "cli/progress.h"
@@ -130,6 +131,7 @@ Config input_config(InputOptions& o) {
   if (!o.device.empty()) cfg.reconstruction.optimize_device = o.device;
   if (!o.id_field.empty()) cfg.fields.id = o.id_field, cfg.fields.id_required = true;
   if (o.classify) o.inputs.classifier_model = o.model;
+  o.inputs.tile_index = tile_index_path(std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
   return cfg;
 }
 

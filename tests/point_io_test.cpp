@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 
+#include "core/error.h"
 #include "core/io/crs.h"
 #include "core/io/point_io.h"
 #include "tests/test_support.h"
@@ -73,6 +75,41 @@ TEST(PointIo, LasFormatSixKeepsClass64AndUses64BitCount) {
   EXPECT_EQ(out.points.size(), in.points.size());
   EXPECT_EQ(std::count(out.classes.begin(), out.classes.end(), 64), 100);
   EXPECT_TRUE(out.crs_wkt.empty());
+}
+
+// An uncompressed file's records fill its bytes exactly (docs/inputs.md): a
+// count one too low, or a point data offset one byte early, read silently
+// before (a point dropped; every record out of step).
+TEST(PointIo, LasFieldsThatAreNotTheBytesAreRefused) {
+  const std::string dir = test::temp_dir("las_fields");
+  PointCloud in = sample_cloud(true);
+  in.crs_wkt = wkt_from_epsg(32748);
+  for (auto [format, minor] : {std::pair{1, 2}, {6, 4}}) {
+    const std::string path = dir + "/f" + std::to_string(format) + ".las";
+    write_las(path, in, format, minor);
+    std::ifstream f(path, std::ios::binary);
+    const std::string good((std::istreambuf_iterator<char>(f)), {});
+    const size_t count_at = minor == 4 ? 247 : 107;
+    std::string fewer = good, early = good;
+    const uint32_t one_less = uint32_t(in.points.size() - 1);
+    std::memcpy(&fewer[count_at], &one_less, 4);
+    uint32_t offset;
+    std::memcpy(&offset, &early[96], 4);
+    --offset;
+    std::memcpy(&early[96], &offset, 4);
+    for (const auto& [name, bytes] : {std::pair{"fewer", fewer}, {"early", early}}) {
+      const std::string bad = dir + "/" + name + std::to_string(format) + ".las";
+      write_file(bad, bytes);
+      try {
+        read_point_cloud(bad);
+        ADD_FAILURE() << name << ": read";
+      } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(bad), std::string::npos) << what;
+        EXPECT_TRUE(what.find("not the file's") != std::string::npos) << what;
+      }
+    }
+  }
 }
 
 TEST(PointIo, LasWithoutClassesWritesUnclassified) {

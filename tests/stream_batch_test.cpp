@@ -4,20 +4,25 @@
 // the points inside; a file streamed in blocks is the file read whole.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 
 #include "cadastre/batch/batch.h"
+#include "cadastre/batch/batch_inputs.h"
 #include "cadastre/batch/run_fit.h"
 #include "cadastre/batch/store_sink.h"
+#include "cadastre/batch/tile_extents.h"
 #include "cadastre/batch/tiles.h"
 #include "cadastre/store/store.h"
 #include "core/config/config.h"
 #include "core/error.h"
 #include "core/geometry/unique_points.h"
 #include "core/io/point_io.h"
+#include "core/io/sha256.h"
 #include "tests/test_support.h"
 
 namespace c3d {
@@ -227,6 +232,94 @@ TEST(StreamBatch, ATileWhoseHeaderBoundsAreWrongIsStillRead) {
     for (const std::string& warning : r.warnings) named |= warning.find("tile_2.las") != std::string::npos;
     EXPECT_TRUE(named) << k;
   }
+}
+
+// A header only a little too small fools the sample: the records it reads
+// all lie inside. Here tile 3's header holds only the points nearest its
+// south-west corner, and those come first in the file, where the sample
+// reads. Before, the tile was indexed by that box, and a region beyond it
+// did not read the tile; its points are now decoded once for its true box
+// (tile_extents.h), and a warning names the tile.
+TEST(StreamBatch, AHeaderTooSmallForPointsTheSampleMissesIsCaught) {
+  const std::string dir = test::temp_dir("short_header");
+  for (int t = 0; t < 3; ++t) {
+    const std::string name = "/tile_" + std::to_string(t) + ".las";
+    fs::copy_file(four_tiles() + name, dir + name);
+  }
+  const PointCloud tile = read_point_cloud(four_tiles() + "/tile_3.las");
+  const size_t n = tile.points.size(), samples = 4096;
+  ASSERT_GT(n, samples);
+  Box all;
+  for (const Vec3& p : tile.points) all.add(p.x(), p.y());
+  std::vector<size_t> by_corner(n);  // nearest the tile's south-west corner first
+  std::iota(by_corner.begin(), by_corner.end(), size_t(0));
+  const auto to_corner = [&](size_t i) { return tile.points[i].x() - all.min_x + tile.points[i].y() - all.min_y; };
+  std::sort(by_corner.begin(), by_corner.end(), [&](size_t a, size_t b) { return to_corner(a) < to_corner(b); });
+  PointCloud ordered = tile;
+  Box header;
+  for (size_t r = 0; r < n; ++r) {
+    ordered.points[r] = tile.points[by_corner[r]], ordered.classes[r] = tile.classes[by_corner[r]];
+    if (r < samples) header.add(ordered.points[r].x(), ordered.points[r].y());
+  }
+  ASSERT_LT(header.max_x + 1, all.max_x);
+  ASSERT_LT(header.max_y + 1, all.max_y);
+  const std::string path = dir + "/tile_3.las";
+  write_las(path, ordered);
+  {
+    const std::array<double, 4> bounds = {header.max_x, header.min_x, header.max_y, header.min_y};
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(179);
+    f.write(reinterpret_cast<const char*>(bounds.data()), 32);
+  }
+  ASSERT_TRUE(read_cloud_extent(path).from_header) << "the sample should find nothing wrong";
+  BatchInputs in = town().inputs;
+  in.clouds = {dir};
+  const LoadedInputs loaded = load_fit_inputs(in, default_config());
+  ASSERT_EQ(loaded.tiles.size(), 4u);
+  const Box& indexed = loaded.tiles[3].extent;
+  EXPECT_EQ(loaded.tiles[3].path, path);
+  EXPECT_EQ(indexed.max_x, all.max_x);
+  EXPECT_EQ(indexed.max_y, all.max_y);
+  EXPECT_EQ(indexed.min_x, all.min_x);
+  bool named = false;
+  for (const std::string& warning : loaded.warnings) named |= warning.find("tile_3.las: the points reach") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+// The index gives back the box it recorded, for the same content (SHA-256)
+// wherever the file is, and a row whose checksum fails is decoded again.
+TEST(StreamBatch, TheTileIndexRecordsADecodedBoxOnce) {
+  const std::string tile = four_tiles() + "/tile_1.las", db = test::temp_dir("tile_index") + "/extents.sqlite";
+  const CloudExtent header = read_cloud_extent(tile);
+  const std::string sha = describe_input_file(tile).sha256;
+  const CloudExtent first = TileExtentIndex(db).decoded(tile, sha, header);
+  const CloudExtent points = decoded_cloud_extent(tile);
+  EXPECT_EQ(first.points, points.points);
+  EXPECT_EQ(first.max_x, points.max_x);
+  EXPECT_EQ(first.min_y, points.min_y);
+  // Read back without the file: the path is not opened again.
+  const CloudExtent again = TileExtentIndex(db).decoded("/nonexistent/tile_1.las", sha, header);
+  EXPECT_EQ(again.min_x, points.min_x);
+  EXPECT_EQ(again.max_y, points.max_y);
+  EXPECT_EQ(again.points, points.points);
+  test::sql_exec(db, "UPDATE tile_extent SET max_x = max_x + 100");
+  EXPECT_THROW(TileExtentIndex(db).decoded("/nonexistent/tile_1.las", sha, header), InputError);
+  // No index, or one that cannot be written: decoded, the run goes on.
+  EXPECT_EQ(TileExtentIndex("").decoded(tile, sha, header).points, points.points);
+  EXPECT_EQ(TileExtentIndex("/proc/none/extents.sqlite").decoded(tile, sha, header).points, points.points);
+}
+
+// The CLI keeps the index in the user's cache folder ($XDG_CACHE_HOME).
+TEST(StreamBatch, TheCliKeepsTheTileIndexInTheCacheFolder) {
+  const std::string cache = test::temp_dir("xdg_cache"), out = test::temp_dir("xdg_out");
+  const std::string args = "batch --quiet --cloud " + four_tiles() + " --parcels " + town().inputs.parcels +
+                           " --dtm " + town().inputs.dtm + " --out " + out + " --formats cityjson";
+  ASSERT_EQ(setenv("XDG_CACHE_HOME", cache.c_str(), 1), 0);
+  std::string output;
+  const int rc = test::run_cli(args, &output);
+  unsetenv("XDG_CACHE_HOME");
+  ASSERT_TRUE(rc == 0 || rc == 3) << output;  // 3: some parcel not ok
+  EXPECT_EQ(test::sql_number(cache + "/cadastre3d/tile-extents.sqlite", "SELECT count(*) FROM tile_extent"), 4);
 }
 
 TEST(StreamBatch, FolderWithoutCloudsAndUnmatchedGlobAreErrors) {

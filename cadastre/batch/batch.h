@@ -38,6 +38,7 @@ struct BatchInputs {
   // Last, so that an initialiser {clouds, walls, parcels, dtm} keeps its meaning:
   ParcelSelection parcel_selection;  // --layer, --where, --bbox
   std::string crs;  // the working CRS the user names (docs/inputs.md); empty: chosen by the policy
+  std::string tile_index;  // where tiles' decoded extents are kept (tile_extents.h); empty: none
 };
 
 // What each input file is to a run, as its record names it (run_input.role):

@@ -8,6 +8,7 @@
 
 #include "cadastre/batch/resume_key.h"
 #include "cadastre/batch/scenes.h"
+#include "cadastre/batch/tile_extents.h"
 #include "core/classify/classify.h"
 #include "core/evaluate/evaluate.h"
 #include "cadastre/parcel_checks.h"
@@ -89,6 +90,20 @@ Box working_extent(const CloudExtent& e, const std::string& from, const std::str
   return b.grown(same_crs(from, to) ? 0.0 : 1.0);
 }
 
+// A tile's extent. LAS and LAZ: the header's bounds, then the points as
+// decoded (tile_extents.h), which a header a little too small leaves out;
+// other formats are read once for theirs.
+CloudExtent tile_extent(const std::string& f, const std::string& tile_index, LoadedInputs& in) {
+  const CloudExtent header = read_cloud_extent(f);
+  if (!header.note.empty()) in.warnings.push_back(f + ": " + header.note);
+  if (!header.from_header) return header;
+  const InputFile& file = in.described.emplace(f, describe_input_file(f)).first->second;
+  const CloudExtent points = TileExtentIndex(tile_index).decoded(f, file.sha256, header);
+  const std::string note = header_short_note(header, points);
+  if (!note.empty()) in.warnings.push_back(f + ": " + note);
+  return points;
+}
+
 // The tiles and the working CRS: each file's extent and CRS read (a header,
 // or one pass), the layer brought into the working CRS (reconcile_crs) and
 // its boxes taken.
@@ -100,8 +115,7 @@ void index_tiles(const BatchInputs& inputs, const std::string& wanted, bool have
   std::vector<CloudExtent> extents;
   std::vector<PointCloud> named;  // what reconcile_crs reads of a cloud: its name and CRS
   for (const auto& f : files) {
-    extents.push_back(read_cloud_extent(f));
-    if (!extents.back().note.empty()) in.warnings.push_back(f + ": " + extents.back().note);
+    extents.push_back(tile_extent(f, inputs.tile_index, in));
     named.push_back(PointCloud{f, {}, {}, extents.back().crs_wkt});
   }
   const std::string layer_crs = in.layer.crs_wkt;
@@ -273,13 +287,17 @@ InputFile describe_parcel_source(const std::string& source, const ParcelLayer& l
 }  // namespace
 
 std::vector<InputFile> describe_inputs(const LoadedInputs& in, const BatchInputs& inputs) {
-  std::vector<InputFile> out;  // every file the folders and globs name, each hashed, with its role
+  std::vector<InputFile> out;  // every file the folders and globs name, each hashed once, with its role
+  const auto describe = [&in](const std::string& f) {
+    const auto known = in.described.find(f);
+    return known != in.described.end() ? known->second : describe_input_file(f);
+  };
   const auto add = [&out](InputFile f, const char* role) {
     f.role = role;
     out.push_back(std::move(f));
   };
-  for (const auto& f : in.cloud_files) add(describe_input_file(f), input_role::kCloud);
-  for (const auto& f : in.wall_files) add(describe_input_file(f), input_role::kWalls);
+  for (const auto& f : in.cloud_files) add(describe(f), input_role::kCloud);
+  for (const auto& f : in.wall_files) add(describe(f), input_role::kWalls);
   add(describe_parcel_source(inputs.parcels, in.layer), input_role::kParcels);
   if (!inputs.dtm.empty()) add(describe_input_file(inputs.dtm), input_role::kDtm);
   if (!inputs.classifier_model.empty()) add(describe_input_file(inputs.classifier_model), input_role::kClassifier);

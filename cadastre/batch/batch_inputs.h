@@ -3,6 +3,7 @@
 // files indexed as tiles (cadastre/batch/tiles.h) and surveyed once, all in
 // one CRS, and the batch's local frame. The points themselves are read a
 // region at a time (read_region), never all at once.
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "cadastre/batch/tiles.h"
 #include "cadastre/parcels.h"
 #include "core/io/dtm_io.h"
+#include "core/io/sha256.h"
 
 namespace c3d {
 
@@ -27,6 +29,7 @@ struct LoadedInputs {
   PointCoverage coverage;        // where the clouds have points of any class
   std::string crs_wkt;
   std::vector<std::string> warnings;
+  std::map<std::string, InputFile> described;  // tiles hashed while indexed, by path: hashed once
 };
 
 // The inputs for modelling the parcels `work` picks of the layer (a shard's,

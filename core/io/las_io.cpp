@@ -63,6 +63,23 @@ struct LasHeader {
 };
 
 // buf: the file, or its first bytes up to the point data (file_size: the whole file's).
+// The point records of an uncompressed file end where the EVLRs begin (LAS
+// 1.4, when it has some behind the points) or at the end of the file. Bytes
+// left over mean the point count, the record length or the point data offset
+// is not the file's: reading on would silently drop points or read records
+// out of step (every LAS of ../shared/data ends exactly).
+void check_points_fill_their_bytes(const std::string& path, const LasHeader& h, uint64_t file_size) {
+  const uint64_t points_end = h.point_offset + h.point_count * h.record_length;
+  const bool evlrs_behind = h.evlr_count > 0 && h.evlr_offset >= points_end && h.evlr_offset <= file_size;
+  const uint64_t data_end = evlrs_behind ? h.evlr_offset : file_size;
+  if (data_end == points_end) return;
+  throw InputError(path, "the header's " + std::to_string(h.point_count) + " points of " +
+                             std::to_string(h.record_length) + " bytes from offset " + std::to_string(h.point_offset) +
+                             " leave " + std::to_string(data_end - points_end) + " bytes before " +
+                             (evlrs_behind ? "the EVLRs" : "the end of the file") +
+                             ": the point count, record length or point data offset is not the file's");
+}
+
 LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf, size_t file_size) {
   if (buf.size() < 4 || std::memcmp(buf.data(), "LASF", 4) != 0)
     throw InputError(path, "not a LAS file (no LASF signature)");
@@ -127,6 +144,7 @@ LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf
     throw InputError(path, "truncated LAS file: header point count " +
                                std::to_string(h.point_count) + " is larger than the file holds (" +
                                std::to_string(available) + " complete points)");
+  if (!h.compressed) check_points_fill_their_bytes(path, h, file_size);
   return h;
 }
 
@@ -158,6 +176,9 @@ void visit_vlrs(const std::string& path, const std::vector<char>& buf, const Las
     uint16_t length = get<uint16_t>(buf.data() + pos + 20);
     if (pos + 54 + length > buf.size())
       throw InputError(path, "truncated LAS file: VLR " + std::to_string(i) + " runs past the end");
+    if (pos + 54 + length > h.point_offset)
+      throw InputError(path, "VLR " + std::to_string(i) + " runs past the start of the point data (offset " +
+                                 std::to_string(h.point_offset) + "): the VLR or the offset is not the file's");
     visit(buf.data() + pos, length, buf.data() + pos + 54);
     pos += 54 + length;
   }

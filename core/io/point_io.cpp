@@ -185,17 +185,8 @@ void for_each_point_block(const std::string& path, const std::function<void(cons
   }
 }
 
-CloudExtent read_cloud_extent(const std::string& path) {
-  check_regular_file(path);
-  std::string note;
-  if (is_las(path))
-    if (auto e = las_header_extent(path)) {
-      e->from_header = e->note.empty();
-      if (e->from_header) return *e;
-      note = e->note;
-    }
+CloudExtent decoded_cloud_extent(const std::string& path) {
   CloudExtent e;
-  e.note = note;
   e.min_x = e.min_y = 1e300, e.max_x = e.max_y = -1e300;
   for_each_point_block(path, [&](const PointCloud& c) {
     e.crs_wkt = c.crs_wkt;
@@ -206,6 +197,20 @@ CloudExtent read_cloud_extent(const std::string& path) {
     }
   });
   if (e.points == 0) e.min_x = e.min_y = e.max_x = e.max_y = 0;
+  return e;
+}
+
+CloudExtent read_cloud_extent(const std::string& path) {
+  check_regular_file(path);
+  std::string note;
+  if (is_las(path))
+    if (auto e = las_header_extent(path)) {
+      e->from_header = e->note.empty();
+      if (e->from_header) return *e;
+      note = e->note;
+    }
+  CloudExtent e = decoded_cloud_extent(path);
+  e.note = note;
   return e;
 }
 

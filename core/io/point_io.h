@@ -35,6 +35,8 @@ struct CloudExtent {
 // are unusable, and one a sampled point lies outside (`note` says which),
 // from one pass over the points.
 CloudExtent read_cloud_extent(const std::string& path);
+// The extent of the points themselves: one pass over the file, a block at a time.
+CloudExtent decoded_cloud_extent(const std::string& path);
 
 // The raw point records of a LAS or LAZ file (LAZ decoded), in file order:
 // header point count times record length bytes.

@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <thread>
 #include <unistd.h>
 
@@ -31,6 +32,7 @@
 #include "core/io/mesh_io.h"
 #include "core/io/point_io.h"
 #include "core/log.h"
+#include "tests/fuzz/fuzz_las_fields.h"
 #include "tests/fuzz/fuzz_seeds.h"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -59,6 +61,10 @@ struct Target {
   std::string name;
   std::function<std::vector<SeedInput>(const std::string& work)> seeds;
   std::function<void(const std::string& path)> read;
+  // Where set: the target's own mutations and a read that judges a mutant
+  // against its seed (las-fields); otherwise Mutator and `read`.
+  std::function<std::string(const SeedInput& seed, uint64_t mixed)> mutate;
+  std::function<void(const std::string& path, const SeedInput& seed)> read_against;
 };
 
 std::vector<Target> targets() {
@@ -76,6 +82,8 @@ std::vector<Target> targets() {
        [](const std::string& p) { load_config(p); }},
       {"mesh", [](const std::string&) { return mesh_seeds(); },
        [](const std::string& p) { read_mesh_groups(p); }},
+      {"las-fields", las_field_seeds, nullptr,
+       [](const SeedInput& s, uint64_t mixed) { return mutate_las_fields(s.bytes, mixed); }, expect_refused_or_same},
   };
 }
 
@@ -145,12 +153,13 @@ void write_file(const std::string& path, const std::string& bytes) {
 }
 
 // Runs one input; returns "" when the reader returned or threw InputError.
-std::string run_one(const Target& t, const std::string& path, bool* rejected = nullptr) {
+std::string run_one(const Target& t, const std::string& path, const SeedInput* seed, bool* rejected = nullptr) {
   g_started_cpu_ns = cpu_ns();
   g_started_ns = now_ns();
   std::string finding;
   try {
-    t.read(path);
+    if (t.read_against) t.read_against(path, *seed);
+    else t.read(path);
   } catch (const InputError&) {
     if (rejected) *rejected = true;
   } catch (const std::exception& e) {
@@ -181,7 +190,7 @@ Tally fuzz_target(const Target& t, const Options& o, double seconds) {
     const SeedInput& seed = seeds[mixed % seeds.size()];
     Mutator m(mixed);
     const std::string path = dir + "/input" + seed.ext;
-    write_file(path, m.mutate(seed));
+    write_file(path, t.mutate ? t.mutate(seed, mixed) : m.mutate(seed));
     std::snprintf(g_current, sizeof g_current,
                   "target %s, seed input %s, --seed %llu, iteration %llu: %s (replay: --target %s "
                   "--replay FILE)",
@@ -189,7 +198,7 @@ Tally fuzz_target(const Target& t, const Options& o, double seconds) {
                   (unsigned long long)i, path.c_str(), t.name.c_str());
     ++tally.inputs;
     bool rejected = false;
-    const std::string finding = run_one(t, path, &rejected);
+    const std::string finding = run_one(t, path, &seed, &rejected);
     tally.rejected += rejected;
     if (finding.empty()) continue;
     ++tally.findings;
@@ -199,6 +208,21 @@ Tally fuzz_target(const Target& t, const Options& o, double seconds) {
     std::fprintf(stderr, "FINDING %s: %s (input kept: %s)\n", g_current, finding.c_str(), keep.c_str());
   }
   return tally;
+}
+
+// The seed a replayed mutant came from: the one of its size that differs in fewest bytes.
+const SeedInput* nearest_seed(const std::vector<SeedInput>& seeds, const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(f), {}};
+  const SeedInput* best = nullptr;
+  size_t fewest = SIZE_MAX;
+  for (const SeedInput& s : seeds) {
+    if (s.bytes.size() != bytes.size()) continue;
+    size_t differ = 0;
+    for (size_t i = 0; i < bytes.size(); ++i) differ += bytes[i] != s.bytes[i];
+    if (differ < fewest) fewest = differ, best = &s;
+  }
+  return best;
 }
 
 bool parse(int argc, char** argv, Options& o) {
@@ -251,7 +275,12 @@ int main(int argc, char** argv) {
   if (chosen.empty()) return std::fprintf(stderr, "fuzz_readers: no such target\n"), 2;
   if (!o.replay.empty()) {
     std::snprintf(g_current, sizeof g_current, "replay of %s", o.replay.c_str());
-    const std::string finding = run_one(chosen.front(), o.replay);
+    const Target& t = chosen.front();
+    std::vector<SeedInput> seeds;
+    if (t.read_against) seeds = t.seeds(o.work);
+    const SeedInput* seed = nearest_seed(seeds, o.replay);
+    if (t.read_against && !seed) return std::fprintf(stderr, "fuzz_readers: no seed for %s\n", t.name.c_str()), 2;
+    const std::string finding = run_one(t, o.replay, seed);
     std::printf("%s\n", finding.empty() ? "ok (returned or InputError)" : finding.c_str());
     return finding.empty() ? 0 : 1;
   }
