@@ -23,6 +23,7 @@ void register_report(CLI::App& app);
 void register_export(CLI::App& app);
 void register_validate(CLI::App& app);
 void register_optimize(CLI::App& app);
+void register_mesh(CLI::App& app);
 void register_classify(CLI::App& app);
 void register_merge(CLI::App& app);
 void register_slurm(CLI::App& app);

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   register_export(app);
   register_validate(app);
   register_optimize(app);
+  register_mesh(app);
   register_classify(app);
   register_merge(app);
   register_slurm(app);

@@ -10,7 +10,7 @@
   under core/);
 - no include up the tree: a file includes nothing from a folder above its
   own, but for its top-level folder's basics (core/types.h, cadastre/parcels.h);
-- cli/ at most 1,100 lines in all (the options of every command; the work
+- cli/ at most 1,150 lines in all (the options of every command; the work
   stays in the library).
 
 Prints each breach on a line of its own and exits 1 if there is any.
@@ -24,7 +24,7 @@ import sys
 
 MAX_FILE_LINES = 600
 MAX_FUNCTION_LINES = 80
-MAX_CLI_LINES = 1100
+MAX_CLI_LINES = 1150
 SOURCE_DIRS = ["core", "cadastre", "valuation", "ifc_citygml", "cli", "tests", "shaders"]
 EXTENSIONS = (".h", ".cpp", ".comp")
 SCOPE_RE = re.compile(r"\b(namespace|struct|class|union|enum)\b[^;{}()]*$|extern\s+\"C\"\s*$")

@@ -10,7 +10,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 PACKAGES=(
   build-essential cmake ninja-build pkg-config ccache git
   libpcl-dev libeigen3-dev libopencv-dev libgeos-dev libgeos++-dev libgdal-dev gdal-bin python3-gdal
-  python3-numpy python3-lxml libcgal-dev libocct-foundation-dev libocct-modeling-data-dev
+  python3-numpy python3-lxml libcgal-dev libopen3d-dev libocct-foundation-dev libocct-modeling-data-dev
   libocct-modeling-algorithms-dev libocct-data-exchange-dev
   libvulkan-dev mesa-vulkan-drivers glslc vulkan-tools
   libsqlite3-dev sqlite3 libgtest-dev libgmock-dev

@@ -412,13 +412,6 @@ std::array<float, 16> view_projection(const Viewpoint& v) {
 
 }  // namespace
 
-std::vector<Triangle3> TriMesh::soup() const {
-  std::vector<Triangle3> out;
-  out.reserve(triangles.size());
-  for (const auto& t : triangles) out.push_back({vertices[t[0]], vertices[t[1]], vertices[t[2]]});
-  return out;
-}
-
 PrimitiveLine intersect_planes(const PrimitivePlane& a, const PrimitivePlane& b, int ia, int ib) {
   PrimitiveLine l;
   l.dir = a.n.cross(b.n).normalized();

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh/tri_mesh.h"
 #include "core/optimizer/mesh_distance.h"
 #include "core/types.h"
 #include "core/optimizer/vulkan_compute.h"
@@ -29,12 +30,6 @@ struct PrimitiveLine {
   Vec3 dir = Vec3::UnitX();  // unit
   int plane_a = -1, plane_b = -1;
   double distance(const Vec3& p) const { return ((p - point) - (p - point).dot(dir) * dir).norm(); }
-};
-
-struct TriMesh {
-  std::vector<Vec3> vertices;                // local coordinates
-  std::vector<std::array<int, 3>> triangles;
-  std::vector<Triangle3> soup() const;
 };
 
 // A mesh whose triangles are assigned to constraint planes (-1: free), and the

@@ -1,0 +1,51 @@
+#include "core/mesh/ladder.h"
+
+#include <time.h>
+
+#include <algorithm>
+
+#include "core/mesh/simplify.h"
+
+namespace c3d {
+
+namespace {
+
+double cpu_seconds() {  // this thread's: a batch meshes buildings on several
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+size_t share_of(size_t faces, double share) { return std::max<size_t>(4, size_t(double(faces) * share)); }
+
+}  // namespace
+
+MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, const std::vector<Vec3>& ground) {
+  MeshLadder l;
+  l.method = method;
+  for (int k = 1; k <= 4; ++k) l.levels[size_t(k - 1)].level = k;
+  if (points.size() < 4) return l;
+  double t = cpu_seconds();
+  l.spacing = point_spacing(points);
+  DenseResult dense = dense_mesh(points, l.spacing, method);
+  l.trimmed = dense.trimmed;
+  MeshLevel& l4 = l.levels[3];
+  l4.mesh = std::move(dense.mesh);
+  l4.seconds = cpu_seconds() - t;
+  const size_t dense_faces = l4.mesh.triangles.size();
+  for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
+    t = cpu_seconds();
+    MeshLevel& level = l.levels[size_t(k - 1)];
+    level.mesh = simplified(l.levels[size_t(k)].mesh, share_of(dense_faces, share));
+    level.seconds = cpu_seconds() - t;
+  }
+  t = cpu_seconds();
+  std::vector<Vec3> closed = points;
+  closed.insert(closed.end(), ground.begin(), ground.end());
+  l.levels[0].mesh = wrapped(closed, kLevel1MaxFaces);
+  l.levels[0].seconds = cpu_seconds() - t;
+  for (MeshLevel& level : l.levels) level.metrics = measure_mesh(level.mesh, points, l.spacing);
+  return l;
+}
+
+}  // namespace c3d

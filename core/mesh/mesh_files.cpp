@@ -1,0 +1,108 @@
+#include "core/mesh/mesh_files.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/io/point_io.h"
+
+namespace c3d {
+
+namespace {
+
+template <typename T>
+void put(std::ofstream& out, T v) {
+  out.write(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+nlohmann::json level_json(const MeshLevel& l) {
+  const MeshMetrics& m = l.metrics;
+  return {{"level", l.level},        {"faces", m.faces},
+          {"vertices", m.vertices},  {"seconds", l.seconds},
+          {"cloud_to_mesh", {{"mean", m.mean}, {"std", m.std}, {"p95", m.p95}, {"max", m.max}}},
+          {"mesh_to_cloud", m.mesh_to_cloud},
+          {"far_share", m.far_share}, {"closed", m.closed},
+          {"manifold", m.manifold},  {"volume", m.volume}};
+}
+
+}  // namespace
+
+void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& offset) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw InputError(path, "cannot be written");
+  char world[160];
+  std::snprintf(world, sizeof world, "comment world = local + (%.3f, %.3f, %.3f)\n", offset.x(), offset.y(), offset.z());
+  out << "ply\nformat binary_little_endian 1.0\n" << world << "element vertex " << mesh.vertices.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Vec3& v : mesh.vertices) put(out, float(v.x())), put(out, float(v.y())), put(out, float(v.z()));
+  for (const auto& t : mesh.triangles) {
+    put(out, uint8_t(3));
+    for (int i : t) put(out, int32_t(i));
+  }
+  if (!out) throw InputError(path, "could not be written in full");
+}
+
+nlohmann::json ladder_json(const MeshLadder& ladder) {
+  const PointSpacing& s = ladder.spacing;
+  nlohmann::json levels = nlohmann::json::array();
+  for (const MeshLevel& l : ladder.levels) levels.push_back(level_json(l));
+  return {{"method", dense_method_name(ladder.method)},
+          {"points", s.points},
+          {"spacing", {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}}},
+          {"poisson_trimmed_faces", ladder.trimmed},
+          {"levels", levels}};
+}
+
+std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offset, const std::string& dir,
+                                      const std::string& name) {
+  std::vector<std::string> paths;
+  for (const MeshLevel& l : ladder.levels) {
+    paths.push_back(dir + "/" + name + "_level" + std::to_string(l.level) + ".ply");
+    write_local_ply(paths.back(), l.mesh, offset);
+  }
+  paths.push_back(dir + "/" + name + "_ladder.json");
+  std::ofstream json(paths.back());
+  json << ladder_json(ladder).dump(2) << "\n";
+  if (!json) throw InputError(paths.back(), "cannot be written");
+  return paths;
+}
+
+MeshRun mesh_point_files(const std::vector<std::string>& clouds, DenseMethod method, const std::string& dir,
+                         const std::string& name) {
+  std::vector<Vec3> points;
+  for (const std::string& path : clouds) {
+    const PointCloud c = read_point_cloud(path);
+    points.insert(points.end(), c.points.begin(), c.points.end());
+  }
+  MeshRun run;
+  if (!points.empty()) {
+    Vec3 lo = points.front();
+    for (const Vec3& p : points) lo = lo.cwiseMin(p);
+    run.offset = Vec3(std::floor(lo.x()), std::floor(lo.y()), std::floor(lo.z()));
+    for (Vec3& p : points) p -= run.offset;
+  }
+  run.ladder = mesh_ladder(points, method);
+  std::filesystem::create_directories(dir);
+  run.files = write_ladder(run.ladder, run.offset, dir, name);
+  return run;
+}
+
+std::string ladder_text(const MeshLadder& ladder) {
+  char line[200];
+  std::snprintf(line, sizeof line, "%zu points, spacing mean %.3f m (p95 %.3f m), dense method %s\n",
+                ladder.spacing.points, ladder.spacing.mean, ladder.spacing.p95, dense_method_name(ladder.method));
+  std::string out = line;
+  out += "level    faces  cloud-to-mesh mean / p95 / max (m)  mesh-to-cloud (m)  closed  seconds\n";
+  for (auto it = ladder.levels.rbegin(); it != ladder.levels.rend(); ++it) {
+    const MeshMetrics& m = it->metrics;
+    std::snprintf(line, sizeof line, "%5d %8zu  %8.4f / %8.4f / %8.4f        %10.3f  %6s  %7.2f\n", it->level, m.faces,
+                  m.mean, m.p95, m.max, m.mesh_to_cloud, m.closed ? "yes" : "no", it->seconds);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace c3d

@@ -1,0 +1,86 @@
+#include "core/mesh/mesh_metrics.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/mesh/mesh_distance.h"
+
+namespace c3d {
+
+namespace {
+
+// Edge uses: closed when every edge has two faces, manifold when none has more.
+void edge_counts(const TriMesh& mesh, MeshMetrics& m) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  m.closed = !uses.empty(), m.manifold = true;
+  for (const auto& [edge, n] : uses) {
+    m.closed &= n == 2;
+    m.manifold &= n <= 2;
+  }
+}
+
+// The farthest of the mesh's vertices and face centres from any point.
+double farthest_from_points(const TriMesh& mesh, const std::vector<Vec3>& points) {
+  if (points.empty() || mesh.triangles.empty()) return 0;
+  const Vec3 origin = points.front();
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  const auto local = [&](const Vec3& p) {
+    const Vec3 q = p - origin;
+    return pcl::PointXYZ(float(q.x()), float(q.y()), float(q.z()));
+  };
+  for (const Vec3& p : points) cloud->push_back(local(p));
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud);
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  double farthest = 0;
+  const auto visit = [&](const Vec3& p) {
+    tree.nearestKSearch(local(p), 1, idx, d2);
+    farthest = std::max(farthest, std::sqrt(double(d2[0])));
+  };
+  for (const Vec3& v : mesh.vertices) visit(v);
+  for (const auto& t : mesh.soup()) visit((t[0] + t[1] + t[2]) / 3);
+  return farthest;
+}
+
+// The divergence theorem over the triangles: the volume a closed mesh encloses.
+double enclosed_volume(const TriMesh& mesh) {
+  double six = 0;
+  for (const auto& t : mesh.soup()) six += t[0].dot(t[1].cross(t[2]));
+  return std::abs(six) / 6;
+}
+
+}  // namespace
+
+MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, const PointSpacing& spacing) {
+  MeshMetrics m;
+  m.faces = mesh.triangles.size(), m.vertices = mesh.vertices.size();
+  edge_counts(mesh, m);
+  if (m.closed) m.volume = enclosed_volume(mesh);
+  if (mesh.triangles.empty() || points.empty()) return m;
+  std::vector<double> d = distances_to_mesh(points, mesh);
+  const double reach = 2 * spacing.mean;
+  double sum = 0, sum2 = 0;
+  size_t far = 0;
+  for (double x : d) sum += x, sum2 += x * x, far += x > reach;
+  const double n = double(d.size());
+  m.mean = sum / n;
+  m.std = std::sqrt(std::max(0.0, sum2 / n - m.mean * m.mean));
+  std::sort(d.begin(), d.end());
+  m.p95 = d[size_t(0.95 * (n - 1) + 0.5)];
+  m.max = d.back();
+  m.far_share = double(far) / n;
+  m.mesh_to_cloud = farthest_from_points(mesh, points);
+  return m;
+}
+
+}  // namespace c3d

@@ -1,0 +1,21 @@
+#pragma once
+// How far apart a cloud's points lie: each point's distance to its nearest
+// other point, summarised. Every meshing parameter of the ladder comes from
+// these figures (seed 003's tables), none from a constant in metres.
+#include <cstddef>
+#include <vector>
+
+#include "core/types.h"
+
+namespace c3d {
+
+struct PointSpacing {
+  double min = 0, mean = 0, median = 0, p95 = 0, max = 0;  // m
+  size_t points = 0;
+};
+
+// Copies of one place (distance 0) count once: their distance is to the next
+// point elsewhere. Fewer than two distinct points: all zero.
+PointSpacing point_spacing(const std::vector<Vec3>& points);
+
+}  // namespace c3d
