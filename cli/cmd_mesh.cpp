@@ -10,7 +10,7 @@ namespace c3d::cli {
 void register_mesh(CLI::App& app) {
   struct Args {
     std::vector<std::string> clouds;
-    std::string out, name = "building", method = "pivot";
+    std::string out, name = "building", method = "front";
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("mesh", "Mesh one building's points at four levels of detail (PLY, ladder.json)");

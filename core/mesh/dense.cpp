@@ -1,14 +1,13 @@
 #include "core/mesh/dense.h"
 
 #include "core/mesh/open3d_mesh.h"
+#include "core/mesh/point_index.h"
 
 #include <CGAL/Advancing_front_surface_reconstruction.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/mst_orient_normals.h>
 #include <CGAL/pca_estimate_normals.h>
 #include <CGAL/property_map.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_types.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -38,24 +37,10 @@ struct LongestEdge {
   }
 };
 
-
 // Poisson's faces with a corner or centre farther than `reach` from every point.
 DenseResult trimmed(TriMesh mesh, const std::vector<Vec3>& points, double reach) {
-  const Vec3 origin = points.front();
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  const auto local = [&](const Vec3& p) {
-    const Vec3 q = p - origin;
-    return pcl::PointXYZ(float(q.x()), float(q.y()), float(q.z()));
-  };
-  for (const Vec3& p : points) cloud->push_back(local(p));
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(cloud);
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
-  const auto near = [&](const Vec3& p) {
-    tree.nearestKSearch(local(p), 1, idx, d2);
-    return std::sqrt(double(d2[0])) <= reach;
-  };
+  const PointIndex index(points);
+  const auto near = [&](const Vec3& p) { return index.nearest(p) <= reach; };
   std::vector<char> vertex_near(mesh.vertices.size());
   for (size_t v = 0; v < mesh.vertices.size(); ++v) vertex_near[v] = near(mesh.vertices[v]);
   const auto strays = [&](const std::array<int, 3>& t) {

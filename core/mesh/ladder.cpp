@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/mesh/open3d_mesh.h"
 #include "core/mesh/simplify.h"
 
 namespace c3d {
@@ -17,6 +18,10 @@ double cpu_seconds() {  // this thread's: a batch meshes buildings on several
 }
 
 size_t share_of(size_t faces, double share) { return std::max<size_t>(4, size_t(double(faces) * share)); }
+
+// A gap the largest pivoting ball could not cross, twice over: a border up
+// to 4 balls' diameters long closes a sampling gap, not an opening.
+double small_hole(const PointSpacing& s) { return 8 * pivoting_radii(s).back(); }
 
 }  // namespace
 
@@ -36,13 +41,16 @@ MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, cons
   for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
     t = cpu_seconds();
     MeshLevel& level = l.levels[size_t(k - 1)];
-    level.mesh = simplified(l.levels[size_t(k)].mesh, share_of(dense_faces, share));
+    level.mesh = simplified(l.levels[size_t(k)].mesh, share_of(dense_faces, share), small_hole(l.spacing),
+                            2 * l.spacing.mean);  // as level 4 may stray from the points
     level.seconds = cpu_seconds() - t;
   }
   t = cpu_seconds();
   std::vector<Vec3> closed = points;
   closed.insert(closed.end(), ground.begin(), ground.end());
-  l.levels[0].mesh = wrapped(closed, kLevel1MaxFaces);
+  // A hull no heavier than level 2: a small building's level 1 has fewer faces.
+  const size_t hull_faces = std::min(kLevel1MaxFaces, std::max<size_t>(l.levels[1].mesh.triangles.size(), 20));
+  l.levels[0].mesh = wrapped(closed, hull_faces);
   l.levels[0].seconds = cpu_seconds() - t;
   for (MeshLevel& level : l.levels) level.metrics = measure_mesh(level.mesh, points, l.spacing);
   return l;

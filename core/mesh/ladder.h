@@ -13,7 +13,7 @@ namespace c3d {
 
 // Face budgets of the simplified levels, as shares of level 4's faces, and
 // level 1's ceiling: what the issue asks (level 3 at 10 % at most, level 1
-// a few hundred faces), level 2 between.
+// a few hundred faces, and no more than level 2's), level 2 between.
 constexpr double kLevel3Share = 0.10, kLevel2Share = 0.02;
 constexpr size_t kLevel1MaxFaces = 400;
 
@@ -26,7 +26,7 @@ struct MeshLevel {
 
 struct MeshLadder {
   PointSpacing spacing;
-  DenseMethod method = DenseMethod::BallPivoting;
+  DenseMethod method = DenseMethod::AdvancingFront;
   size_t trimmed = 0;              // Poisson's out-of-bounds faces dropped from level 4
   std::array<MeshLevel, 4> levels;  // levels[0] is level 1
   const MeshLevel& level(int k) const { return levels[size_t(k - 1)]; }
@@ -37,7 +37,7 @@ struct MeshLadder {
 // hull where no scan sees (the footprint at the terrain, sampled at the
 // spacing): without it a wrap of a roof and walls is a thin shell. Fewer
 // than 4 points: an empty ladder (every level without faces).
-MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method = DenseMethod::BallPivoting,
+MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method = DenseMethod::AdvancingFront,
                        const std::vector<Vec3>& ground = {});
 
 }  // namespace c3d

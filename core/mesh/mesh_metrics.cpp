@@ -1,13 +1,11 @@
 #include "core/mesh/mesh_metrics.h"
 
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_types.h>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "core/mesh/mesh_distance.h"
+#include "core/mesh/point_index.h"
 
 namespace c3d {
 
@@ -31,22 +29,9 @@ void edge_counts(const TriMesh& mesh, MeshMetrics& m) {
 // The farthest of the mesh's vertices and face centres from any point.
 double farthest_from_points(const TriMesh& mesh, const std::vector<Vec3>& points) {
   if (points.empty() || mesh.triangles.empty()) return 0;
-  const Vec3 origin = points.front();
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  const auto local = [&](const Vec3& p) {
-    const Vec3 q = p - origin;
-    return pcl::PointXYZ(float(q.x()), float(q.y()), float(q.z()));
-  };
-  for (const Vec3& p : points) cloud->push_back(local(p));
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(cloud);
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
+  const PointIndex index(points);
   double farthest = 0;
-  const auto visit = [&](const Vec3& p) {
-    tree.nearestKSearch(local(p), 1, idx, d2);
-    farthest = std::max(farthest, std::sqrt(double(d2[0])));
-  };
+  const auto visit = [&](const Vec3& p) { farthest = std::max(farthest, index.nearest(p)); };
   for (const Vec3& v : mesh.vertices) visit(v);
   for (const auto& t : mesh.soup()) visit((t[0] + t[1] + t[2]) / 3);
   return farthest;

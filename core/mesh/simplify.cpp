@@ -1,14 +1,20 @@
 #include "core/mesh/simplify.h"
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Constrained_placement.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/alpha_wrap_3.h>
 
 #include <algorithm>
@@ -25,6 +31,8 @@ using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 namespace SMS = CGAL::Surface_mesh_simplification;
 namespace PMP = CGAL::Polygon_mesh_processing;
+using Triangle = Kernel::Triangle_3;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>>>;
 
 // The mesh in CGAL's form, made a 2-manifold first: an alpha shape's or a
 // pivot's triangles may share an edge three times, or touch at a vertex
@@ -60,6 +68,55 @@ TriMesh from_surface_mesh(Mesh& m) {
   return out;
 }
 
+// A collapse whose new vertex lands farther than `reach` from the mesh it
+// started from is refused: on a torn pivot mesh an ill-conditioned
+// placement flung a vertex 135 m off a 50 m building, on a box's corner 3 m
+// above its roof. (CGAL's filters pass an optional placement on; an empty
+// one refuses the collapse.)
+struct NearTheStart {
+  const Tree* start = nullptr;
+  double reach = 0;
+  template <typename Profile>
+  boost::optional<typename Profile::Point> operator()(const Profile&,
+                                                      boost::optional<typename Profile::Point> placed) const {
+    if (!placed || !start) return placed;
+    const Point p = *placed;
+    if (start->squared_distance(p) > reach * reach) return boost::none;
+    return placed;
+  }
+};
+using SafeFilter = SMS::Bounded_normal_change_filter<NearTheStart>;
+
+// Holes whose border is at most `perimeter` long are sampling gaps, not
+// openings: each is triangulated (CGAL), so its border is no edge to keep.
+void fill_small_holes(Mesh& m, double perimeter) {
+  std::vector<Mesh::Halfedge_index> borders;
+  PMP::extract_boundary_cycles(m, std::back_inserter(borders));
+  for (Mesh::Halfedge_index h : borders) {
+    double length = 0;
+    for (auto e : CGAL::halfedges_around_face(h, m)) length += std::sqrt(CGAL::squared_distance(m.point(m.source(e)), m.point(m.target(e))));
+    if (length <= perimeter) PMP::triangulate_hole(m, h, CGAL::Emptyset_iterator());
+  }
+}
+
+// Edge collapse by Lindstrom and Turk's cost and placement until at most `faces`
+// faces remain; edges `fixed` says are not collapsed and their vertices stay.
+// No collapse turns a face's normal over (CGAL's bounded normal change) or
+// puts its vertex far from its edge (NearTheEdge).
+template <typename Fixed>
+void collapse(Mesh& m, size_t faces, const SafeFilter& filter, Fixed fixed) {
+  auto constrained = m.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
+  for (auto e : m.edges()) constrained[e] = fixed(e);
+  const SMS::Constrained_placement<SMS::LindstromTurk_placement<Mesh>, decltype(constrained)> placement(constrained);
+  const SMS::Count_stop_predicate<Mesh> stop(faces * 3 / 2);
+  SMS::edge_collapse(m, stop,
+                     CGAL::parameters::get_placement(placement)
+                         .edge_is_constrained_map(constrained)
+                         .filter(filter));
+  m.remove_property_map(constrained);
+  m.collect_garbage();
+}
+
 // One point per cube of side `cell` (the first met): a wrap of alpha many
 // times the cell needs no more, and costs with the points it gets.
 std::vector<Point> thinned(const std::vector<Vec3>& points, double cell) {
@@ -75,23 +132,30 @@ std::vector<Point> thinned(const std::vector<Vec3>& points, double cell) {
 
 }  // namespace
 
-TriMesh simplified(const TriMesh& mesh, size_t faces, const std::vector<std::array<int, 2>>& keep) {
+TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double reach,
+                   const std::vector<std::array<int, 2>>& keep) {
   if (mesh.triangles.size() <= faces) return without_loose_vertices(mesh);
-  Mesh m = to_surface_mesh(mesh);
-  auto constrained = m.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
   std::set<std::pair<int, int>> marked;
   for (const auto& e : keep) marked.insert({std::min(e[0], e[1]), std::max(e[0], e[1])});
-  for (auto e : m.edges()) {
+  std::vector<Triangle> start;
+  for (const auto& t : mesh.soup())
+    start.emplace_back(Point(t[0].x(), t[0].y(), t[0].z()), Point(t[1].x(), t[1].y(), t[1].z()),
+                       Point(t[2].x(), t[2].y(), t[2].z()));
+  start.erase(std::remove_if(start.begin(), start.end(), [](const Triangle& t) { return t.is_degenerate(); }), start.end());
+  Tree tree(start.begin(), start.end());
+  tree.accelerate_distance_queries();
+  const SafeFilter filter(NearTheStart{&tree, reach});
+  Mesh m = to_surface_mesh(mesh);
+  fill_small_holes(m, small_hole);
+  collapse(m, faces, filter, [&](Mesh::Edge_index e) {
     const int a = int(m.vertex(e, 0).idx()), b = int(m.vertex(e, 1).idx());
-    constrained[e] = m.is_border(e) || marked.count({std::min(a, b), std::max(a, b)}) > 0;
-  }
-  using Policies = SMS::GarlandHeckbert_plane_policies<Mesh, Kernel>;
-  Policies gh(m);
-  const SMS::Constrained_placement<Policies::Get_placement, decltype(constrained)> placement(constrained,
-                                                                                             gh.get_placement());
-  const SMS::Count_stop_predicate<Mesh> stop(faces * 3 / 2);
-  SMS::edge_collapse(m, stop,
-                     CGAL::parameters::get_cost(gh.get_cost()).get_placement(placement).edge_is_constrained_map(constrained));
+    return m.is_border(e) || marked.count({std::min(a, b), std::max(a, b)}) > 0;
+  });
+  // Stage two: where the marked edges hold more faces than the budget, they
+  // collapse too; the open border stays (collapsing it pulled a box's walls
+  // up from their bottom edge by a metre).
+  if (!keep.empty() && size_t(m.number_of_faces()) > faces)
+    collapse(m, faces, filter, [&](Mesh::Edge_index e) { return m.is_border(e); });
   return without_loose_vertices(from_surface_mesh(m));
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The lighter levels of the mesh ladder: a dense mesh simplified to a face
-// budget by edge collapse (CGAL, Garland-Heckbert quadrics), and the closed
+// budget by edge collapse (CGAL, Lindstrom-Turk: Garland-Heckbert's plane
+// quadrics tore the hips off CGAL's building.ply at level 2), and the closed
 // hull of level 1 (CGAL's alpha wrap). CGAL's second translation unit here.
 #include <cstddef>
 #include <vector>
@@ -9,12 +10,20 @@
 
 namespace c3d {
 
-// Edge collapse with Garland and Heckbert's plane quadrics until at most
+// Edge collapse (CGAL's Lindstrom-Turk cost and placement) until at most
 // `faces` faces remain (CGAL 5.5 stops on an edge count: 1.5 edges a face
 // is a closed mesh's ratio, so the result lands at or under the budget).
-// Edges on the mesh's open border, and those `keep` marks (vertex pairs, in
-// either order), are not collapsed and their vertices stay where they are.
-TriMesh simplified(const TriMesh& mesh, size_t faces, const std::vector<std::array<int, 2>>& keep = {});
+// Two stages (seed 002): edges on the mesh's open border, and those `keep`
+// marks (vertex pairs, in either order), are first not collapsed and their
+// vertices stay; if that leaves more faces than the budget, the marked ones
+// collapse too. The open border always stays: a level with much border may
+// end above its budget (its face count says so).
+// Holes whose border is at most `small_hole` long (m) are filled first: gaps
+// in the sampling, whose borders would otherwise all be kept.
+// No collapse puts a vertex farther than `reach` (m) from the mesh it
+// started from, or turns a face over.
+TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double reach,
+                   const std::vector<std::array<int, 2>>& keep = {});
 
 // A closed, 2-manifold wrap of the points (CGAL alpha_wrap_3), alpha first
 // set so that triangles alpha across would cover the points' bounding box
