@@ -37,12 +37,13 @@ else
   echo "setup: all Debian packages present"
 fi
 
-# npm tools for independent validation of exports (CityJSON schema, IFC reader),
+# npm tools for independent validation of exports (CityJSON schema, IFC reader, glTF),
 # installed into tests/js/node_modules (the path the tests look in) from the
 # lock file. Without them (no network to the npm registry) those checks skip.
 js_ok() {
   [ -e tests/js/node_modules/.bin/ajv ] && [ -f tests/js/node_modules/ajv-formats/package.json ] &&
-    [ -f tests/js/node_modules/web-ifc/package.json ] && [ -f tests/js/node_modules/laz-perf/package.json ]
+    [ -f tests/js/node_modules/web-ifc/package.json ] && [ -f tests/js/node_modules/laz-perf/package.json ] &&
+    [ -f tests/js/node_modules/gltf-validator/package.json ]
 }
 if [ -f tests/js/package.json ] && ! js_ok; then
   echo "setup: installing npm packages for the export checks into tests/js/node_modules"

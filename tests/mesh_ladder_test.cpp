@@ -3,10 +3,18 @@
 // no floor (a scan sees none).
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "core/mesh/ladder.h"
+#include "core/mesh/mesh_files.h"
 #include "core/mesh/simplify.h"
+#include "tests/test_support.h"
 
 namespace c3d {
 namespace {
@@ -136,6 +144,44 @@ TEST(MeshLadder, SimplificationKeepsTheOpenBorder) {
   }
   EXPECT_DOUBLE_EQ(min_x, 0.0);
   EXPECT_DOUBLE_EQ(max_x, 10.0);
+}
+
+// The ladder's files: PLY and glTF per level, ladder.json; every .glb passes
+// the Khronos validator with no error (npm gltf-validator, tests/js).
+TEST(MeshLadder, FilesAreWrittenAndTheGltfIsValid) {
+  const MeshLadder l = box_ladder(scanned_box(6), DenseMethod::AdvancingFront);
+  const std::string dir = test::temp_dir("ladder_files");
+  const Vec3 offset(781000, 9240000, 700);
+  const std::vector<std::string> files = write_ladder(l, offset, dir, "box");
+  ASSERT_EQ(files.size(), 9u);  // 4 PLY, 4 glb, ladder.json
+  std::ifstream glb(dir + "/box_level3.glb", std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(glb), {}};
+  uint32_t head[5];
+  ASSERT_GE(bytes.size(), sizeof head);
+  std::memcpy(head, bytes.data(), sizeof head);
+  EXPECT_EQ(head[0], 0x46546C67u);  // "glTF"
+  EXPECT_EQ(head[1], 2u);
+  EXPECT_EQ(head[2], bytes.size());
+  EXPECT_EQ(head[4], 0x4E4F534Au);  // the JSON chunk first
+  const auto json = nlohmann::json::parse(bytes.substr(20, head[3]));
+  EXPECT_EQ(json["accessors"][0]["count"], l.level(3).mesh.vertices.size());
+  EXPECT_EQ(json["accessors"][1]["count"], 3 * l.level(3).mesh.triangles.size());
+  EXPECT_EQ(json["scenes"][0]["extras"]["world_offset"][1], 9240000.0);
+  const auto summary = nlohmann::json::parse(std::ifstream(dir + "/box_ladder.json"));
+  EXPECT_EQ(summary["levels"][2]["faces"], l.level(3).metrics.faces);
+  const std::string js = std::string(C3D_SOURCE_DIR) + "/tests/js";
+  C3D_NEED(std::filesystem::exists(js + "/node_modules/gltf-validator/package.json") &&
+               test::shell("command -v node").size() > 0,
+           "tests/js/node_modules/gltf-validator (scripts/setup.sh) or node missing");
+  std::string glbs;
+  for (const std::string& f : files)
+    if (f.size() > 4 && f.substr(f.size() - 4) == ".glb") glbs += " " + f;
+  int rc = -1;
+  const std::string out = test::shell("node " + js + "/gltf_check.js" + glbs, &rc);
+  EXPECT_EQ(rc, 0) << out;
+  size_t clean = 0;
+  for (size_t at = out.find(": 0 errors,"); at != std::string::npos; at = out.find(": 0 errors,", at + 1)) ++clean;
+  EXPECT_EQ(clean, 4u) << out;  // each level's file read, none with an error
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/mesh/glb.h"
 #include "core/io/point_io.h"
 
 namespace c3d {
@@ -60,8 +61,12 @@ std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offs
                                       const std::string& name) {
   std::vector<std::string> paths;
   for (const MeshLevel& l : ladder.levels) {
-    paths.push_back(dir + "/" + name + "_level" + std::to_string(l.level) + ".ply");
+    const std::string stem = dir + "/" + name + "_level" + std::to_string(l.level);
+    paths.push_back(stem + ".ply");
     write_local_ply(paths.back(), l.mesh, offset);
+    if (l.mesh.triangles.empty()) continue;  // glTF has no empty accessor
+    paths.push_back(stem + ".glb");
+    write_glb(paths.back(), l.mesh, offset, name + " level " + std::to_string(l.level));
   }
   paths.push_back(dir + "/" + name + "_ladder.json");
   std::ofstream json(paths.back());

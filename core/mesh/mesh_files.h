@@ -1,5 +1,5 @@
 #pragma once
-// A mesh ladder's files: one PLY per level, and ladder.json with the spacing,
+// A mesh ladder's files: a PLY and a binary glTF per level, and ladder.json with the spacing,
 // the method and each level's figures (mesh_metrics.h).
 #include <string>
 #include <vector>
@@ -20,8 +20,8 @@ void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& o
 // mesh-to-cloud, far share, closed, manifold, volume.
 nlohmann::json ladder_json(const MeshLadder& ladder);
 
-// DIR/<name>_level<k>.ply for k = 1..4 and DIR/<name>_ladder.json; returns the
-// paths written. Throws InputError naming a file that cannot be written.
+// DIR/<name>_level<k>.ply and .glb (a level without faces: no .glb) for
+// k = 1..4 and DIR/<name>_ladder.json; returns the paths written. Throws InputError naming a file that cannot be written.
 std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offset, const std::string& dir,
                                       const std::string& name);
 
