@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
 #include "core/mesh/ladder.h"
 #include "core/mesh/mesh_files.h"
 #include "core/mesh/simplify.h"
@@ -123,9 +124,9 @@ TEST(MeshLadder, PoissonFollowsTheScannedBoxAndIsTrimmed) {
   EXPECT_GT(l.trimmed, 0u) << "the open floor: Poisson closes it, far from any point";
 }
 
-// The open border stays where it was: its vertices are not moved by the collapse.
-TEST(MeshLadder, SimplificationKeepsTheOpenBorder) {
-  TriMesh grid;  // a flat 40 x 40 grid of squares, two triangles each
+// A flat 40 x 40 grid of squares 0.25 m wide, two triangles each.
+TriMesh flat_grid() {
+  TriMesh grid;
   const int n = 41;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) grid.vertices.emplace_back(0.25 * i, 0.25 * j, 0.0);
@@ -135,7 +136,12 @@ TEST(MeshLadder, SimplificationKeepsTheOpenBorder) {
       grid.triangles.push_back({a, a + 1, a + n + 1});
       grid.triangles.push_back({a, a + n + 1, a + n});
     }
-  const TriMesh light = simplified(grid, 200, 1.0, 0.5);
+  return grid;
+}
+
+// The open border stays where it was: its vertices are not moved by the collapse.
+TEST(MeshLadder, SimplificationKeepsTheOpenBorder) {
+  const TriMesh light = simplified(flat_grid(), 200, 1.0, 0.5);
   EXPECT_LE(light.triangles.size(), 200u);
   double min_x = 1e9, max_x = -1e9;
   for (const Vec3& v : light.vertices) {
@@ -144,6 +150,37 @@ TEST(MeshLadder, SimplificationKeepsTheOpenBorder) {
   }
   EXPECT_DOUBLE_EQ(min_x, 0.0);
   EXPECT_DOUBLE_EQ(max_x, 10.0);
+}
+
+// Edges the caller marks (a region's boundary) keep their vertices in stage one.
+TEST(MeshLadder, SimplificationKeepsMarkedEdges) {
+  const TriMesh grid = flat_grid();
+  std::vector<std::array<int, 2>> middle_row;  // the line y = 5 m
+  for (int i = 0; i + 1 < 41; ++i) middle_row.push_back({20 * 41 + i, 20 * 41 + i + 1});
+  const TriMesh light = simplified(grid, 400, 1.0, 0.5, middle_row);
+  size_t on_the_line = 0;
+  for (const Vec3& v : light.vertices) on_the_line += v.y() == 5.0;
+  EXPECT_EQ(on_the_line, 41u);
+  EXPECT_LT(light.triangles.size(), grid.triangles.size() / 4);
+}
+
+// Points that span no surface: the command refuses them in one line, and an
+// alpha shape of exactly flat points (which crashed Open3D's Qhull) is empty.
+TEST(MeshLadder, PointsWithoutASurfaceAreRefused) {
+  const std::string dir = test::temp_dir("no_surface");
+  const auto write = [&](const std::string& name, const std::vector<Vec3>& pts) {
+    std::ofstream f(dir + "/" + name);
+    for (const Vec3& p : pts) f << p.x() << " " << p.y() << " " << p.z() << "\n";
+    return dir + "/" + name;
+  };
+  std::vector<Vec3> line, flat;
+  for (int i = 0; i < 100; ++i) line.emplace_back(0.1 * i, 0, 0), flat.emplace_back(i % 10, i / 10, 0);
+  EXPECT_THROW(mesh_point_files({write("line.xyz", line)}, DenseMethod::AdvancingFront, dir, "line"), InputError);
+  EXPECT_THROW(mesh_point_files({write("three.xyz", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}, DenseMethod::AdvancingFront, dir,
+                                "three"),
+               InputError);
+  EXPECT_TRUE(dense_mesh(flat, point_spacing(flat), DenseMethod::AlphaShape).mesh.triangles.empty());
+  EXPECT_GT(dense_mesh(flat, point_spacing(flat), DenseMethod::AdvancingFront).mesh.triangles.size(), 100u);
 }
 
 // The ladder's files: PLY and glTF per level, ladder.json; every .glb passes

@@ -22,6 +22,10 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Vector = Kernel::Vector_3;
 
+// Points spread less than this share of their extent across their last axis
+// are flat to Qhull (an exactly flat roof; 1e-5 of it with noise passed).
+constexpr double kFlat = 1e-6;
+
 // Advancing front's priority: a candidate triangle with an edge longer than
 // `longest` is never taken; otherwise CGAL's own (the smallest Delaunay sphere).
 struct LongestEdge {
@@ -111,7 +115,10 @@ DenseResult dense_mesh(const std::vector<Vec3>& points, const PointSpacing& spac
   if (points.size() < 4 || spacing.mean <= 0) return {};
   switch (method) {
     case DenseMethod::AdvancingFront: return advancing_front(points, spacing);
-    case DenseMethod::AlphaShape: return {alpha_shape(points, spacing), 0};
+    case DenseMethod::AlphaShape: {  // Qhull's tetrahedra need a volume: flat points crash Open3D
+      const Vec3 spread = point_spread(points);
+      return {spread.z() > kFlat * spread.x() ? alpha_shape(points, spacing) : TriMesh{}, 0};
+    }
     case DenseMethod::BallPivoting: return {ball_pivoting(points, oriented_normals(points), spacing), 0};
     default: return trimmed(screened_poisson(points, oriented_normals(points), spacing), points, 2 * spacing.mean);
   }

@@ -15,7 +15,7 @@ enum class DenseMethod {
   BallPivoting,    // Open3D, multi-scale: interpolates the points, gaps stay open (seed 002's choice)
   AdvancingFront,  // CGAL: interpolating as well, its triangles no longer than the pivot's ball
   Poisson,         // Open3D's screened Poisson, trimmed where it strays from the points
-  AlphaShape,      // Open3D: the points' alpha shape (seed 003)
+  AlphaShape,      // Open3D: the points' alpha shape (seed 003); none for exactly flat points
 };
 const char* dense_method_name(DenseMethod m);
 // "pivot", "front", "poisson" or "alpha"; throws std::invalid_argument otherwise.

@@ -82,8 +82,14 @@ MeshRun mesh_point_files(const std::vector<std::string>& clouds, DenseMethod met
     const PointCloud c = read_point_cloud(path);
     points.insert(points.end(), c.points.begin(), c.points.end());
   }
+  std::string named = clouds.empty() ? "mesh: no --cloud" : clouds.front();
+  if (clouds.size() > 1) named += " (and " + std::to_string(clouds.size() - 1) + " more)";
+  if (points.size() < 4)
+    throw InputError(named, std::to_string(points.size()) + " points: a mesh needs 4 at least");
+  const Vec3 spread = point_spread(points);
+  if (spread.y() <= 1e-6 * spread.x()) throw InputError(named, "the points lie on a line or at one place: there is no surface to mesh");
   MeshRun run;
-  if (!points.empty()) {
+  {
     Vec3 lo = points.front();
     for (const Vec3& p : points) lo = lo.cwiseMin(p);
     run.offset = Vec3(std::floor(lo.x()), std::floor(lo.y()), std::floor(lo.z()));

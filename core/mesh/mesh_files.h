@@ -28,7 +28,8 @@ std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offs
 // `cadastre3d mesh`: the points of the files (LAS, LAZ, PLY, ...: one
 // building's, a clip) in a local frame whose origin is the whole metres
 // below their minimum, their ladder, and its files written as write_ladder
-// does. Throws InputError naming an unreadable file.
+// does. Throws InputError naming an unreadable file, or the files when they
+// hold fewer than 4 points, or points on a line or at one place.
 struct MeshRun {
   MeshLadder ladder;
   Vec3 offset = Vec3::Zero();  // world = local + offset

@@ -94,7 +94,8 @@ void fill_small_holes(Mesh& m, double perimeter) {
   PMP::extract_boundary_cycles(m, std::back_inserter(borders));
   for (Mesh::Halfedge_index h : borders) {
     double length = 0;
-    for (auto e : CGAL::halfedges_around_face(h, m)) length += std::sqrt(CGAL::squared_distance(m.point(m.source(e)), m.point(m.target(e))));
+    for (auto e : CGAL::halfedges_around_face(h, m))
+      length += std::sqrt(CGAL::squared_distance(m.point(m.source(e)), m.point(m.target(e))));
     if (length <= perimeter) PMP::triangulate_hole(m, h, CGAL::Emptyset_iterator());
   }
 }
@@ -102,7 +103,7 @@ void fill_small_holes(Mesh& m, double perimeter) {
 // Edge collapse by Lindstrom and Turk's cost and placement until at most `faces`
 // faces remain; edges `fixed` says are not collapsed and their vertices stay.
 // No collapse turns a face's normal over (CGAL's bounded normal change) or
-// puts its vertex far from its edge (NearTheEdge).
+// puts its vertex far from the mesh it started from (NearTheStart).
 template <typename Fixed>
 void collapse(Mesh& m, size_t faces, const SafeFilter& filter, Fixed fixed) {
   auto constrained = m.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
@@ -135,8 +136,14 @@ std::vector<Point> thinned(const std::vector<Vec3>& points, double cell) {
 TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double reach,
                    const std::vector<std::array<int, 2>>& keep) {
   if (mesh.triangles.size() <= faces) return without_loose_vertices(mesh);
-  std::set<std::pair<int, int>> marked;
-  for (const auto& e : keep) marked.insert({std::min(e[0], e[1]), std::max(e[0], e[1])});
+  // Marked edges by their ends' places: the soup repair renumbers vertices.
+  using Place = std::array<double, 3>;
+  const auto place = [](const auto& p) { return Place{p[0], p[1], p[2]}; };
+  std::set<std::pair<Place, Place>> marked;
+  for (const auto& e : keep) {
+    const Place a = place(mesh.vertices[size_t(e[0])]), b = place(mesh.vertices[size_t(e[1])]);
+    marked.insert({std::min(a, b), std::max(a, b)});
+  }
   std::vector<Triangle> start;
   for (const auto& t : mesh.soup())
     start.emplace_back(Point(t[0].x(), t[0].y(), t[0].z()), Point(t[1].x(), t[1].y(), t[1].z()),
@@ -148,7 +155,7 @@ TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double 
   Mesh m = to_surface_mesh(mesh);
   fill_small_holes(m, small_hole);
   collapse(m, faces, filter, [&](Mesh::Edge_index e) {
-    const int a = int(m.vertex(e, 0).idx()), b = int(m.vertex(e, 1).idx());
+    const Place a = place(m.point(m.vertex(e, 0))), b = place(m.point(m.vertex(e, 1)));
     return m.is_border(e) || marked.count({std::min(a, b), std::max(a, b)}) > 0;
   });
   // Stage two: where the marked edges hold more faces than the budget, they

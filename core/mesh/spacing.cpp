@@ -1,5 +1,7 @@
 #include "core/mesh/spacing.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 
 #include "core/mesh/point_index.h"
@@ -23,6 +25,18 @@ PointSpacing point_spacing(const std::vector<Vec3>& points) {
   for (double d : nearest) sum += d;
   s.mean = sum / double(nearest.size());
   return s;
+}
+
+Vec3 point_spread(const std::vector<Vec3>& points) {
+  if (points.size() < 2) return Vec3::Zero();
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= double(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : points) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(points.size()));
+  const Vec3 ascending = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  return {ascending.z(), ascending.y(), ascending.x()};
 }
 
 }  // namespace c3d

@@ -18,4 +18,9 @@ struct PointSpacing {
 // point elsewhere. Fewer than two distinct points: all zero.
 PointSpacing point_spacing(const std::vector<Vec3>& points);
 
+// How far the points spread along their principal axes: the square roots of
+// their covariance's eigenvalues, largest first (m). A last one of nothing
+// is a plane, a middle one of nothing a line.
+Vec3 point_spread(const std::vector<Vec3>& points);
+
 }  // namespace c3d
