@@ -62,7 +62,6 @@ struct LasHeader {
   double scale[3], offset[3];
 };
 
-// buf: the file, or its first bytes up to the point data (file_size: the whole file's).
 // The point records of an uncompressed file end where the EVLRs begin (LAS
 // 1.4, when it has some behind the points) or at the end of the file. Bytes
 // left over mean the point count, the record length or the point data offset
@@ -80,6 +79,7 @@ void check_points_fill_their_bytes(const std::string& path, const LasHeader& h, 
                              ": the point count, record length or point data offset is not the file's");
 }
 
+// buf: the file, or its first bytes up to the point data (file_size: the whole file's).
 LasHeader parse_las_header(const std::string& path, const std::vector<char>& buf, size_t file_size) {
   if (buf.size() < 4 || std::memcmp(buf.data(), "LASF", 4) != 0)
     throw InputError(path, "not a LAS file (no LASF signature)");

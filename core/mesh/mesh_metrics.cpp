@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "core/mesh/mesh_distance.h"
+#include "core/evaluate/evaluate.h"
 #include "core/mesh/point_index.h"
 
 namespace c3d {
@@ -52,7 +52,13 @@ MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, c
   edge_counts(mesh, m);
   if (m.closed) m.volume = enclosed_volume(mesh);
   if (mesh.triangles.empty() || points.empty()) return m;
-  std::vector<double> d = distances_to_mesh(points, mesh);
+  std::vector<Face> faces;  // the evaluation's nearest-surface index, as for a model's faces
+  faces.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.soup()) faces.push_back(Face{{t[0], t[1], t[2]}, {}});
+  std::vector<double> d;
+  d.reserve(points.size());
+  for (const SurfaceHit& hit : FaceIndex(faces).nearest(points))
+    d.push_back(std::isnan(hit.distance) ? INFINITY : hit.distance);  // NaN: every triangle degenerate
   const double reach = 2 * spacing.mean;
   double sum = 0, sum2 = 0;
   size_t far = 0;

@@ -12,7 +12,8 @@ namespace c3d {
 
 struct MeshMetrics {
   size_t faces = 0, vertices = 0;
-  // Cloud to mesh: each point's distance to the nearest triangle (m).
+  // Cloud to mesh: each point's distance to the nearest triangle (m), by the
+  // evaluation's FaceIndex (core/evaluate).
   double mean = 0, std = 0, p95 = 0, max = 0;
   double mesh_to_cloud = 0;  // one-sided Hausdorff: the farthest vertex or face centre from any point (m)
   double far_share = 0;      // points farther than two mean spacings from the mesh: its holes
