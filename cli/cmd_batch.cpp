@@ -105,6 +105,7 @@ int run(BatchOptions opt) {
   if (opt.overwrite) remove_batch_outputs(opt.out);
   const std::string store_path = opt.store.empty() ? (fs::path(opt.out) / "cadastre.gpkg").string() : opt.store;
   StoreSink sink(store_path, opt.settings.resume);
+  opt.settings.out_dir = opt.out;
   Progress progress(opt.quiet);
   opt.settings.progress = [&](const char* stage, size_t done, size_t total) {
     progress.show(stage, done, total);
@@ -128,6 +129,7 @@ int run(BatchOptions opt) {
 Config input_config(InputOptions& o) {
   Config cfg = o.config.empty() ? default_config() : load_config(o.config);
   cfg.reconstruction.optimize = cfg.reconstruction.optimize || o.optimize;
+  cfg.mesh.ladder = cfg.mesh.ladder || o.mesh;
   if (!o.device.empty()) cfg.reconstruction.optimize_device = o.device;
   if (!o.id_field.empty()) cfg.fields.id = o.id_field, cfg.fields.id_required = true;
   if (o.classify) o.inputs.classifier_model = o.model;
@@ -162,6 +164,9 @@ void add_input_options(CLI::App* cmd, InputOptions& o, bool required) {
   cmd->add_flag("--optimize", o.optimize, "Refine element geometry with the GPU optimizer");
   cmd->add_option("--device", o.device, "Optimizer device: auto, cpu or vulkan")
       ->check(CLI::IsMember({"auto", "cpu", "vulkan"}));
+  cmd->add_flag("--mesh", o.mesh,
+                "Mesh each building's points at four levels of detail into OUT/mesh and check the model "
+                "against them (config [mesh]; docs/meshes.md)");
   cmd->add_flag("--classify", o.classify,
                 "Classify the clouds first (ground/roof/wall/other, Random Forest), replacing their classes");
   cmd->add_option("--model", o.model, "Classifier model for --classify")->capture_default_str();

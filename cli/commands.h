@@ -41,7 +41,7 @@ inline const CLI::Validator existing_store(
 struct InputOptions {
   BatchInputs inputs;
   std::string config, device, id_field, model = C3D_DEFAULT_MODEL;  // device: the optimizer's
-  bool optimize = false, classify = false;
+  bool optimize = false, classify = false, mesh = false;
   bool given() const { return !inputs.clouds.empty() || !inputs.parcels.empty(); }
 };
 inline const char* const kInputGroup = "Inputs";

@@ -242,6 +242,42 @@ struct MeshRefinement {
   double cloud_before_m = kNaN, cloud_after_m = kNaN;
 };
 
+// One level of a building's mesh ladder (core/mesh, docs/meshes.md) as the
+// store, summary.json and the report keep it: its figures and its files, paths
+// relative to the batch's output folder ("" where a level has none).
+struct MeshLevelRecord {
+  int level = 0;  // 1 (closed hull) .. 4 (dense)
+  long faces = 0, vertices = 0;
+  double seconds = 0;  // CPU
+  // Cloud to mesh (m): the building's points to the nearest face.
+  double mean_m = kNaN, std_m = kNaN, p95_m = kNaN, max_m = kNaN;
+  double mesh_to_cloud_m = kNaN;  // farthest vertex or face centre from any point
+  double far_share = kNaN;        // points farther than two spacings from the mesh
+  bool closed = false, manifold = false;
+  double volume = kNaN;     // m3, a closed level
+  double roof_area = kNaN;  // m2, a closed level's faces that look up (docs/meshes.md)
+  std::string ply, glb, picture;
+  std::string ply_sha256, glb_sha256, picture_sha256;
+};
+
+// A building's mesh ladder and the element model checked against its closed
+// level (docs/meshes.md, "The element model against the mesh"). Not meshed:
+// method "".
+struct BuildingMesh {
+  std::string method;  // the dense method: front, pivot, poisson, alpha
+  long points = 0;     // the building's own points meshed (roof and walls)
+  double spacing_m = kNaN;  // their mean nearest-neighbour distance
+  double hull_alpha_m = kNaN;  // level 1's wrap: no gap narrower than this enters it
+  std::vector<MeshLevelRecord> levels;  // level 1 first; none where `problem` says why
+  // The volume under the model's roof, overhangs included, down to its
+  // terrain (m3), and (hull - model) / model of it and of the roof area, the
+  // hull being the closed level 1.
+  double model_volume = kNaN;
+  double volume_diff = kNaN, roof_area_diff = kNaN;
+  std::string flag;     // "" where they agree; else what to look at
+  std::string problem;  // why the building has no ladder ("" when it has)
+};
+
 struct Building {
   std::string id;                 // "<parcel id>_b<k>"
   std::vector<Element> elements;
@@ -266,6 +302,7 @@ struct Building {
   std::vector<LodShell> lower_lods;
   ExactShape exact;  // a curved building's surfaces, exact (STEP writes them)
   MeshRefinement refinement;
+  BuildingMesh mesh;  // batch --mesh only
 };
 
 struct Timing {

@@ -6,10 +6,12 @@
 #include <exception>
 #include <malloc.h>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "cadastre/batch/batch_deviation.h"
 #include "cadastre/batch/batch_inputs.h"
+#include "cadastre/batch/building_meshes.h"
 #include "cadastre/batch/chunks.h"
 #include "cadastre/batch/plausibility.h"
 #include "cadastre/batch/resume_key.h"
@@ -72,6 +74,17 @@ void bound_malloc(int jobs) {
   mallopt(M_MMAP_THRESHOLD, 4 << 20);
 }
 
+// Parcel i modelled in its own frame, and with [mesh] ladder its buildings
+// meshed into out_dir.
+ParcelResult modelled_parcel(const SceneSource& scenes, size_t i, const Config& cfg, const std::string& out_dir) {
+  const ParcelScene scene = make_scene(scenes, i);
+  ParcelResult r = reconstruct_parcel(scene, cfg.reconstruction);
+  if (cfg.mesh.ladder)
+    mesh_buildings(scene, parcel_frame(scenes.inputs->layer.parcels[i], scenes.frame),
+                   {out_dir, dense_method_named(cfg.mesh.method)}, r);
+  return r;
+}
+
 // Models the parcels on threads; the sink is written under one lock. The
 // first exception (a store write failing, the disk full) stops every worker
 // and is rethrown here; the failed parcel's transaction has rolled back.
@@ -85,7 +98,7 @@ void model_parcels(const std::vector<size_t>& todo, size_t total, int jobs, cons
     for (size_t k = next++; k < todo.size(); k = next++) try {
       const size_t i = todo[k];
       const std::string gap = unreachable(*scenes.inputs, i);
-      ParcelResult r = gap.empty() ? reconstruct_parcel(make_scene(scenes, i), cfg.reconstruction)
+      ParcelResult r = gap.empty() ? modelled_parcel(scenes, i, cfg, settings.out_dir)
                                    : failed_parcel(i, parcels[i].id, gap);
       move_result(r, parcel_frame(parcels[i], scenes.frame), scenes.frame);
       check_model(r, scenes.frame.origin.z());
@@ -148,6 +161,8 @@ void model_chunks(const LoadedInputs& in, const std::vector<size_t>& todo, const
 BatchReport run_batch(const BatchInputs& inputs, const Config& cfg, BatchSink& sink,
                       const BatchSettings& settings) {
   const auto t_start = Clock::now();
+  if (cfg.mesh.ladder && settings.out_dir.empty())
+    throw std::invalid_argument("run_batch: [mesh] ladder needs BatchSettings::out_dir for its files");
   BatchReport report;
   auto progress = [&](const char* stage, size_t done, size_t total) {
     if (settings.progress) settings.progress(stage, done, total);

@@ -53,6 +53,9 @@ struct BatchSettings {
   int jobs = 0;         // parallel parcels; 0: all cores; more than kMaxJobsPerCore per core: clamped
   bool resume = false;  // skip parcels the sink already holds from the same key
   Shard shard;          // --shard K/N: model and store only shard K's parcels (cadastre/batch/shard.h)
+  // Where the files beside the store go (OUT): the mesh ladders of config
+  // [mesh] ladder (cadastre/batch/building_meshes.h); required with it.
+  std::string out_dir;
   // Stage "ingest" (steps: inputs read and the tiles surveyed, frame, inputs hashed), "reconstruct" (after
   // each parcel modelled and stored), "store" (every parcel read back, one
   // step), "deviation" (one step).

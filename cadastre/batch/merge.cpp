@@ -1,5 +1,7 @@
 #include "cadastre/batch/merge.h"
 
+#include "cadastre/batch/building_meshes.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -295,6 +297,7 @@ MergedRun merge_run(const std::vector<std::string>& shards, const std::string& o
   m.store = (std::filesystem::path(out_dir) / "cadastre.gpkg").string();
   if (std::filesystem::exists(m.store)) throw InputError(m.store, "exists already; --overwrite replaces it");
   m.merge = merge_stores(shards, m.store);
+  gather_mesh_files(shards, out_dir);
   write_merged_outputs(m, out_dir, formats, progress, inputs, in.get());
   if (m.merge.complete()) mark_run_finished(m.store);  // a finished run: every parcel and output in place
   return m;

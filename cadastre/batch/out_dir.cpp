@@ -87,7 +87,7 @@ void remove_batch_outputs(const std::string& out_dir) {
   static const char* const kOutputs[] = {
       "cadastre.gpkg", "cadastre.gpkg-wal", "cadastre.gpkg-shm", "summary.json", "report.html",
       "report.csv", "buildings.gml", "buildings.citygml3.gml", "buildings.city.json", "buildings.ifc",
-      "buildings.city.jsonl", "obj", "step", "preview", "report", ".staging"};
+      "buildings.city.jsonl", "obj", "step", "preview", "report", "mesh", ".staging"};
   for (const char* name : kOutputs) {
     std::error_code ec;
     fs::remove_all(fs::path(out_dir) / name, ec);

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -44,6 +45,43 @@ json refinement_json(const MeshRefinement& m) {
           {"cloud_to_mesh_m", {{"before", r4(m.cloud_before_m)}, {"after", r4(m.cloud_after_m)}}}};
 }
 
+// A finite figure, or null (JSON has no NaN).
+json finite(double v) { return std::isfinite(v) ? json(r4(v)) : json(); }
+
+json text_or_null(const std::string& s) { return s.empty() ? json() : json(s); }
+
+json mesh_level_json(const MeshLevelRecord& l) {
+  return {{"level", l.level},
+          {"faces", l.faces},
+          {"vertices", l.vertices},
+          {"cpu_s", r4(l.seconds)},
+          {"cloud_to_mesh_m", {{"mean", finite(l.mean_m)}, {"std", finite(l.std_m)}, {"p95", finite(l.p95_m)},
+                               {"max", finite(l.max_m)}}},
+          {"mesh_to_cloud_m", finite(l.mesh_to_cloud_m)},
+          {"far_share", finite(l.far_share)},
+          {"closed", l.closed},
+          {"manifold", l.manifold},
+          {"volume_m3", finite(l.volume)},
+          {"roof_area_m2", finite(l.roof_area)},
+          {"files", {{"ply", text_or_null(l.ply)}, {"glb", text_or_null(l.glb)}, {"picture", text_or_null(l.picture)}}},
+          {"sha256", {{"ply", text_or_null(l.ply_sha256)}, {"glb", text_or_null(l.glb_sha256)},
+                      {"picture", text_or_null(l.picture_sha256)}}}};
+}
+
+// The building's mesh ladder and the model against its hull (null: not meshed).
+json mesh_json(const BuildingMesh& m) {
+  if (m.method.empty()) return json();
+  json levels = json::array();
+  for (const MeshLevelRecord& l : m.levels) levels.push_back(mesh_level_json(l));
+  return {{"method", m.method},
+          {"points", m.points},
+          {"spacing_m", finite(m.spacing_m)},
+          {"levels", levels},
+          {"model_vs_hull", {{"volume_diff", finite(m.volume_diff)}, {"roof_area_diff", finite(m.roof_area_diff)},
+                             {"flag", text_or_null(m.flag)}}},
+          {"problem", text_or_null(m.problem)}};
+}
+
 json building_json(const Building& b) {
   BuildingTotals t = totals(b);
   return {{"building_id", b.id},
@@ -70,7 +108,8 @@ json building_json(const Building& b) {
           {"lod_note", b.lod_note},
           {"roof_deviation", to_json(b.roof_deviation)},
           {"wall_deviation", to_json(b.wall_deviation)},
-          {"mesh_refinement", refinement_json(b.refinement)}};
+          {"mesh_refinement", refinement_json(b.refinement)},
+          {"mesh", mesh_json(b.mesh)}};
 }
 
 // Whether the whole-run fit was computed: a merge without the batch's inputs

@@ -11,6 +11,7 @@
 
 #include "cadastre/store/pages.h"
 #include "core/config/config.h"
+#include "core/mesh/tri_mesh.h"
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
@@ -41,6 +42,11 @@ std::string report_csv(const BatchModel& model, const std::vector<ParcelValuatio
 // depth and filled by type, the parcel outline underneath.
 std::string parcel_svg(const Parcel& parcel, const ParcelResult& result, const LocalFrame& frame,
                        int width = 360, int height = 260);
+// The same view of a triangle mesh (a level of a building's mesh ladder,
+// core/mesh): its triangles far to near, grey shaded by their slope to the
+// light; a mesh of more than kMaxPictureFaces says so instead.
+constexpr size_t kMaxPictureFaces = 60000;
+std::string mesh_svg(const TriMesh& mesh, const std::string& title, int width = 360, int height = 260);
 // Writes every report file under out_dir (creates folders; removes detail
 // pages an earlier report left there).
 void write_report(const std::string& out_dir, const BatchModel& model,

@@ -105,6 +105,49 @@ std::string refinement_text(const MeshRefinement& m) {
              m.cloud_after_m);
 }
 
+// A percentage with its sign, or a dash for none.
+std::string signed_percent(double share) {
+  return std::isfinite(share) ? fmt("%+.1f %%", 100 * share) : std::string("&mdash;");
+}
+
+// The building's mesh ladder (batch --mesh, docs/meshes.md): whether the
+// element model agrees with the closed hull of its points, each level's
+// figures and files, and on the parcel's own page a picture of each level.
+// `to_out`: the way from the page up to the output folder.
+std::string mesh_lines(const Building& b, const std::string& to_out, bool pictures) {
+  const BuildingMesh& m = b.mesh;
+  if (m.method.empty()) return "";
+  std::string s = "<p class=\"meta\">" + html_escape(b.id) + " mesh (" + html_escape(m.method) +
+                  fmt(", %ld points, spacing %.2f m): ", m.points, m.spacing_m);
+  if (!m.flag.empty())
+    s += "<b class=\"suspect\">the model differs from the hull of its points: " + html_escape(m.flag) +
+         "; look at it</b>";
+  else if (std::isfinite(m.volume_diff))
+    s += "the model agrees with the hull of its points (volume " + signed_percent(m.volume_diff) + ", roof area " +
+         signed_percent(m.roof_area_diff) + ")";
+  if (!m.problem.empty()) s += (m.flag.empty() && !std::isfinite(m.volume_diff) ? "" : "; ") + html_escape(m.problem);
+  s += "</p>";
+  if (m.levels.empty()) return s;
+  s += "<table><tr><th>level</th><th>faces</th><th>cloud to mesh, mean / p95</th><th>closed</th>"
+       "<th>volume</th><th>files</th></tr>";
+  std::string pics;
+  for (auto l = m.levels.rbegin(); l != m.levels.rend(); ++l) {
+    std::string files = "<a href=\"" + html_escape(to_out + l->ply) + "\">ply</a>";
+    if (!l->glb.empty()) files += " <a href=\"" + html_escape(to_out + l->glb) + "\">glb</a>";
+    s += fmt("<tr><td class=\"n\">%d</td><td class=\"n\">%ld</td><td class=\"n\">%.3f / %.3f m</td><td>%s</td>",
+             l->level, l->faces, l->mean_m, l->p95_m, l->closed ? "yes" : "no") +
+         "<td class=\"n\">" + (std::isfinite(l->volume) ? fmt("%.1f m&#179;", l->volume) : std::string("&mdash;")) +
+         "</td><td>" + files + "</td></tr>";
+    if (pictures && !l->picture.empty())
+      pics += "<img src=\"" + html_escape(to_out + l->picture) +
+              fmt("\" width=\"240\" height=\"173\" loading=\"lazy\" alt=\"level %d\" title=\"level %d, %ld faces\">",
+                  l->level, l->level, l->faces);
+  }
+  s += "</table>";
+  if (!pics.empty()) s += "<div class=\"pics\">" + pics + "</div>";
+  return s;
+}
+
 std::string building_lines(const ParcelResult& r) {
   std::string s;  // concatenated: a note or a problem may be longer than fmt's buffer
   for (const Building& b : r.buildings)
@@ -261,6 +304,7 @@ std::string report_detail::parcel_detail(const Parcel& p, const ParcelResult& r,
   if (!r.reason.empty()) s += "<p>" + html_escape(r.reason) + "</p>";
   if (!p.repair_note.empty()) s += "<p class=\"meta\">Parcel shape: " + html_escape(p.repair_note) + "</p>";
   s += building_lines(r);
+  for (const Building& b : r.buildings) s += mesh_lines(b, printed ? "../../" : "../", printed);
   size_t elements = 0;
   for (const Building& b : r.buildings) elements += b.elements.size();
   if (printed && elements > kPrintedElements)  // too many rows for one sheet: totals by type in print

@@ -1,6 +1,7 @@
 // The report's pictures: the axonometric view of a parcel's buildings, the
 // legend and the two charts.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -260,6 +261,42 @@ std::string parcel_svg(const Parcel& parcel, const ParcelResult& result, const L
          "\" fill-rule=\"evenodd\" stroke=\"#333\" stroke-width=\"0.6\" stroke-linejoin=\"round\"/>";
   s += fmt("<text x=\"6\" y=\"14\" class=\"small\">%s</text>", html_escape(parcel.id).c_str());
   return s + "</svg>";
+}
+
+std::string mesh_svg(const TriMesh& mesh, const std::string& title, int width, int height) {
+  std::string s = fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"pic\" width=\"%d\" height=\"%d\" "
+                      "viewBox=\"0 0 %d %d\" role=\"img\" aria-label=\"%s\">",
+                      width, height, width, height, html_escape(title).c_str());
+  const std::string caption = fmt("<text x=\"6\" y=\"14\" font-size=\"11\" font-family=\"sans-serif\">%s, %zu faces</text>",
+                                  html_escape(title).c_str(), mesh.triangles.size());
+  if (mesh.triangles.empty() || mesh.triangles.size() > kMaxPictureFaces)
+    return s + caption + "<text x=\"6\" y=\"32\" font-size=\"11\" font-family=\"sans-serif\">" +
+           (mesh.triangles.empty() ? "no faces" : "too many faces to draw: open the .glb") + "</text></svg>";
+  struct Tri {
+    std::array<Vec2, 3> corners;
+    double depth, shade;
+  };
+  std::vector<Tri> tris;
+  const Vec3 light = Vec3(-0.3, -0.6, 0.75).normalized();
+  Vec2 lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+  for (const auto& t : mesh.soup()) {
+    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+    const Vec3 c = (t[0] + t[1] + t[2]) / 3;
+    Tri tri{{project(t[0]), project(t[1]), project(t[2])}, c.x() + c.y() - c.z(),
+            0.55 + 0.45 * std::abs(n.normalized().dot(light))};
+    for (const Vec2& q : tri.corners) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    tris.push_back(tri);
+  }
+  std::stable_sort(tris.begin(), tris.end(), [](const Tri& a, const Tri& b) { return a.depth > b.depth; });
+  const double margin = 10;
+  const Vec2 ext = (hi - lo).cwiseMax(Vec2(1e-6, 1e-6));
+  const double scale = std::min((width - 2 * margin) / ext.x(), (height - 2 * margin - 16) / ext.y());
+  const Vec2 pad((width - ext.x() * scale) / 2, 16 + (height - 16 - ext.y() * scale) / 2);
+  for (const Tri& t : tris) {
+    s += "<path d=\"" + path_data({{t.corners.begin(), t.corners.end()}}, lo, scale, pad) + "\" fill=\"" +
+         shaded("#d8d2c4", t.shade) + "\" stroke=\"#555\" stroke-width=\"0.25\" stroke-linejoin=\"round\"/>";
+  }
+  return s + caption + "</svg>";
 }
 
 }  // namespace c3d

@@ -119,6 +119,44 @@ inline const Table kElement{"building_element",
 inline const Table kBuildingLod{
     "building_lod", {{"geom"}, {"building_fid"}, {"lod"}, {"face_types"}, {"volume"}, {"roof_rmse"}}};
 
+inline const Table kBuildingMesh{"building_mesh",
+                                 {{"building_fid"},
+                                  {"building_id"},
+                                  {"method"},
+                                  {"points"},
+                                  {"spacing"},
+                                  {"model_volume"},
+                                  {"hull_volume"},
+                                  {"volume_diff"},
+                                  {"model_roof_area"},
+                                  {"hull_roof_area"},
+                                  {"roof_area_diff"},
+                                  {"flag"},
+                                  {"problem"}}};
+
+inline const Table kBuildingMeshLevel{"building_mesh_level",
+                                      {{"building_fid"},
+                                       {"level"},
+                                       {"faces"},
+                                       {"vertices"},
+                                       {"seconds"},
+                                       {"c2m_mean"},
+                                       {"c2m_std"},
+                                       {"c2m_p95"},
+                                       {"c2m_max"},
+                                       {"mesh_to_cloud"},
+                                       {"far_share"},
+                                       {"closed"},
+                                       {"manifold"},
+                                       {"volume"},
+                                       {"roof_area"},
+                                       {"ply"},
+                                       {"ply_sha256"},
+                                       {"glb"},
+                                       {"glb_sha256"},
+                                       {"picture"},
+                                       {"picture_sha256"}}};
+
 inline const Table kValuationUnit{
     "vm_valuationunit",
     {{"baunit_id"}, {"spatialunit_id"}, {"parcel_id"}, {"zone"}, {"quality"}, {"land_area"}, {"land_area_source"}}};

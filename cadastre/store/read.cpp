@@ -9,6 +9,7 @@
 #include "cadastre/store/columns.h"
 #include "cadastre/store/gpkg_geometry.h"
 #include "cadastre/store/lods.h"
+#include "cadastre/store/meshes.h"
 #include "cadastre/store/schema.h"
 #include "cadastre/store/sql_db.h"
 #include "core/error.h"
@@ -165,11 +166,13 @@ std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const L
   sql::Stmt qb(db, "SELECT " + select_list(db, kBuilding) + " FROM building WHERE spatialunit_id=? ORDER BY building_index");
   sql::Stmt qe(db, "SELECT " + select_list(db, kElement) + " FROM building_element WHERE building_fid=? ORDER BY element_index");
   store_lods::Reader lods(db);
+  store_meshes::Reader meshes(db);
   std::vector<Building> out;
   qb.bind(su);
   while (qb.step()) {
     Building b = read_building(db, qb, frame);
     lods.read(qb.get_int("fid"), frame.origin, b);
+    meshes.read(qb.get_int("fid"), b);
     qe.bind(qb.get_int("fid"));
     while (qe.step()) b.elements.push_back(read_element(db, qe, b, frame.origin));
     qe.reset();

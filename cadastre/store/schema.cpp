@@ -86,6 +86,18 @@ CREATE TABLE IF NOT EXISTS building_lod (fid INTEGER PRIMARY KEY, geom MULTIPOLY
   building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
   lod TEXT NOT NULL, face_types TEXT NOT NULL, volume DOUBLE, roof_rmse DOUBLE,
   UNIQUE (building_fid, lod));
+CREATE TABLE IF NOT EXISTS building_mesh (fid INTEGER PRIMARY KEY,
+  building_fid INTEGER NOT NULL UNIQUE REFERENCES building(fid) ON DELETE CASCADE,
+  building_id TEXT NOT NULL, method TEXT, points INTEGER, spacing DOUBLE,
+  model_volume DOUBLE, hull_volume DOUBLE, volume_diff DOUBLE,
+  model_roof_area DOUBLE, hull_roof_area DOUBLE, roof_area_diff DOUBLE, flag TEXT, problem TEXT);
+CREATE TABLE IF NOT EXISTS building_mesh_level (fid INTEGER PRIMARY KEY,
+  building_fid INTEGER NOT NULL REFERENCES building(fid) ON DELETE CASCADE,
+  level INTEGER NOT NULL, faces INTEGER, vertices INTEGER, seconds DOUBLE,
+  c2m_mean DOUBLE, c2m_std DOUBLE, c2m_p95 DOUBLE, c2m_max DOUBLE, mesh_to_cloud DOUBLE, far_share DOUBLE,
+  closed INTEGER, manifold INTEGER, volume DOUBLE, roof_area DOUBLE,
+  ply TEXT, ply_sha256 TEXT, glb TEXT, glb_sha256 TEXT, picture TEXT, picture_sha256 TEXT,
+  UNIQUE (building_fid, level));
 CREATE TABLE IF NOT EXISTS vm_valuationunit (fid INTEGER PRIMARY KEY,
   baunit_id INTEGER NOT NULL REFERENCES la_baunit(fid) ON DELETE CASCADE,
   spatialunit_id INTEGER NOT NULL REFERENCES la_spatialunit(fid) ON DELETE CASCADE,
@@ -272,6 +284,10 @@ const Layer kLayers[] = {
     {"building_element", "3D building elements: roof, wall, party wall, ground, outer ceiling; for 3D use, "
      "roof_part for GIS", true, 1},
     {"building_lod", "Lower LoDs of each building: LoD 1.2 prism, LoD 1.3 layers (closed shells)", true, 1},
+    {"building_mesh", "batch --mesh: each building's mesh ladder and its element model checked against the "
+     "closed hull (flag)", false, 0},
+    {"building_mesh_level", "batch --mesh: each mesh level's figures and files (relative to the output folder) "
+     "with their SHA-256", false, 0},
     {"la_party", "LADM parties", false, 0},
     {"la_baunit", "LADM basic administrative units", false, 0},
     {"la_rrr", "LADM rights, restrictions, responsibilities", false, 0},

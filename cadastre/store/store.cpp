@@ -11,6 +11,7 @@
 #include "cadastre/store/gpkg_geometry.h"
 #include "cadastre/store/gpkg_rtree.h"
 #include "cadastre/store/lods.h"
+#include "cadastre/store/meshes.h"
 #include "cadastre/store/schema.h"
 #include "cadastre/store/sql_db.h"
 #include "cadastre/store/styles.h"
@@ -95,6 +96,7 @@ struct Store::Impl {
       ins_element, ins_vu, ins_val, ins_item, upsert_job, pending_job, done_job, parcel_lock;
   store_gis::Writer gis;  // the 2D layers, written beside the 3D rows
   store_lods::Writer lods;  // attributes and lower LoDs
+  store_meshes::Writer meshes;  // batch --mesh ladders
 
   void prepare();
   void insert_run(const std::string& params_json, const std::vector<InputFile>& inputs, const LocalFrame& frame,
@@ -159,6 +161,7 @@ void Store::Impl::prepare() {
                        "SELECT 1 FROM parcel_job WHERE parcel_id=? AND inputs_key=? AND "
                        "status IN ('ok','empty')");
   lods = store_lods::Writer(db);
+  meshes = store_meshes::Writer(db);
   if (db.postgres()) parcel_lock = sql::Stmt(db, "SELECT pg_advisory_xact_lock(3, hashtext(?))");
 }
 
@@ -280,6 +283,7 @@ std::int64_t Store::Impl::write_building(
   std::int64_t fid = db.last_id();
   gis.building(b, fid, parcel_id, off, v);
   lods.write(fid, b, off, srs);
+  meshes.write(fid, b);
   for (int i = 0; i < int(b.elements.size()); ++i) {
     const Element& e = b.elements[size_t(i)];
     ins_element.bind_blob(gpkg_faces_blob(e.faces, off, srs)).bind(fid).bind(i)

@@ -84,6 +84,12 @@ struct ValuationParams {
   std::map<std::string, ParcelValuationOverride> parcels;  // [parcels] parcel id -> override
 };
 
+// batch --mesh (docs/meshes.md): each modelled building's points meshed at four levels.
+struct MeshParams {
+  bool ladder = false;
+  std::string method = "front";  // the dense method: front, pivot, poisson or alpha
+};
+
 struct Config {
   std::string source = "(defaults)";  // file it came from; not part of the settings
   ClassMapping classes;  // defaults in core/types.h
@@ -94,6 +100,7 @@ struct Config {
   ReconstructionParams reconstruction;
   ValuationParams valuation;
   BatchParams batch;
+  MeshParams mesh;
 };
 
 // Reads and checks a config file; throws InputError naming the file and the

@@ -228,9 +228,22 @@ std::vector<Parameter> valuation_tables() {
   };
 }
 
+std::vector<Parameter> mesh_parameters() {
+  return {
+      {"mesh.ladder", Kind::Boolean, "-",
+       "Mesh each modelled building's own points at four levels of detail and check the element "
+       "model against the closed level (batch --mesh; docs/meshes.md)", {}, "mesh", Need::Optional,
+       field([](auto& c) -> auto& { return c.mesh.ladder; })},
+      {"mesh.method", Kind::Choice, "-",
+       "Level 4's dense method: advancing front, ball pivoting, screened Poisson or alpha shapes",
+       one_of({"front", "pivot", "poisson", "alpha"}), "mesh", Need::Optional,
+       field([](auto& c) -> auto& { return c.mesh.method; })},
+  };
+}
+
 std::vector<Parameter> build_table() {
   std::vector<Parameter> all;
-  for (auto part : {input_parameters(), reconstruction_parameters(), valuation_scalars(),
+  for (auto part : {input_parameters(), reconstruction_parameters(), mesh_parameters(), valuation_scalars(),
                     valuation_tables()})
     all.insert(all.end(), part.begin(), part.end());
   return all;
@@ -240,7 +253,7 @@ std::vector<Parameter> build_table() {
 
 const std::vector<std::string> kStages = {"input",   "clip",  "segment",  "ownership",
                                           "planes",  "outline", "roof",   "envelope",
-                                          "measure", "optimizer", "valuation"};
+                                          "measure", "optimizer", "mesh", "valuation"};
 
 const std::vector<Parameter>& parameter_table() {
   static const std::vector<Parameter> table = build_table();
@@ -254,6 +267,7 @@ const std::vector<SectionDoc>& section_docs() {
       {"clip", {"Clipping the point clouds to each parcel."}},
       {"batch", {"How the batch runs through the clouds; no setting here changes a result or the resume key."}},
       {"reconstruction", {"Roof and wall reconstruction, stage by stage."}},
+      {"mesh", {"Meshes of each building's own points at four levels of detail (docs/meshes.md)."}},
       {"valuation",
        {"Valuation: cost approach (SPOP / PBB-P2 practice).",
         "  building = sum(element area x unit cost x quality factor) x (1 - depreciation)",

@@ -1,21 +1,14 @@
 #include "core/mesh/ladder.h"
 
-#include <time.h>
-
 #include <algorithm>
 
+#include "core/cpu_clock.h"
 #include "core/mesh/open3d_mesh.h"
 #include "core/mesh/simplify.h"
 
 namespace c3d {
 
 namespace {
-
-double cpu_seconds() {  // this thread's: a batch meshes buildings on several
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
 
 size_t share_of(size_t faces, double share) { return std::max<size_t>(4, size_t(double(faces) * share)); }
 
@@ -30,28 +23,33 @@ MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, cons
   l.method = method;
   for (int k = 1; k <= 4; ++k) l.levels[size_t(k - 1)].level = k;
   if (points.size() < 4) return l;
-  double t = cpu_seconds();
+  double t = thread_cpu_seconds();
   l.spacing = point_spacing(points);
   DenseResult dense = dense_mesh(points, l.spacing, method);
   l.trimmed = dense.trimmed;
   MeshLevel& l4 = l.levels[3];
   l4.mesh = std::move(dense.mesh);
-  l4.seconds = cpu_seconds() - t;
+  l4.seconds = thread_cpu_seconds() - t;
   const size_t dense_faces = l4.mesh.triangles.size();
   for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
-    t = cpu_seconds();
+    t = thread_cpu_seconds();
     MeshLevel& level = l.levels[size_t(k - 1)];
     level.mesh = simplified(l.levels[size_t(k)].mesh, share_of(dense_faces, share), small_hole(l.spacing),
                             2 * l.spacing.mean);  // as level 4 may stray from the points
-    level.seconds = cpu_seconds() - t;
+    level.seconds = thread_cpu_seconds() - t;
   }
-  t = cpu_seconds();
+  t = thread_cpu_seconds();
   std::vector<Vec3> closed = points;
   closed.insert(closed.end(), ground.begin(), ground.end());
-  // A hull no heavier than level 2: a small building's level 1 has fewer faces.
-  const size_t hull_faces = std::min(kLevel1MaxFaces, std::max<size_t>(l.levels[1].mesh.triangles.size(), 20));
-  l.levels[0].mesh = wrapped(closed, hull_faces);
-  l.levels[0].seconds = cpu_seconds() - t;
+  // The hull's budget is its own, not a share of level 4: it must follow a
+  // small building's shape closely enough to check its model by (a share of a
+  // few hundred faces wraps a shed in a blob).
+  const size_t hull_faces = kLevel1MaxFaces;
+  Wrap hull = wrapped(closed, hull_faces);
+  l.levels[0].mesh = std::move(hull.mesh);
+  l.hull_alpha = hull.alpha;
+  l.hull_offset = hull.offset;
+  l.levels[0].seconds = thread_cpu_seconds() - t;
   for (MeshLevel& level : l.levels) level.metrics = measure_mesh(level.mesh, points, l.spacing);
   return l;
 }

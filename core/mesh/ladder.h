@@ -13,7 +13,8 @@ namespace c3d {
 
 // Face budgets of the simplified levels, as shares of level 4's faces, and
 // level 1's ceiling: what the issue asks (level 3 at 10 % at most, level 1
-// a few hundred faces, and no more than level 2's), level 2 between.
+// a few hundred faces), level 2 between. A small building's level 2 may have
+// fewer faces than its level 1.
 constexpr double kLevel3Share = 0.10, kLevel2Share = 0.02;
 constexpr size_t kLevel1MaxFaces = 400;
 
@@ -28,6 +29,7 @@ struct MeshLadder {
   PointSpacing spacing;
   DenseMethod method = DenseMethod::AdvancingFront;
   size_t trimmed = 0;              // Poisson's out-of-bounds faces dropped from level 4
+  double hull_alpha = 0, hull_offset = 0;  // level 1's wrap (simplify.h, Wrap), m
   std::array<MeshLevel, 4> levels;  // levels[0] is level 1
   const MeshLevel& level(int k) const { return levels[size_t(k - 1)]; }
 };

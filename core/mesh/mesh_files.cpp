@@ -54,6 +54,7 @@ nlohmann::json ladder_json(const MeshLadder& ladder) {
           {"points", s.points},
           {"spacing", {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}}},
           {"poisson_trimmed_faces", ladder.trimmed},
+          {"hull", {{"alpha", ladder.hull_alpha}, {"offset", ladder.hull_offset}}},
           {"levels", levels}};
 }
 

@@ -74,4 +74,14 @@ MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, c
   return m;
 }
 
+double upward_area(const TriMesh& mesh, double min_normal_z) {
+  double sum = 0;
+  for (const auto& t : mesh.soup()) {
+    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);  // twice the area, along the normal
+    const double doubled = n.norm();
+    if (doubled > 0 && n.z() >= min_normal_z * doubled) sum += doubled / 2;
+  }
+  return sum;
+}
+
 }  // namespace c3d

@@ -22,6 +22,11 @@ struct MeshMetrics {
   double volume = 0;         // m3, enclosed by a closed mesh (0 when open)
 };
 
+// The area of the faces that look up: their normal's z at least
+// `min_normal_z` (0.5: roofs sloping less than 60°; walls look sideways, a
+// floor down). On a closed hull of a building, its roof area.
+double upward_area(const TriMesh& mesh, double min_normal_z = 0.5);
+
 MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, const PointSpacing& spacing);
 
 }  // namespace c3d

@@ -166,8 +166,9 @@ TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double 
   return without_loose_vertices(from_surface_mesh(m));
 }
 
-TriMesh wrapped(const std::vector<Vec3>& points, size_t max_faces) {
-  if (points.size() < 4 || max_faces < 4) return {};
+Wrap wrapped(const std::vector<Vec3>& points, size_t max_faces) {
+  Wrap out;
+  if (points.size() < 4 || max_faces < 4) return out;
   Vec3 lo = points.front(), hi = points.front();
   for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const Vec3 size = (hi - lo).cwiseMax(Vec3::Constant(1e-3));
@@ -175,12 +176,11 @@ TriMesh wrapped(const std::vector<Vec3>& points, size_t max_faces) {
   // A wrap's triangles are about alpha across (0.43 alpha^2 each): the
   // first alpha spends the budget on the box's surface; it grows by half
   // again while the wrap is over budget.
-  TriMesh out;
   for (double alpha = std::sqrt(box_area / (0.43 * double(max_faces))); ; alpha *= 1.5) {
     Mesh wrap;
     CGAL::alpha_wrap_3(thinned(points, alpha / 3), alpha, alpha / 30, wrap);
-    out = from_surface_mesh(wrap);
-    if (out.triangles.size() <= max_faces || alpha > size.norm()) break;
+    out = {from_surface_mesh(wrap), alpha, alpha / 30};
+    if (out.mesh.triangles.size() <= max_faces || alpha > size.norm()) break;
   }
   return out;
 }

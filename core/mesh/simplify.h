@@ -29,6 +29,10 @@ TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double 
 // set so that triangles alpha across would cover the points' bounding box
 // with `max_faces`, grown by half again while the wrap has more; the offset
 // is a thirtieth of alpha, the points thinned to one per alpha/3 cube.
-TriMesh wrapped(const std::vector<Vec3>& points, size_t max_faces);
+struct Wrap {
+  TriMesh mesh;
+  double alpha = 0, offset = 0;  // m: what it cannot enter, how far outside the points it lies
+};
+Wrap wrapped(const std::vector<Vec3>& points, size_t max_faces);
 
 }  // namespace c3d

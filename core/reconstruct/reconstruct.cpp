@@ -1,5 +1,7 @@
 #include "core/reconstruct/reconstruct.h"
 
+#include "core/cpu_clock.h"
+
 #include <algorithm>
 #include <ctime>
 #include <cstdio>
@@ -40,13 +42,6 @@ constexpr double kPartitionCellSpacings = 1.5;
 constexpr double kMinPartitionCellM = 0.1;
 constexpr double kMaxPartitionCellM = 0.25;
 
-// Each stage's CPU time on the calling thread (a parcel runs on one thread):
-// other parcels and other processes sharing the cores do not inflate it.
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 class StageClock {
  public:
