@@ -3,6 +3,8 @@
 // no floor (a scan sees none).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -95,6 +97,40 @@ void expect_ladder(const MeshLadder& l) {
 TEST(MeshLadder, AdvancingFrontFollowsTheScannedBox) {
   const std::vector<Vec3> pts = scanned_box(2);
   expect_ladder(box_ladder(pts, DenseMethod::AdvancingFront));
+}
+
+TEST(MeshLadder, TheScannedBoxSplitsIntoItsFivePlanes) {
+  const MeshLadder l = box_ladder(scanned_box(2), DenseMethod::AdvancingFront);
+  const MeshRegions& r = l.regions;
+  ASSERT_EQ(r.face_region.size(), l.level(4).mesh.triangles.size());
+  EXPECT_EQ(r.count(RegionKind::Planar), 5u) << "the roof and four walls";
+  EXPECT_EQ(r.count(RegionKind::Curved), 0u);
+  // The planes hold nearly every face; detail is the corners' few.
+  std::vector<size_t> faces(r.kinds.size(), 0);
+  for (int id : r.face_region) ++faces[size_t(id)];
+  size_t planar = 0;
+  for (size_t k = 0; k < faces.size(); ++k) planar += r.kinds[k] == RegionKind::Planar ? faces[k] : 0;
+  EXPECT_GT(double(planar), 0.97 * double(r.face_region.size()));
+  EXPECT_FALSE(region_borders(l.level(4).mesh, r).empty());
+}
+
+TEST(MeshLadder, AVaultIsOneCurvedRegion) {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0, kNoise);
+  std::vector<Vec3> pts;  // a half cylinder of radius 5 m, 10 m long, a point every kStep
+  for (double x = 0; x <= 10 + 1e-9; x += kStep)
+    for (double a = 0; a <= M_PI + 1e-9; a += kStep / 5) {
+      const double r = 5 + noise(rng);
+      pts.emplace_back(x, r * std::cos(a), r * std::sin(a));
+    }
+  const MeshLadder l = mesh_ladder(pts, DenseMethod::AdvancingFront);
+  const MeshRegions& r = l.regions;
+  std::vector<size_t> faces(r.kinds.size(), 0);
+  for (int id : r.face_region) ++faces[size_t(id)];
+  const size_t largest = size_t(std::max_element(faces.begin(), faces.end()) - faces.begin());
+  EXPECT_EQ(r.kinds[largest], RegionKind::Curved);
+  EXPECT_GT(double(faces[largest]), 0.95 * double(r.face_region.size()));
+  EXPECT_EQ(r.count(RegionKind::Planar), 0u);
 }
 
 TEST(MeshLadder, BallPivotingFollowsTheScannedBox) {

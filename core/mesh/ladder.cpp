@@ -16,6 +16,13 @@ size_t share_of(size_t faces, double share) { return std::max<size_t>(4, size_t(
 // to 4 balls' diameters long closes a sampling gap, not an opening.
 double small_hole(const PointSpacing& s) { return 8 * pivoting_radii(s).back(); }
 
+// A region is flat where its vertices keep within half a spacing of a plane.
+RegionParams region_params(const PointSpacing& s) {
+  RegionParams p;
+  p.flat_m = s.mean / 2;
+  return p;
+}
+
 }  // namespace
 
 MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, const std::vector<Vec3>& ground) {
@@ -31,6 +38,10 @@ MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, cons
   l4.mesh = std::move(dense.mesh);
   l4.seconds = thread_cpu_seconds() - t;
   const size_t dense_faces = l4.mesh.triangles.size();
+  // Not yet kept by the simplification: kept whole on the scanned box, the
+  // borders of a Poisson mesh's rounded edges cost its level 3 a third more
+  // deviation (docs/meshes.md); per-region retention comes first.
+  l.regions = segment_regions(l4.mesh, region_params(l.spacing));
   for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
     t = thread_cpu_seconds();
     MeshLevel& level = l.levels[size_t(k - 1)];

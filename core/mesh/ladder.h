@@ -8,6 +8,7 @@
 
 #include "core/mesh/dense.h"
 #include "core/mesh/mesh_metrics.h"
+#include "core/mesh/regions.h"
 
 namespace c3d {
 
@@ -30,6 +31,7 @@ struct MeshLadder {
   DenseMethod method = DenseMethod::AdvancingFront;
   size_t trimmed = 0;              // Poisson's out-of-bounds faces dropped from level 4
   double hull_alpha = 0, hull_offset = 0;  // level 1's wrap (simplify.h, Wrap), m
+  MeshRegions regions;  // of level 4 (regions.h)
   std::array<MeshLevel, 4> levels;  // levels[0] is level 1
   const MeshLevel& level(int k) const { return levels[size_t(k - 1)]; }
 };

@@ -55,6 +55,9 @@ nlohmann::json ladder_json(const MeshLadder& ladder) {
           {"spacing", {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}}},
           {"poisson_trimmed_faces", ladder.trimmed},
           {"hull", {{"alpha", ladder.hull_alpha}, {"offset", ladder.hull_offset}}},
+          {"regions", {{"planar", ladder.regions.count(RegionKind::Planar)},
+                       {"curved", ladder.regions.count(RegionKind::Curved)},
+                       {"detail", ladder.regions.count(RegionKind::Detail)}}},
           {"levels", levels}};
 }
 
