@@ -10,7 +10,7 @@ namespace c3d::cli {
 void register_mesh(CLI::App& app) {
   struct Args {
     std::vector<std::string> clouds;
-    std::string out, name = "building", method = "front";
+    std::string out, name = "building", method = "front", simplify = "boundary";
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("mesh", "Mesh one building's points at four levels of detail (PLY, ladder.json)");
@@ -20,8 +20,14 @@ void register_mesh(CLI::App& app) {
   cmd->add_option("--method", a->method, "Dense level: pivot, front, poisson or alpha")
       ->capture_default_str()
       ->check(CLI::IsMember({"pivot", "front", "poisson", "alpha"}));
+  cmd->add_option("--simplify", a->simplify,
+                  "Levels 3 and 2: boundary (boundary-aware, by regions), or for comparison qem (Lindstrom-Turk), "
+                  "garland (Garland-Heckbert) or clustering (vertex clustering)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"boundary", "qem", "garland", "clustering"}));
   cmd->callback([a] {
-    const MeshRun run = mesh_point_files(a->clouds, dense_method_named(a->method), a->out, a->name);
+    const MeshRun run =
+        mesh_point_files(a->clouds, dense_method_named(a->method), a->out, a->name, simplifier_named(a->simplify));
     std::cout << ladder_text(run.ladder);
     for (const std::string& f : run.files) std::cout << "wrote " << f << "\n";
   });

@@ -84,6 +84,8 @@ void register_sample(CLI::App& app) {
   cmd->add_flag("--curved-plans", a->opt.curved_plans,
                 "Flat roofs over round towers and apsed halls (docs/curved.md) and gable houses")
       ->excludes(curved);
+  cmd->add_flag("--openings", a->opt.openings,
+                "Recessed windows and doors in the scanned walls, their frames in truth.json (docs/meshes.md)");
   cmd->add_option("--format", a->format, "Parcel file format")
       ->capture_default_str()
       ->check(CLI::IsMember({"gpkg", "geojson"}));

@@ -256,6 +256,12 @@ struct MeshLevelRecord {
   bool closed = false, manifold = false;
   double volume = kNaN;     // m3, a closed level
   double roof_area = kNaN;  // m2, a closed level's faces that look up (docs/meshes.md)
+  // Level 4's planar regions here (seed 002's table, core/mesh/regions.h):
+  // levels 2 to 4 count them; levels 2 and 3 lose some whole, and change a
+  // kept one's extent (length or width) by at most extent_change_m; thickness_m
+  // is the thickest across its plane.
+  long planar_regions = 0, planar_lost = 0;
+  double extent_change_m = kNaN, thickness_m = kNaN;
   std::string ply, glb, picture;
   std::string ply_sha256, glb_sha256, picture_sha256;
 };

@@ -81,7 +81,7 @@ ParcelResult modelled_parcel(const SceneSource& scenes, size_t i, const Config& 
   ParcelResult r = reconstruct_parcel(scene, cfg.reconstruction);
   if (cfg.mesh.ladder)
     mesh_buildings(scene, parcel_frame(scenes.inputs->layer.parcels[i], scenes.frame),
-                   {out_dir, dense_method_named(cfg.mesh.method)}, r);
+                   {out_dir, dense_method_named(cfg.mesh.method), simplifier_named(cfg.mesh.simplify)}, r);
   return r;
 }
 

@@ -129,6 +129,12 @@ MeshLevelRecord level_record(const MeshLevel& l, const std::string& rel_stem) {
   r.far_share = m.far_share;
   r.closed = m.closed, r.manifold = m.manifold;
   if (m.closed) r.volume = m.volume, r.roof_area = upward_area(l.mesh);
+  if (l.level >= 2) {
+    r.planar_regions = long(std::count_if(l.planar.begin(), l.planar.end(), [](const RegionShape& s) { return s.faces > 0; }));
+    r.thickness_m = 0;
+    for (const RegionShape& s : l.planar) r.thickness_m = std::max(r.thickness_m, s.thickness);
+  }
+  if (l.level == 2 || l.level == 3) r.planar_lost = long(l.change.lost), r.extent_change_m = l.change.extent_change;
   const std::string level_stem = rel_stem + "_level" + std::to_string(l.level);
   r.ply = level_stem + ".ply";
   if (m.faces > 0) r.glb = level_stem + ".glb", r.picture = level_stem + ".svg";
@@ -225,7 +231,7 @@ void mesh_building(const ParcelScene& scene, const LocalFrame& frame, const Mesh
   }
   const PointSpacing spacing = point_spacing(points);
   m.spacing_m = spacing.mean;
-  const MeshLadder ladder = mesh_ladder(points, out.method, hull_closure(b, points, spacing.mean));
+  const MeshLadder ladder = mesh_ladder(points, out.method, hull_closure(b, points, spacing.mean), out.simplifier);
   m.hull_alpha_m = ladder.hull_alpha;
   const std::string stem = file_stem_for_id(b.id);
   const fs::path dir = fs::path(out.out_dir) / kMeshFolder;

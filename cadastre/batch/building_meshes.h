@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/mesh/dense.h"
+#include "core/mesh/simplify.h"
 #include "core/reconstruct/scene/parcel_scene.h"
 #include "core/types.h"
 
@@ -16,6 +17,7 @@ namespace c3d {
 struct MeshOutput {
   std::string out_dir;  // the batch's OUT
   DenseMethod method = DenseMethod::AdvancingFront;
+  Simplifier simplifier = Simplifier::BoundaryAware;
 };
 constexpr char kMeshFolder[] = "mesh";
 

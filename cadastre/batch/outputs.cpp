@@ -63,6 +63,8 @@ json mesh_level_json(const MeshLevelRecord& l) {
           {"manifold", l.manifold},
           {"volume_m3", finite(l.volume)},
           {"roof_area_m2", finite(l.roof_area)},
+          {"planar_regions", {{"count", l.planar_regions}, {"lost", l.planar_lost},
+                              {"extent_change_m", finite(l.extent_change_m)}, {"thickness_m", finite(l.thickness_m)}}},
           {"files", {{"ply", text_or_null(l.ply)}, {"glb", text_or_null(l.glb)}, {"picture", text_or_null(l.picture)}}},
           {"sha256", {{"ply", text_or_null(l.ply_sha256)}, {"glb", text_or_null(l.glb_sha256)},
                       {"picture", text_or_null(l.picture_sha256)}}}};

@@ -110,6 +110,15 @@ std::string signed_percent(double share) {
   return std::isfinite(share) ? fmt("%+.1f %%", 100 * share) : std::string("&mdash;");
 }
 
+// Of level 4's planar regions, how many a lighter level kept and how far
+// their extent moved (seed 002's table): a level that smears frames and
+// ridges shows it here.
+std::string planar_kept(const MeshLevelRecord& l) {
+  if (l.level == 4) return fmt("%ld", l.planar_regions);
+  if (!std::isfinite(l.extent_change_m)) return "&mdash;";
+  return fmt("%ld of %ld, &#8804; %.3f m", l.planar_regions, l.planar_regions + l.planar_lost, l.extent_change_m);
+}
+
 // The building's mesh ladder (batch --mesh, docs/meshes.md): whether the
 // element model agrees with the closed hull of its points, each level's
 // figures and files, and on the parcel's own page a picture of each level.
@@ -129,7 +138,7 @@ std::string mesh_lines(const Building& b, const std::string& to_out, bool pictur
   s += "</p>";
   if (m.levels.empty()) return s;
   s += "<table><tr><th>level</th><th>faces</th><th>cloud to mesh, mean / p95</th><th>closed</th>"
-       "<th>volume</th><th>files</th></tr>";
+       "<th>volume</th><th>planar regions kept, extent change</th><th>files</th></tr>";
   std::string pics;
   for (auto l = m.levels.rbegin(); l != m.levels.rend(); ++l) {
     std::string files = "<a href=\"" + html_escape(to_out + l->ply) + "\">ply</a>";
@@ -137,7 +146,7 @@ std::string mesh_lines(const Building& b, const std::string& to_out, bool pictur
     s += fmt("<tr><td class=\"n\">%d</td><td class=\"n\">%ld</td><td class=\"n\">%.3f / %.3f m</td><td>%s</td>",
              l->level, l->faces, l->mean_m, l->p95_m, l->closed ? "yes" : "no") +
          "<td class=\"n\">" + (std::isfinite(l->volume) ? fmt("%.1f m&#179;", l->volume) : std::string("&mdash;")) +
-         "</td><td>" + files + "</td></tr>";
+         "</td><td class=\"n\">" + planar_kept(*l) + "</td><td>" + files + "</td></tr>";
     if (pictures && !l->picture.empty())
       pics += "<img src=\"" + html_escape(to_out + l->picture) +
               fmt("\" width=\"240\" height=\"173\" loading=\"lazy\" alt=\"level %d\" title=\"level %d, %ld faces\">",

@@ -22,7 +22,8 @@ void Writer::write(std::int64_t building_fid, const Building& b) {
   for (const MeshLevelRecord& l : m.levels)
     level_.bind(fid).bind(l.level).bind(l.faces).bind(l.vertices).bind(l.seconds).bind(l.mean_m).bind(l.std_m)
         .bind(l.p95_m).bind(l.max_m).bind(l.mesh_to_cloud_m).bind(l.far_share).bind(l.closed ? 1 : 0)
-        .bind(l.manifold ? 1 : 0).bind(l.volume).bind(l.roof_area).bind(l.ply).bind(l.ply_sha256).bind(l.glb)
+        .bind(l.manifold ? 1 : 0).bind(l.volume).bind(l.roof_area).bind(l.planar_regions).bind(l.planar_lost).bind(l.extent_change_m)
+        .bind(l.thickness_m).bind(l.ply).bind(l.ply_sha256).bind(l.glb)
         .bind(l.glb_sha256).bind(l.picture).bind(l.picture_sha256).run();
 }
 
@@ -68,6 +69,10 @@ void Reader::read(std::int64_t building_fid, Building& b) {
     l.manifold = level_.get_int("manifold") != 0;
     l.volume = level_.get_double("volume");
     l.roof_area = level_.get_double("roof_area");
+    l.planar_regions = long(level_.get_int("planar_regions"));
+    l.planar_lost = long(level_.get_int("planar_lost"));
+    l.extent_change_m = level_.get_double("extent_change");
+    l.thickness_m = level_.get_double("thickness");
     l.ply = level_.get_text("ply");
     l.ply_sha256 = level_.get_text("ply_sha256");
     l.glb = level_.get_text("glb");

@@ -96,6 +96,7 @@ CREATE TABLE IF NOT EXISTS building_mesh_level (fid INTEGER PRIMARY KEY,
   level INTEGER NOT NULL, faces INTEGER, vertices INTEGER, seconds DOUBLE,
   c2m_mean DOUBLE, c2m_std DOUBLE, c2m_p95 DOUBLE, c2m_max DOUBLE, mesh_to_cloud DOUBLE, far_share DOUBLE,
   closed INTEGER, manifold INTEGER, volume DOUBLE, roof_area DOUBLE,
+  planar_regions INTEGER, planar_lost INTEGER, extent_change DOUBLE, thickness DOUBLE,
   ply TEXT, ply_sha256 TEXT, glb TEXT, glb_sha256 TEXT, picture TEXT, picture_sha256 TEXT,
   UNIQUE (building_fid, level));
 CREATE TABLE IF NOT EXISTS vm_valuationunit (fid INTEGER PRIMARY KEY,
@@ -264,6 +265,11 @@ const AddedColumn kAddedColumns[] = {
     {"building", "refine_chamfer_after", "DOUBLE"},
     {"building", "refine_cloud_before", "DOUBLE"},
     {"building", "refine_cloud_after", "DOUBLE"},
+    // Level 4's planar regions at each mesh level (docs/meshes.md).
+    {"building_mesh_level", "planar_regions", "INTEGER"},
+    {"building_mesh_level", "planar_lost", "INTEGER"},
+    {"building_mesh_level", "extent_change", "DOUBLE"},
+    {"building_mesh_level", "thickness", "DOUBLE"},
 };
 
 struct Layer {

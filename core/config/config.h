@@ -88,6 +88,7 @@ struct ValuationParams {
 struct MeshParams {
   bool ladder = false;
   std::string method = "front";  // the dense method: front, pivot, poisson or alpha
+  std::string simplify = "boundary";  // levels 3 and 2: boundary, or qem, garland, clustering to compare
 };
 
 struct Config {

@@ -238,6 +238,11 @@ std::vector<Parameter> mesh_parameters() {
        "Level 4's dense method: advancing front, ball pivoting, screened Poisson or alpha shapes",
        one_of({"front", "pivot", "poisson", "alpha"}), "mesh", Need::Optional,
        field([](auto& c) -> auto& { return c.mesh.method; })},
+      {"mesh.simplify", Kind::Choice, "-",
+       "Levels 3 and 2: boundary-aware edge collapse by regions (seed 002), or for comparison plain "
+       "Lindstrom-Turk, Garland-Heckbert or vertex clustering (docs/meshes.md)",
+       one_of({"boundary", "qem", "garland", "clustering"}), "mesh", Need::Optional,
+       field([](auto& c) -> auto& { return c.mesh.simplify; })},
   };
 }
 

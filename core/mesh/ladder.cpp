@@ -4,7 +4,6 @@
 
 #include "core/cpu_clock.h"
 #include "core/mesh/open3d_mesh.h"
-#include "core/mesh/simplify.h"
 
 namespace c3d {
 
@@ -25,7 +24,32 @@ RegionParams region_params(const PointSpacing& s) {
 
 }  // namespace
 
-MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, const std::vector<Vec3>& ground) {
+void simplify_levels(MeshLadder& l, Simplifier simplifier, const std::vector<Vec3>& points) {
+  l.simplifier = simplifier;
+  const MeshLevel& l4 = l.levels[3];
+  const std::vector<RegionFrame> frames = planar_frames(l4.mesh, l.regions);
+  const std::vector<Vec3> borders = border_vertices(l4.mesh, l4.face_region);
+  const size_t dense_faces = l4.mesh.triangles.size();
+  for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
+    const double t = thread_cpu_seconds();
+    MeshLevel& level = l.levels[size_t(k - 1)];
+    // From the level above, whose faces keep their level-4 regions.
+    const MeshLevel& above = l.levels[size_t(k)];
+    // No vertex moves past two spacings: as far as level 4 may stray from the points.
+    Simplified light = simplified(above.mesh, share_of(dense_faces, share), small_hole(l.spacing), 2 * l.spacing.mean,
+                                  MeshRegions{above.face_region, l.regions.kinds}, simplifier);
+    level.seconds = thread_cpu_seconds() - t;
+    level.mesh = std::move(light.mesh);
+    level.face_region = std::move(light.face_region);
+    level.planar = region_shapes(level.mesh, level.face_region, frames);
+    level.change = planar_change(l4.planar, level.planar);
+    level.border_shift = spread_of(distances_to(level.mesh, borders));
+    level.metrics = measure_mesh(level.mesh, points, l.spacing);
+  }
+}
+
+MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, const std::vector<Vec3>& ground,
+                       Simplifier simplifier) {
   MeshLadder l;
   l.method = method;
   for (int k = 1; k <= 4; ++k) l.levels[size_t(k - 1)].level = k;
@@ -36,32 +60,24 @@ MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, cons
   l.trimmed = dense.trimmed;
   MeshLevel& l4 = l.levels[3];
   l4.mesh = std::move(dense.mesh);
-  l4.seconds = thread_cpu_seconds() - t;
-  const size_t dense_faces = l4.mesh.triangles.size();
-  // Not yet kept by the simplification: kept whole on the scanned box, the
-  // borders of a Poisson mesh's rounded edges cost its level 3 a third more
-  // deviation (docs/meshes.md); per-region retention comes first.
   l.regions = segment_regions(l4.mesh, region_params(l.spacing));
-  for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
-    t = thread_cpu_seconds();
-    MeshLevel& level = l.levels[size_t(k - 1)];
-    level.mesh = simplified(l.levels[size_t(k)].mesh, share_of(dense_faces, share), small_hole(l.spacing),
-                            2 * l.spacing.mean);  // as level 4 may stray from the points
-    level.seconds = thread_cpu_seconds() - t;
-  }
+  l4.face_region = l.regions.face_region;
+  l4.seconds = thread_cpu_seconds() - t;
+  l4.planar = region_shapes(l4.mesh, l4.face_region, planar_frames(l4.mesh, l.regions));
+  l4.metrics = measure_mesh(l4.mesh, points, l.spacing);
+  simplify_levels(l, simplifier, points);
   t = thread_cpu_seconds();
   std::vector<Vec3> closed = points;
   closed.insert(closed.end(), ground.begin(), ground.end());
   // The hull's budget is its own, not a share of level 4: it must follow a
   // small building's shape closely enough to check its model by (a share of a
   // few hundred faces wraps a shed in a blob).
-  const size_t hull_faces = kLevel1MaxFaces;
-  Wrap hull = wrapped(closed, hull_faces);
+  Wrap hull = wrapped(closed, kLevel1MaxFaces);
   l.levels[0].mesh = std::move(hull.mesh);
   l.hull_alpha = hull.alpha;
   l.hull_offset = hull.offset;
   l.levels[0].seconds = thread_cpu_seconds() - t;
-  for (MeshLevel& level : l.levels) level.metrics = measure_mesh(level.mesh, points, l.spacing);
+  l.levels[0].metrics = measure_mesh(l.levels[0].mesh, points, l.spacing);
   return l;
 }
 

@@ -9,6 +9,7 @@
 #include "core/mesh/dense.h"
 #include "core/mesh/mesh_metrics.h"
 #include "core/mesh/regions.h"
+#include "core/mesh/simplify.h"
 
 namespace c3d {
 
@@ -24,11 +25,16 @@ struct MeshLevel {
   TriMesh mesh;
   MeshMetrics metrics;
   double seconds = 0;  // CPU time to make this level from the one it comes from
+  std::vector<int> face_region;      // levels 2 to 4: each face's region of level 4 (regions.h)
+  std::vector<RegionShape> planar;   // levels 2 to 4: level 4's planar regions here (seed 002's table)
+  PlanarChange change;               // levels 2 and 3: those regions against level 4's
+  Spread border_shift;               // levels 2 and 3: level 4's region borders' distance to this level (m)
 };
 
 struct MeshLadder {
   PointSpacing spacing;
   DenseMethod method = DenseMethod::AdvancingFront;
+  Simplifier simplifier = Simplifier::BoundaryAware;
   size_t trimmed = 0;              // Poisson's out-of-bounds faces dropped from level 4
   double hull_alpha = 0, hull_offset = 0;  // level 1's wrap (simplify.h, Wrap), m
   MeshRegions regions;  // of level 4 (regions.h)
@@ -41,7 +47,15 @@ struct MeshLadder {
 // hull where no scan sees (the footprint at the terrain, sampled at the
 // spacing): without it a wrap of a roof and walls is a thin shell. Fewer
 // than 4 points: an empty ladder (every level without faces).
+// Levels 3 and 2 (re)made from the ladder's level 4 and its regions by
+// `simplifier`, and measured against the points: another simplification of
+// the same dense level (CGAL's advancing front depends on where the heap put
+// its triangulation, so a second ladder of the same points may differ).
+void simplify_levels(MeshLadder& ladder, Simplifier simplifier, const std::vector<Vec3>& points);
+
+// Levels 3 and 2 are made by `simplifier` (the boundary-aware one; the
+// others for comparison, docs/meshes.md).
 MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method = DenseMethod::AdvancingFront,
-                       const std::vector<Vec3>& ground = {});
+                       const std::vector<Vec3>& ground = {}, Simplifier simplifier = Simplifier::BoundaryAware);
 
 }  // namespace c3d

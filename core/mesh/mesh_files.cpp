@@ -18,14 +18,30 @@ void put(std::ofstream& out, T v) {
   out.write(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
+// Seed 002's table: each of level 4's planar regions at this level.
+nlohmann::json planar_json(const MeshLevel& l) {
+  nlohmann::json regions = nlohmann::json::array();
+  for (const RegionShape& r : l.planar)
+    regions.push_back({{"region", r.region}, {"faces", r.faces}, {"length", r.length}, {"width", r.width},
+                       {"thickness", r.thickness}});
+  return regions;
+}
+
 nlohmann::json level_json(const MeshLevel& l) {
   const MeshMetrics& m = l.metrics;
-  return {{"level", l.level},        {"faces", m.faces},
-          {"vertices", m.vertices},  {"seconds", l.seconds},
-          {"cloud_to_mesh", {{"mean", m.mean}, {"std", m.std}, {"p95", m.p95}, {"max", m.max}}},
-          {"mesh_to_cloud", m.mesh_to_cloud},
-          {"far_share", m.far_share}, {"closed", m.closed},
-          {"manifold", m.manifold},  {"volume", m.volume}};
+  nlohmann::json j = {{"level", l.level},        {"faces", m.faces},
+                      {"vertices", m.vertices},  {"seconds", l.seconds},
+                      {"cloud_to_mesh", {{"mean", m.mean}, {"std", m.std}, {"p95", m.p95}, {"max", m.max}}},
+                      {"mesh_to_cloud", m.mesh_to_cloud},
+                      {"far_share", m.far_share}, {"closed", m.closed},
+                      {"manifold", m.manifold},  {"volume", m.volume}};
+  if (l.level >= 2) j["planar_regions"] = planar_json(l);
+  if (l.level == 2 || l.level == 3)
+    j["planar_change"] = {{"regions", l.change.regions}, {"lost", l.change.lost},
+                          {"extent_change", l.change.extent_change}, {"thickness", l.change.thickness},
+                          {"border_shift", {{"mean", l.border_shift.mean}, {"p95", l.border_shift.p95},
+                                            {"max", l.border_shift.max}}}};
+  return j;
 }
 
 }  // namespace
@@ -51,6 +67,7 @@ nlohmann::json ladder_json(const MeshLadder& ladder) {
   nlohmann::json levels = nlohmann::json::array();
   for (const MeshLevel& l : ladder.levels) levels.push_back(level_json(l));
   return {{"method", dense_method_name(ladder.method)},
+          {"simplifier", simplifier_name(ladder.simplifier)},
           {"points", s.points},
           {"spacing", {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}}},
           {"poisson_trimmed_faces", ladder.trimmed},
@@ -80,7 +97,7 @@ std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offs
 }
 
 MeshRun mesh_point_files(const std::vector<std::string>& clouds, DenseMethod method, const std::string& dir,
-                         const std::string& name) {
+                         const std::string& name, Simplifier simplifier) {
   std::vector<Vec3> points;
   for (const std::string& path : clouds) {
     const PointCloud c = read_point_cloud(path);
@@ -99,7 +116,7 @@ MeshRun mesh_point_files(const std::vector<std::string>& clouds, DenseMethod met
     run.offset = Vec3(std::floor(lo.x()), std::floor(lo.y()), std::floor(lo.z()));
     for (Vec3& p : points) p -= run.offset;
   }
-  run.ladder = mesh_ladder(points, method);
+  run.ladder = mesh_ladder(points, method, {}, simplifier);
   std::filesystem::create_directories(dir);
   run.files = write_ladder(run.ladder, run.offset, dir, name);
   return run;
@@ -110,12 +127,22 @@ std::string ladder_text(const MeshLadder& ladder) {
   std::snprintf(line, sizeof line, "%zu points, spacing mean %.3f m (p95 %.3f m), dense method %s\n",
                 ladder.spacing.points, ladder.spacing.mean, ladder.spacing.p95, dense_method_name(ladder.method));
   std::string out = line;
-  out += "level    faces  cloud-to-mesh mean / p95 / max (m)  mesh-to-cloud (m)  closed  seconds\n";
+  std::snprintf(line, sizeof line, "regions of level 4: %zu planar, %zu curved, %zu detail; simplified by %s\n",
+                ladder.regions.count(RegionKind::Planar), ladder.regions.count(RegionKind::Curved),
+                ladder.regions.count(RegionKind::Detail), simplifier_name(ladder.simplifier));
+  out += line;
+  out += "level    faces  cloud-to-mesh mean / p95 / max (m)  mesh-to-cloud (m)  closed  seconds  planar extent change (m)\n";
   for (auto it = ladder.levels.rbegin(); it != ladder.levels.rend(); ++it) {
     const MeshMetrics& m = it->metrics;
-    std::snprintf(line, sizeof line, "%5d %8zu  %8.4f / %8.4f / %8.4f        %10.3f  %6s  %7.2f\n", it->level, m.faces,
+    std::snprintf(line, sizeof line, "%5d %8zu  %8.4f / %8.4f / %8.4f        %10.3f  %6s  %7.2f", it->level, m.faces,
                   m.mean, m.p95, m.max, m.mesh_to_cloud, m.closed ? "yes" : "no", it->seconds);
     out += line;
+    if (it->level == 2 || it->level == 3) {
+      std::snprintf(line, sizeof line, "  %.4f (%zu of %zu regions lost)", it->change.extent_change, it->change.lost,
+                    it->change.regions);
+      out += line;
+    }
+    out += "\n";
   }
   return out;
 }

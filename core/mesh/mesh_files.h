@@ -17,7 +17,8 @@ void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& o
 
 // The ladder's figures: spacing, method, Poisson's trimmed faces, and per level
 // faces, vertices, seconds, cloud-to-mesh mean / std / p95 / max,
-// mesh-to-cloud, far share, closed, manifold, volume.
+// mesh-to-cloud, far share, closed, manifold, volume; levels 2 to 4 each
+// planar region's shape, levels 2 and 3 their change (regions.h).
 nlohmann::json ladder_json(const MeshLadder& ladder);
 
 // DIR/<name>_level<k>.ply and .glb (a level without faces: no .glb) for
@@ -36,7 +37,7 @@ struct MeshRun {
   std::vector<std::string> files;
 };
 MeshRun mesh_point_files(const std::vector<std::string>& clouds, DenseMethod method, const std::string& dir,
-                         const std::string& name);
+                         const std::string& name, Simplifier simplifier = Simplifier::BoundaryAware);
 // A table of the ladder's levels for the terminal.
 std::string ladder_text(const MeshLadder& ladder);
 

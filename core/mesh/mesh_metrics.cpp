@@ -46,12 +46,8 @@ double enclosed_volume(const TriMesh& mesh) {
 
 }  // namespace
 
-MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, const PointSpacing& spacing) {
-  MeshMetrics m;
-  m.faces = mesh.triangles.size(), m.vertices = mesh.vertices.size();
-  edge_counts(mesh, m);
-  if (m.closed) m.volume = enclosed_volume(mesh);
-  if (mesh.triangles.empty() || points.empty()) return m;
+std::vector<double> distances_to(const TriMesh& mesh, const std::vector<Vec3>& points) {
+  if (mesh.triangles.empty()) return std::vector<double>(points.size(), INFINITY);
   std::vector<Face> faces;  // the evaluation's nearest-surface index, as for a model's faces
   faces.reserve(mesh.triangles.size());
   for (const auto& t : mesh.soup()) faces.push_back(Face{{t[0], t[1], t[2]}, {}});
@@ -59,17 +55,34 @@ MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, c
   d.reserve(points.size());
   for (const SurfaceHit& hit : FaceIndex(faces).nearest(points))
     d.push_back(std::isnan(hit.distance) ? INFINITY : hit.distance);  // NaN: every triangle degenerate
-  const double reach = 2 * spacing.mean;
+  return d;
+}
+
+Spread spread_of(std::vector<double> d) {
+  Spread s;
+  if (d.empty()) return s;
   double sum = 0, sum2 = 0;
-  size_t far = 0;
-  for (double x : d) sum += x, sum2 += x * x, far += x > reach;
+  for (double x : d) sum += x, sum2 += x * x;
   const double n = double(d.size());
-  m.mean = sum / n;
-  m.std = std::sqrt(std::max(0.0, sum2 / n - m.mean * m.mean));
+  s.mean = sum / n;
+  s.std = std::sqrt(std::max(0.0, sum2 / n - s.mean * s.mean));
   std::sort(d.begin(), d.end());
-  m.p95 = d[size_t(0.95 * (n - 1) + 0.5)];
-  m.max = d.back();
-  m.far_share = double(far) / n;
+  s.p95 = d[size_t(0.95 * (n - 1) + 0.5)];
+  s.max = d.back();
+  return s;
+}
+
+MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, const PointSpacing& spacing) {
+  MeshMetrics m;
+  m.faces = mesh.triangles.size(), m.vertices = mesh.vertices.size();
+  edge_counts(mesh, m);
+  if (m.closed) m.volume = enclosed_volume(mesh);
+  if (mesh.triangles.empty() || points.empty()) return m;
+  const std::vector<double> d = distances_to(mesh, points);
+  const double reach = 2 * spacing.mean;
+  m.far_share = double(std::count_if(d.begin(), d.end(), [&](double x) { return x > reach; })) / double(d.size());
+  const Spread s = spread_of(d);
+  m.mean = s.mean, m.std = s.std, m.p95 = s.p95, m.max = s.max;
   m.mesh_to_cloud = farthest_from_points(mesh, points);
   return m;
 }

@@ -27,6 +27,17 @@ struct MeshMetrics {
 // floor down). On a closed hull of a building, its roof area.
 double upward_area(const TriMesh& mesh, double min_normal_z = 0.5);
 
+// Each point's distance to the mesh's nearest triangle (m), by the
+// evaluation's FaceIndex; infinite where every triangle is degenerate.
+std::vector<double> distances_to(const TriMesh& mesh, const std::vector<Vec3>& points);
+
+// Mean, standard deviation, 95th percentile and largest of distances (all 0
+// when there are none).
+struct Spread {
+  double mean = 0, std = 0, p95 = 0, max = 0;
+};
+Spread spread_of(std::vector<double> d);
+
 MeshMetrics measure_mesh(const TriMesh& mesh, const std::vector<Vec3>& points, const PointSpacing& spacing);
 
 }  // namespace c3d

@@ -61,4 +61,11 @@ TriMesh alpha_shape(const std::vector<Vec3>& points, const PointSpacing& s) {
   return mesh ? from_open3d(*mesh) : TriMesh{};
 }
 
+TriMesh vertex_clustering(const TriMesh& mesh, double cell) {
+  open3d::geometry::TriangleMesh m;
+  m.vertices_.assign(mesh.vertices.begin(), mesh.vertices.end());
+  for (const auto& t : mesh.triangles) m.triangles_.emplace_back(t[0], t[1], t[2]);
+  return from_open3d(*m.SimplifyVertexClustering(cell));
+}
+
 }  // namespace c3d

@@ -32,4 +32,9 @@ TriMesh screened_poisson(const std::vector<Vec3>& points, const std::vector<Vec3
 // 95th percentile as above.
 TriMesh alpha_shape(const std::vector<Vec3>& points, const PointSpacing& s);
 
+// Open3D's vertex clustering of a mesh: one vertex per cube of side `cell`
+// (m), at the mean of the vertices in it; faces that fall to a line or a
+// point dropped.
+TriMesh vertex_clustering(const TriMesh& mesh, double cell);
+
 }  // namespace c3d

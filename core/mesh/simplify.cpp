@@ -7,6 +7,8 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Constrained_placement.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
@@ -20,7 +22,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <functional>
 #include <set>
+#include <stdexcept>
+
+#include "core/mesh/open3d_mesh.h"
 
 namespace c3d {
 
@@ -51,21 +58,76 @@ Mesh to_surface_mesh(const TriMesh& t) {
   return m;
 }
 
-TriMesh from_surface_mesh(Mesh& m) {
+using Region = Mesh::Property_map<Mesh::Face_index, int>;
+
+// The mesh back as plain data, with each face's region.
+Simplified from_surface_mesh(Mesh& m, const Region& region) {
   m.collect_garbage();
-  TriMesh out;
+  Simplified out;
   for (auto v : m.vertices()) {
     const Point& p = m.point(v);
-    out.vertices.emplace_back(p.x(), p.y(), p.z());
+    out.mesh.vertices.emplace_back(p.x(), p.y(), p.z());
   }
   for (auto f : m.faces()) {
     std::array<int, 3> t{};
     int k = 0;
     for (auto v : CGAL::vertices_around_face(m.halfedge(f), m))
       if (k < 3) t[size_t(k++)] = int(v.idx());
-    if (k == 3) out.triangles.push_back(t);
+    if (k != 3) continue;
+    out.mesh.triangles.push_back(t);
+    out.face_region.push_back(region[f]);
   }
   return out;
+}
+
+// A face by its corners' places, sorted: the soup repair renumbers vertices
+// and may reorder faces, but keeps where their corners are.
+using Place = std::array<double, 3>;
+using FaceKey = std::array<Place, 3>;
+template <typename P>
+Place place_of(const P& p) { return {p[0], p[1], p[2]}; }
+template <typename P>
+FaceKey key_of(const P& a, const P& b, const P& c) {
+  FaceKey k = {place_of(a), place_of(b), place_of(c)};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+// Each face of `m` gets the region its twin in `t` had (-1: none, or a face
+// the repair or a hole fill made, which then takes a neighbour's region).
+Region carry_regions(Mesh& m, const TriMesh& t, const std::vector<int>& face_region) {
+  Region region = m.add_property_map<Mesh::Face_index, int>("f:region", -1).first;
+  if (face_region.size() != t.triangles.size()) return region;
+  std::map<FaceKey, int> of;
+  for (size_t f = 0; f < t.triangles.size(); ++f) {
+    const auto& c = t.triangles[f];
+    of[key_of(t.vertices[size_t(c[0])], t.vertices[size_t(c[1])], t.vertices[size_t(c[2])])] = face_region[f];
+  }
+  for (auto f : m.faces()) {
+    std::vector<Point> c;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) c.push_back(m.point(v));
+    if (c.size() != 3) continue;
+    const auto it = of.find(key_of(c[0], c[1], c[2]));
+    if (it != of.end()) region[f] = it->second;
+  }
+  return region;
+}
+
+// Faces without a region take a neighbour's, until none can.
+void fill_unlabelled(Mesh& m, Region& region) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (auto f : m.faces()) {
+      if (region[f] >= 0) continue;
+      for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+        const auto g = m.face(m.opposite(h));
+        if (g != Mesh::null_face() && region[g] >= 0) {
+          region[f] = region[g], changed = true;
+          break;
+        }
+      }
+    }
+  }
 }
 
 // A collapse whose new vertex lands farther than `reach` from the mesh it
@@ -87,6 +149,34 @@ struct NearTheStart {
 };
 using SafeFilter = SMS::Bounded_normal_change_filter<NearTheStart>;
 
+// Stage one's stop per region: each region's live faces and the count it
+// may collapse down to.
+struct RegionTargets {
+  Region region;
+  std::vector<long> faces, target;
+};
+
+// The safe filter, then the region's target: a collapse that would take its
+// region under its target is refused (stage one keeps the regions' borders,
+// so both faces an edge collapse removes lie in one region).
+struct Filter {
+  SafeFilter safe;
+  RegionTargets* targets = nullptr;
+  template <typename Profile>
+  boost::optional<typename Profile::Point> operator()(const Profile& p,
+                                                      boost::optional<typename Profile::Point> placed) const {
+    placed = safe(p, placed);
+    if (!placed || !targets) return placed;
+    const Mesh& m = p.surface_mesh();
+    const int r = targets->region[m.face(p.is_v0_v1_a_border() ? p.v1_v0() : p.v0_v1())];
+    if (r < 0) return placed;
+    const long removed = long(!p.is_v0_v1_a_border()) + long(!p.is_v1_v0_a_border());
+    if (targets->faces[size_t(r)] - removed < targets->target[size_t(r)]) return boost::none;
+    targets->faces[size_t(r)] -= removed;
+    return placed;
+  }
+};
+
 // Holes whose border is at most `perimeter` long are sampling gaps, not
 // openings: each is triangulated (CGAL), so its border is no edge to keep.
 void fill_small_holes(Mesh& m, double perimeter) {
@@ -100,22 +190,124 @@ void fill_small_holes(Mesh& m, double perimeter) {
   }
 }
 
-// Edge collapse by Lindstrom and Turk's cost and placement until at most `faces`
-// faces remain; edges `fixed` says are not collapsed and their vertices stay.
-// No collapse turns a face's normal over (CGAL's bounded normal change) or
-// puts its vertex far from the mesh it started from (NearTheStart).
-template <typename Fixed>
-void collapse(Mesh& m, size_t faces, const SafeFilter& filter, Fixed fixed) {
+// Edge collapse until at most `faces` faces remain, by the cost and the
+// placement given; edges `fixed` says are not collapsed and their vertices
+// stay. No collapse turns a face's normal over (CGAL's bounded normal change)
+// or puts its vertex far from the mesh it started from (NearTheStart).
+// CGAL collapses no edge whose two vertices both touch fixed edges; the
+// placement keeps a vertex that touches one where it is, unless `placement`
+// keeps its own vertices (`Keeps`).
+template <bool Keeps = false, typename Cost, typename Placement, typename Fixed>
+void collapse(Mesh& m, size_t faces, const Cost& cost, const Placement& placement, const Filter& filter, Fixed fixed) {
   auto constrained = m.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
   for (auto e : m.edges()) constrained[e] = fixed(e);
-  const SMS::Constrained_placement<SMS::LindstromTurk_placement<Mesh>, decltype(constrained)> placement(constrained);
   const SMS::Count_stop_predicate<Mesh> stop(faces * 3 / 2);
-  SMS::edge_collapse(m, stop,
-                     CGAL::parameters::get_placement(placement)
-                         .edge_is_constrained_map(constrained)
-                         .filter(filter));
+  const auto with = CGAL::parameters::get_cost(cost).edge_is_constrained_map(constrained).filter(filter);
+  if constexpr (Keeps) {
+    SMS::edge_collapse(m, stop, with.get_placement(placement));
+  } else {
+    const SMS::Constrained_placement<Placement, decltype(constrained)> kept(constrained, placement);
+    SMS::edge_collapse(m, stop, with.get_placement(kept));
+  }
   m.remove_property_map(constrained);
   m.collect_garbage();
+}
+
+void collapse_lindstrom_turk(Mesh& m, size_t faces, const Filter& filter, std::function<bool(Mesh::Edge_index)> fixed) {
+  collapse(m, faces, SMS::LindstromTurk_cost<Mesh>(), SMS::LindstromTurk_placement<Mesh>(), filter, fixed);
+}
+
+// Each region's target: its faces times its kind's weight times one share,
+// the largest share whose targets fit the budget (at most all its faces).
+std::vector<long> region_targets(const std::vector<long>& faces, const std::vector<RegionKind>& kinds, size_t budget,
+                                 const RegionRetention& w) {
+  const auto at = [&](double share) {
+    std::vector<long> t(faces.size());
+    long sum = 0;
+    for (size_t r = 0; r < faces.size(); ++r) {
+      const double weight = kinds[r] == RegionKind::Planar ? w.planar : kinds[r] == RegionKind::Curved ? w.curved : w.detail;
+      t[r] = std::min(faces[r], long(std::ceil(weight * share * double(faces[r]))));
+      sum += t[r];
+    }
+    return std::pair{t, sum};
+  };
+  double lo = 0, hi = 1;
+  for (int k = 0; k < 50; ++k) {
+    const double mid = (lo + hi) / 2;
+    (at(mid).second <= long(budget) ? lo : hi) = mid;
+  }
+  return at(lo).first;
+}
+
+// How many regions meet at a vertex, the open border counted as one.
+int regions_at(const Mesh& m, Mesh::Vertex_index v, const Region& region) {
+  std::array<int, 8> seen{};
+  int n = 0;
+  for (auto h : CGAL::halfedges_around_target(v, m)) {
+    const auto f = m.face(h);
+    const int r = f == Mesh::null_face() ? -2 : region[f];
+    if (std::find(seen.begin(), seen.begin() + n, r) == seen.begin() + n && n < int(seen.size())) seen[size_t(n++)] = r;
+  }
+  return n;
+}
+
+// Stage two's placement: a vertex on a region's border stays, unless the
+// edge runs along that border: then the border gives up one of the edge's
+// two vertices (the one whose removal costs less; never a corner, where three
+// regions, or a region and the open border, meet). The kept border is a
+// subset of the dense border's vertices: a straight frame stays straight.
+struct AlongBorders {
+  Region region;
+  SMS::LindstromTurk_placement<Mesh> free;
+  SMS::LindstromTurk_cost<Mesh> cost;
+  template <typename Profile>
+  boost::optional<typename Profile::Point> operator()(const Profile& p) const {
+    const Mesh& m = p.surface_mesh();
+    const int n0 = regions_at(m, p.v0(), region), n1 = regions_at(m, p.v1(), region);
+    const auto h = p.v0_v1();
+    const auto f = m.face(h), g = m.face(m.opposite(h));
+    if (f != Mesh::null_face() && g != Mesh::null_face() && region[f] != region[g]) {
+      if (n0 >= 3 && n1 >= 3) return boost::none;
+      if (n0 >= 3) return p.p0();
+      if (n1 >= 3) return p.p1();
+      const auto c0 = cost(p, boost::optional<Point>(p.p0())), c1 = cost(p, boost::optional<Point>(p.p1()));
+      return c0 && (!c1 || *c0 <= *c1) ? p.p0() : p.p1();
+    }
+    if (n0 >= 2 && n1 >= 2) return boost::none;
+    if (n0 >= 2) return p.p0();
+    if (n1 >= 2) return p.p1();
+    return free(p);
+  }
+};
+
+// Seed 002's two stages. One: inside the regions down to their targets, the
+// regions' borders and the open border kept. Two, where that leaves more than
+// the budget: the borders give up vertices along themselves (AlongBorders).
+// Should many small regions still hold more, the last resort is plain edge
+// collapse (the level keeps its budget; its planar change tells the cost).
+void collapse_boundary_aware(Mesh& m, size_t faces, const SafeFilter& safe, Region& region,
+                             const MeshRegions& regions, const RegionRetention& retention) {
+  RegionTargets targets{region, std::vector<long>(regions.kinds.size(), 0), {}};
+  for (auto f : m.faces())
+    if (region[f] >= 0 && size_t(region[f]) < targets.faces.size()) ++targets.faces[size_t(region[f])];
+  targets.target = region_targets(targets.faces, regions.kinds, faces, retention);
+  const auto region_border = [&](Mesh::Edge_index e) {
+    const auto h = m.halfedge(e);
+    return m.is_border(e) || region[m.face(h)] != region[m.face(m.opposite(h))];
+  };
+  const auto open_border = [&](Mesh::Edge_index e) { return m.is_border(e); };
+  collapse_lindstrom_turk(m, faces, Filter{safe, &targets}, region_border);
+  if (size_t(m.number_of_faces()) > faces)
+    collapse<true>(m, faces, SMS::LindstromTurk_cost<Mesh>(), AlongBorders{region, {}, {}}, Filter{safe, nullptr},
+                   open_border);
+  if (size_t(m.number_of_faces()) > faces) collapse_lindstrom_turk(m, faces, Filter{safe, nullptr}, open_border);
+}
+
+// Garland and Heckbert's plane quadrics, in one stage, the open border kept.
+void collapse_garland_heckbert(Mesh& m, size_t faces, const SafeFilter& safe) {
+  const SMS::GarlandHeckbert_plane_policies<Mesh, Kernel> policies(m);
+  collapse(m, faces, policies.get_cost(), policies.get_placement(), Filter{safe, nullptr},
+           [&](Mesh::Edge_index e) { return m.is_border(e); });
 }
 
 // One point per cube of side `cell` (the first met): a wrap of alpha many
@@ -133,16 +325,79 @@ std::vector<Point> thinned(const std::vector<Vec3>& points, double cell) {
 
 }  // namespace
 
-TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double reach,
-                   const std::vector<std::array<int, 2>>& keep) {
-  if (mesh.triangles.size() <= faces) return without_loose_vertices(mesh);
-  // Marked edges by their ends' places: the soup repair renumbers vertices.
-  using Place = std::array<double, 3>;
-  const auto place = [](const auto& p) { return Place{p[0], p[1], p[2]}; };
-  std::set<std::pair<Place, Place>> marked;
-  for (const auto& e : keep) {
-    const Place a = place(mesh.vertices[size_t(e[0])]), b = place(mesh.vertices[size_t(e[1])]);
-    marked.insert({std::min(a, b), std::max(a, b)});
+const char* simplifier_name(Simplifier s) {
+  switch (s) {
+    case Simplifier::BoundaryAware: return "boundary";
+    case Simplifier::LindstromTurk: return "qem";
+    case Simplifier::GarlandHeckbert: return "garland";
+    case Simplifier::VertexClustering: return "clustering";
+  }
+  return "?";
+}
+
+Simplifier simplifier_named(const std::string& name) {
+  for (Simplifier s : {Simplifier::BoundaryAware, Simplifier::LindstromTurk, Simplifier::GarlandHeckbert,
+                       Simplifier::VertexClustering})
+    if (name == simplifier_name(s)) return s;
+  throw std::invalid_argument("unknown simplification '" + name + "' (boundary, qem, garland, clustering)");
+}
+
+namespace {
+
+// Where the faces of `light` lie in `dense`'s regions: the region of the
+// dense face nearest each light face's centre (vertex clustering keeps no
+// face, so none carries its region).
+std::vector<int> nearest_regions(const TriMesh& light, const TriMesh& dense, const std::vector<int>& face_region) {
+  std::vector<Triangle> triangles;
+  std::vector<int> region_of;
+  for (size_t f = 0; f < dense.triangles.size() && f < face_region.size(); ++f) {
+    const auto& c = dense.triangles[f];
+    const Vec3 &a = dense.vertices[size_t(c[0])], &b = dense.vertices[size_t(c[1])], &d = dense.vertices[size_t(c[2])];
+    const Triangle t(Point(a.x(), a.y(), a.z()), Point(b.x(), b.y(), b.z()), Point(d.x(), d.y(), d.z()));
+    if (t.is_degenerate()) continue;
+    triangles.push_back(t);
+    region_of.push_back(face_region[f]);
+  }
+  std::vector<int> out(light.triangles.size(), -1);
+  if (triangles.empty()) return out;
+  Tree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  const auto corners = light.soup();
+  for (size_t f = 0; f < corners.size(); ++f) {
+    const Vec3 c = (corners[f][0] + corners[f][1] + corners[f][2]) / 3;
+    out[f] = region_of[size_t(tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z())).second - triangles.begin())];
+  }
+  return out;
+}
+
+// Vertex clustering at the smallest cell (halving the bracket 20 times) whose
+// mesh has at most `faces` faces.
+TriMesh clustered(const TriMesh& mesh, size_t faces) {
+  double lo = 0, hi = 1e-3;
+  TriMesh best = vertex_clustering(mesh, hi);
+  while (best.triangles.size() > faces && hi < 1e4) lo = hi, hi *= 2, best = vertex_clustering(mesh, hi);
+  for (int k = 0; k < 20; ++k) {
+    const double mid = (lo + hi) / 2;
+    TriMesh m = vertex_clustering(mesh, mid);
+    if (m.triangles.size() <= faces) hi = mid, best = std::move(m);
+    else lo = mid;
+  }
+  return best;
+}
+
+}  // namespace
+
+Simplified simplified(const TriMesh& mesh, size_t faces, double small_hole, double reach, const MeshRegions& regions,
+                      Simplifier how, const RegionRetention& retention) {
+  if (mesh.triangles.size() <= faces) {
+    Simplified same{without_loose_vertices(mesh), regions.face_region};
+    same.face_region.resize(mesh.triangles.size(), -1);
+    return same;
+  }
+  if (how == Simplifier::VertexClustering) {
+    Simplified out{clustered(mesh, faces), {}};
+    out.face_region = nearest_regions(out.mesh, mesh, regions.face_region);
+    return out;
   }
   std::vector<Triangle> start;
   for (const auto& t : mesh.soup())
@@ -151,19 +406,22 @@ TriMesh simplified(const TriMesh& mesh, size_t faces, double small_hole, double 
   start.erase(std::remove_if(start.begin(), start.end(), [](const Triangle& t) { return t.is_degenerate(); }), start.end());
   Tree tree(start.begin(), start.end());
   tree.accelerate_distance_queries();
-  const SafeFilter filter(NearTheStart{&tree, reach});
+  const SafeFilter safe(NearTheStart{&tree, reach});
   Mesh m = to_surface_mesh(mesh);
+  Region region = carry_regions(m, mesh, regions.face_region);
   fill_small_holes(m, small_hole);
-  collapse(m, faces, filter, [&](Mesh::Edge_index e) {
-    const Place a = place(m.point(m.vertex(e, 0))), b = place(m.point(m.vertex(e, 1)));
-    return m.is_border(e) || marked.count({std::min(a, b), std::max(a, b)}) > 0;
-  });
-  // Stage two: where the marked edges hold more faces than the budget, they
-  // collapse too; the open border stays (collapsing it pulled a box's walls
-  // up from their bottom edge by a metre).
-  if (!keep.empty() && size_t(m.number_of_faces()) > faces)
-    collapse(m, faces, filter, [&](Mesh::Edge_index e) { return m.is_border(e); });
-  return without_loose_vertices(from_surface_mesh(m));
+  fill_unlabelled(m, region);
+  const auto border = [&](Mesh::Edge_index e) { return m.is_border(e); };
+  switch (how) {
+    case Simplifier::BoundaryAware: collapse_boundary_aware(m, faces, safe, region, regions, retention); break;
+    case Simplifier::LindstromTurk: collapse_lindstrom_turk(m, faces, Filter{safe, nullptr}, border); break;
+    case Simplifier::GarlandHeckbert: collapse_garland_heckbert(m, faces, safe); break;
+    case Simplifier::VertexClustering: break;
+  }
+  Simplified out = from_surface_mesh(m, region);
+  TriMesh compact = without_loose_vertices(out.mesh);
+  out.mesh = std::move(compact);
+  return out;
 }
 
 Wrap wrapped(const std::vector<Vec3>& points, size_t max_faces) {
@@ -179,7 +437,8 @@ Wrap wrapped(const std::vector<Vec3>& points, size_t max_faces) {
   for (double alpha = std::sqrt(box_area / (0.43 * double(max_faces))); ; alpha *= 1.5) {
     Mesh wrap;
     CGAL::alpha_wrap_3(thinned(points, alpha / 3), alpha, alpha / 30, wrap);
-    out = {from_surface_mesh(wrap), alpha, alpha / 30};
+    const Region none = wrap.add_property_map<Mesh::Face_index, int>("f:region", -1).first;
+    out = {from_surface_mesh(wrap, none).mesh, alpha, alpha / 30};
     if (out.mesh.triangles.size() <= max_faces || alpha > size.norm()) break;
   }
   return out;

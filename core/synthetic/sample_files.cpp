@@ -58,6 +58,21 @@ nlohmann::ordered_json building_json(const TruthBuilding& tb, const LocalFrame& 
     fp.push_back({r6(w.x()), r6(w.y())});
   }
   j["footprint"] = fp;
+  if (!tb.openings.empty()) {  // world coordinates, as the footprint
+    auto openings = nlohmann::ordered_json::array();
+    for (const Opening& o : tb.openings) {
+      auto corners = nlohmann::ordered_json::array();
+      for (const Vec3& p : o.frame) {
+        const Vec3 w = frame.to_world(p);
+        corners.push_back({r6(w.x()), r6(w.y()), r6(w.z())});
+      }
+      openings.push_back({{"kind", o.kind},
+                          {"frame", corners},
+                          {"inward", {r6(o.inward.x()), r6(o.inward.y()), r6(o.inward.z())}},
+                          {"depth_m", r6(o.depth)}});
+    }
+    j["openings"] = openings;
+  }
   return j;
 }
 

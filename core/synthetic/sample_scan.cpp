@@ -62,6 +62,30 @@ class Sampler {
     }
     return n;
   }
+  // A wall face with its openings: the wall's points outside them, and in
+  // each its pane (`depth` behind the frame) and its four reveals.
+  int wall_with_openings(const Face& f, const std::vector<Opening>& openings, double density, double sigma,
+                         std::uint8_t cls) {
+    int n = 0;
+    long k = r_.count(density * area(f));
+    if (k > 0) fan(f.ring);
+    for (long i = 0; i < k; ++i) {
+      const Vec3 p = on_fan(f.ring);
+      if (std::none_of(openings.begin(), openings.end(), [&](const Opening& o) { return in_frame(o, p); }))
+        add(p, sigma, cls, PointTag::Surface), ++n;
+    }
+    for (const Opening& o : openings) {
+      const Vec3 back = o.inward * o.depth;
+      Ring3 pane;
+      for (const Vec3& c : o.frame) pane.push_back(c + back);
+      n += on_ring(pane, density, sigma, cls);
+      for (size_t i = 0; i < 4; ++i) {
+        const Vec3 &a = o.frame[i], &b = o.frame[(i + 1) % 4];
+        n += on_ring({a, b, b + back, a + back}, density, sigma, cls);
+      }
+    }
+    return n;
+  }
   // An antenna (vertical line) or a water tank (cylinder) standing on the roof.
   void clutter(const Face& roof, double density, double sigma) {
     Vec3 base = on_face(roof.ring);
@@ -87,7 +111,85 @@ class Sampler {
   SampleTown& t_;
   Rng& r_;
   std::vector<double> cum_;
+
+  int on_ring(const Ring3& ring, double density, double sigma, std::uint8_t cls) {
+    const long k = r_.count(density * ring_area(ring));
+    if (k > 0) fan(ring);
+    for (long i = 0; i < k; ++i) add(on_fan(ring), sigma, cls, PointTag::Surface);
+    return int(std::max(0L, k));
+  }
+  static double ring_area(const Ring3& r) {
+    Vec3 twice = Vec3::Zero();
+    for (size_t i = 1; i + 1 < r.size(); ++i) twice += (r[i] - r[0]).cross(r[i + 1] - r[0]);
+    return twice.norm() / 2;
+  }
+  // Whether a point of the wall plane lies inside the opening's frame.
+  static bool in_frame(const Opening& o, const Vec3& p) {
+    const Vec3 along = (o.frame[1] - o.frame[0]).normalized();
+    const double s = (p - o.frame[0]).dot(along), z = p.z();
+    return s > 0 && s < (o.frame[1] - o.frame[0]).norm() && z > o.frame[0].z() && z < o.frame[2].z();
+  }
 };
+
+// Recessed openings of one exterior wall face: windows 1.2 m wide and 1.3 m
+// high every 3 m along it, on each 3 m storey (sills 0.9 m above the
+// storey), 0.15 m deep; the building's first face with room gets a door
+// (1.0 x 2.1 m, 0.3 m above the floor) in its first ground-floor slot. An opening keeps 0.3 m of
+// wall around it inside the face, so gables and low walls get fewer.
+std::vector<Opening> openings_of(const Face& f, bool& door_left) {
+  std::vector<Opening> out;
+  const Ring3& r = f.ring;
+  if (r.size() < 3) return out;
+  Vec3 n = unit_normal(f);  // outward: the truth's solid is oriented
+  n.z() = 0;
+  if (n.norm() < 0.99) return out;  // not a vertical face
+  n.normalize();
+  Vec3 lo = r[0], hi = r[0];
+  for (const Vec3& p : r) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 mid = (lo + hi) / 2;
+  const Vec3 along(-n.y(), n.x(), 0);
+  double s0 = 1e300, s1 = -1e300;
+  for (const Vec3& p : r) s0 = std::min(s0, (p - mid).dot(along)), s1 = std::max(s1, (p - mid).dot(along));
+  const Vec3 plane = mid - n * (mid - r[0]).dot(n);  // a point on the face's plane
+  const auto corner = [&](double s, double z) { return Vec3(plane + along * s + Vec3(0, 0, z - plane.z())); };
+  // Inside the face, 0.3 m clear: its (s, z) polygon is convex.
+  const auto inside = [&](double s, double z) {
+    const auto is_left = [&](size_t i) {
+      const Vec3 &a = r[i], &b = r[(i + 1) % r.size()];
+      const double as = (a - mid).dot(along), bs = (b - mid).dot(along);
+      return (bs - as) * (z - a.z()) - (b.z() - a.z()) * (s - as);
+    };
+    double sign = 0;
+    for (size_t i = 0; i < r.size(); ++i) {
+      const double c = is_left(i);
+      if (sign == 0) sign = c;
+      if (c * sign < 0) return false;
+    }
+    return true;
+  };
+  const auto fits = [&](double a, double b, double z0, double z1) {
+    for (double s : {a - 0.3, b + 0.3})
+      for (double z : {z0 - 0.3, z1 + 0.3})
+        if (!inside(s, z)) return false;
+    return true;
+  };
+  const int slots = int(std::floor((s1 - s0) / 3.0));
+  for (int storey = 0; storey < 10; ++storey) {
+    const double floor_z = lo.z() + 3.0 * storey;
+    if (floor_z > hi.z()) break;
+    for (int k = 0; k < slots; ++k) {
+      const double c = s0 + (s1 - s0 - 3.0 * slots) / 2 + 3.0 * (k + 0.5);
+      const bool door = door_left && storey == 0 && k == 0;
+      const double w = door ? 1.0 : 1.2, z0 = door ? floor_z + 0.3 : floor_z + 0.9, z1 = z0 + (door ? 2.1 : 1.3);
+      if (!fits(c - w / 2, c + w / 2, z0, z1)) continue;
+      door_left = door_left && !door;
+      out.push_back({door ? "door" : "window",
+                     {corner(c - w / 2, z0), corner(c + w / 2, z0), corner(c + w / 2, z1), corner(c - w / 2, z1)},
+                     -n, 0.15});
+    }
+  }
+  return out;
+}
 
 bool inside_convex(const Ring3& r, const Vec2& p) {
   for (size_t i = 0, n = r.size(); i < n; ++i) {
@@ -120,6 +222,7 @@ void sample_detail::sample_points(SampleTown& town, const SampleOptions& opt, Rn
     for (auto& tb : town.truth[pi]) {
       Building& m = tb.model;
       const Face* biggest = nullptr;
+      bool door_left = true;  // one door a building
       for (auto& e : m.elements) {
         if (e.type == ElementType::Roof) {
           e.support_points = s.element(e, opt.roof_density, true, opt.roof_noise, 6, opt.outlier_share);
@@ -128,7 +231,16 @@ void sample_detail::sample_points(SampleTown& town, const SampleOptions& opt, Rn
             if (!biggest || area(f) > area(*biggest)) biggest = &f;
         } else if (e.type == ElementType::Wall) {
           if (rng.chance(opt.wall_occlusion)) continue;
-          e.support_points = s.element(e, opt.wall_density, false, opt.wall_noise, 64, 0);
+          if (opt.openings) {
+            e.support_points = 0;
+            for (const Face& f : e.faces) {
+              const std::vector<Opening> here = openings_of(f, door_left);
+              e.support_points += s.wall_with_openings(f, here, opt.wall_density, opt.wall_noise, 64);
+              tb.openings.insert(tb.openings.end(), here.begin(), here.end());
+            }
+          } else {
+            e.support_points = s.element(e, opt.wall_density, false, opt.wall_noise, 64, 0);
+          }
           e.rmse = opt.wall_noise;
           e.evidence = WallEvidence::Measured;
         }

@@ -72,6 +72,18 @@ struct BuildingParams {
   double dome_radius = 0;           // DomeOnFlat: rim radius of the dome on the flat roof
 };
 
+// A recessed window or door in an exterior wall (SampleOptions::openings).
+// Its frame is where the reveal meets the wall plane: four corners, bottom
+// first, in the building's frame; the pane lies `depth` behind it along
+// `inward`. The scan samples the pane and the four reveals; the wall's area
+// stays its gross area (an opening is part of the wall it is in).
+struct Opening {
+  std::string kind;  // "window" or "door"
+  Ring3 frame;
+  Vec3 inward = Vec3::Zero();
+  double depth = 0;
+};
+
 struct TruthBuilding {
   Building model;            // elements, solid, volume, heights (frame of the caller)
   BuildingParams params;
@@ -83,6 +95,7 @@ struct TruthBuilding {
   // Curved: element areas and the volume are the exact surface's; the faces
   // are a tessellation within 2 mm of it (the points are drawn on them).
   bool exact_areas = false;
+  std::vector<Opening> openings;  // SampleOptions::openings
 };
 
 // Exact truth buildings for one parameter set in the building frame (ground floor
@@ -116,6 +129,9 @@ struct SampleOptions {
   // A town of flat roofs over curved plans (round towers, apsed halls) and
   // gable houses instead.
   bool curved_plans = false;
+  // Recessed windows and doors in the scanned exterior walls, their frames
+  // in the truth (TruthBuilding::openings): what a mesh keeps of a facade.
+  bool openings = false;
   int epsg = 32748;
   double origin_easting = 781000, origin_northing = 9240000;  // south-west of the town
   bool with_points = true;          // false: parcels, DTM and truth only
