@@ -419,6 +419,10 @@ Simplified simplified(const TriMesh& mesh, size_t faces, double small_hole, doub
     case Simplifier::VertexClustering: break;
   }
   Simplified out = from_surface_mesh(m, region);
+  // A soup that is no 2-manifold (an alpha shape's slabs) comes apart in
+  // sheets whose hole fills can outweigh what the collapse removed: then the
+  // mesh as it came is the lighter one.
+  if (out.mesh.triangles.size() >= mesh.triangles.size()) return simplified(mesh, mesh.triangles.size(), 0, 0, regions);
   TriMesh compact = without_loose_vertices(out.mesh);
   out.mesh = std::move(compact);
   return out;
