@@ -26,8 +26,9 @@ RegionParams region_params(const PointSpacing& s) {
 
 void simplify_levels(MeshLadder& l, Simplifier simplifier, const std::vector<Vec3>& points) {
   l.simplifier = simplifier;
-  const MeshLevel& l4 = l.levels[3];
+  MeshLevel& l4 = l.levels[3];
   const std::vector<RegionFrame> frames = planar_frames(l4.mesh, l.regions);
+  l4.planar = region_shapes(l4.mesh, l4.face_region, frames);
   const std::vector<Vec3> borders = border_vertices(l4.mesh, l4.face_region);
   const size_t dense_faces = l4.mesh.triangles.size();
   for (auto [k, share] : {std::pair{3, kLevel3Share}, {2, kLevel2Share}}) {
@@ -63,7 +64,6 @@ MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, cons
   l.regions = segment_regions(l4.mesh, region_params(l.spacing));
   l4.face_region = l.regions.face_region;
   l4.seconds = thread_cpu_seconds() - t;
-  l4.planar = region_shapes(l4.mesh, l4.face_region, planar_frames(l4.mesh, l.regions));
   l4.metrics = measure_mesh(l4.mesh, points, l.spacing);
   simplify_levels(l, simplifier, points);
   t = thread_cpu_seconds();

@@ -48,7 +48,8 @@ struct MeshLadder {
 // spacing): without it a wrap of a roof and walls is a thin shell. Fewer
 // than 4 points: an empty ladder (every level without faces).
 // Levels 3 and 2 (re)made from the ladder's level 4 and its regions by
-// `simplifier`, and measured against the points: another simplification of
+// `simplifier`, and measured against the points, with level 4's planar
+// region shapes they are compared with: another simplification of
 // the same dense level (CGAL's advancing front depends on where the heap put
 // its triangulation, so a second ladder of the same points may differ).
 void simplify_levels(MeshLadder& ladder, Simplifier simplifier, const std::vector<Vec3>& points);

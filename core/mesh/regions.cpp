@@ -5,7 +5,8 @@
 #include <map>
 #include <numeric>
 
-#include <Eigen/Eigenvalues>
+#include "core/mesh/spacing.h"
+
 
 namespace c3d {
 
@@ -49,33 +50,9 @@ std::vector<int> vertices_of(const TriMesh& m, const std::vector<int>& faces) {
   return vertices;
 }
 
-// The vertices' centre, principal axes (largest variance first) and
-// variances along them.
-struct Principal {
-  Vec3 centre = Vec3::Zero();
-  std::array<Vec3, 3> axes{};
-  Vec3 variance = Vec3::Zero();
-};
-Principal principal(const TriMesh& m, const std::vector<int>& vertices) {
-  Principal p;
-  for (int v : vertices) p.centre += m.vertices[size_t(v)];
-  p.centre /= double(vertices.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (int v : vertices) {
-    const Vec3 d = m.vertices[size_t(v)] - p.centre;
-    cov += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(vertices.size()));
-  for (int k = 0; k < 3; ++k) {  // Eigen orders them smallest first
-    p.axes[size_t(k)] = eig.eigenvectors().col(2 - k);
-    p.variance[k] = std::max(0.0, eig.eigenvalues()(2 - k));
-  }
-  return p;
-}
-
 // RMS distance of the region's vertices to their best plane.
 double plane_rms(const TriMesh& m, const std::vector<int>& faces) {
-  return std::sqrt(principal(m, vertices_of(m, faces)).variance[2]);
+  return std::sqrt(principal_axes(m.vertices, vertices_of(m, faces)).variance[2]);
 }
 
 std::vector<std::vector<int>> faces_by_region(const std::vector<int>& face_region, size_t regions) {
@@ -203,7 +180,7 @@ std::vector<RegionFrame> planar_frames(const TriMesh& mesh, const MeshRegions& r
   std::vector<RegionFrame> out;
   for (size_t r = 0; r < faces.size(); ++r) {
     if (regions.kinds[r] != RegionKind::Planar || faces[r].empty()) continue;
-    const Principal p = principal(mesh, vertices_of(mesh, faces[r]));
+    const PrincipalAxes p = principal_axes(mesh.vertices, vertices_of(mesh, faces[r]));
     out.push_back({int(r), p.centre, p.axes});
   }
   return out;

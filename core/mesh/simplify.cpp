@@ -41,6 +41,33 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 using Triangle = Kernel::Triangle_3;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>>>;
 
+// The mesh's triangles in CGAL's form, degenerate ones left out, with the
+// index of the face each came from.
+struct Triangles {
+  std::vector<Triangle> all;
+  std::vector<size_t> face;
+};
+Triangles triangles_of(const TriMesh& mesh) {
+  Triangles out;
+  const auto corners = mesh.soup();
+  for (size_t f = 0; f < corners.size(); ++f) {
+    const auto& c = corners[f];
+    const Triangle t(Point(c[0].x(), c[0].y(), c[0].z()), Point(c[1].x(), c[1].y(), c[1].z()),
+                     Point(c[2].x(), c[2].y(), c[2].z()));
+    if (t.is_degenerate()) continue;
+    out.all.push_back(t);
+    out.face.push_back(f);
+  }
+  return out;
+}
+
+// The mesh as it came, each face in its region (-1 where none is given).
+Simplified unchanged(const TriMesh& mesh, const MeshRegions& regions) {
+  Simplified same{without_loose_vertices(mesh), regions.face_region};
+  same.face_region.resize(mesh.triangles.size(), -1);
+  return same;
+}
+
 // The mesh in CGAL's form, made a 2-manifold first: an alpha shape's or a
 // pivot's triangles may share an edge three times, or touch at a vertex
 // only; the polygon soup repair splits such vertices and orients the faces.
@@ -348,24 +375,16 @@ namespace {
 // dense face nearest each light face's centre (vertex clustering keeps no
 // face, so none carries its region).
 std::vector<int> nearest_regions(const TriMesh& light, const TriMesh& dense, const std::vector<int>& face_region) {
-  std::vector<Triangle> triangles;
-  std::vector<int> region_of;
-  for (size_t f = 0; f < dense.triangles.size() && f < face_region.size(); ++f) {
-    const auto& c = dense.triangles[f];
-    const Vec3 &a = dense.vertices[size_t(c[0])], &b = dense.vertices[size_t(c[1])], &d = dense.vertices[size_t(c[2])];
-    const Triangle t(Point(a.x(), a.y(), a.z()), Point(b.x(), b.y(), b.z()), Point(d.x(), d.y(), d.z()));
-    if (t.is_degenerate()) continue;
-    triangles.push_back(t);
-    region_of.push_back(face_region[f]);
-  }
+  const Triangles triangles = triangles_of(dense);
   std::vector<int> out(light.triangles.size(), -1);
-  if (triangles.empty()) return out;
-  Tree tree(triangles.begin(), triangles.end());
+  if (triangles.all.empty() || face_region.size() != dense.triangles.size()) return out;
+  Tree tree(triangles.all.begin(), triangles.all.end());
   tree.accelerate_distance_queries();
   const auto corners = light.soup();
   for (size_t f = 0; f < corners.size(); ++f) {
     const Vec3 c = (corners[f][0] + corners[f][1] + corners[f][2]) / 3;
-    out[f] = region_of[size_t(tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z())).second - triangles.begin())];
+    const auto nearest = tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z())).second;
+    out[f] = face_region[triangles.face[size_t(nearest - triangles.all.begin())]];
   }
   return out;
 }
@@ -389,22 +408,14 @@ TriMesh clustered(const TriMesh& mesh, size_t faces) {
 
 Simplified simplified(const TriMesh& mesh, size_t faces, double small_hole, double reach, const MeshRegions& regions,
                       Simplifier how, const RegionRetention& retention) {
-  if (mesh.triangles.size() <= faces) {
-    Simplified same{without_loose_vertices(mesh), regions.face_region};
-    same.face_region.resize(mesh.triangles.size(), -1);
-    return same;
-  }
+  if (mesh.triangles.size() <= faces) return unchanged(mesh, regions);
   if (how == Simplifier::VertexClustering) {
     Simplified out{clustered(mesh, faces), {}};
     out.face_region = nearest_regions(out.mesh, mesh, regions.face_region);
     return out;
   }
-  std::vector<Triangle> start;
-  for (const auto& t : mesh.soup())
-    start.emplace_back(Point(t[0].x(), t[0].y(), t[0].z()), Point(t[1].x(), t[1].y(), t[1].z()),
-                       Point(t[2].x(), t[2].y(), t[2].z()));
-  start.erase(std::remove_if(start.begin(), start.end(), [](const Triangle& t) { return t.is_degenerate(); }), start.end());
-  Tree tree(start.begin(), start.end());
+  const Triangles start = triangles_of(mesh);
+  Tree tree(start.all.begin(), start.all.end());
   tree.accelerate_distance_queries();
   const SafeFilter safe(NearTheStart{&tree, reach});
   Mesh m = to_surface_mesh(mesh);
@@ -422,7 +433,7 @@ Simplified simplified(const TriMesh& mesh, size_t faces, double small_hole, doub
   // A soup that is no 2-manifold (an alpha shape's slabs) comes apart in
   // sheets whose hole fills can outweigh what the collapse removed: then the
   // mesh as it came is the lighter one.
-  if (out.mesh.triangles.size() >= mesh.triangles.size()) return simplified(mesh, mesh.triangles.size(), 0, 0, regions);
+  if (out.mesh.triangles.size() >= mesh.triangles.size()) return unchanged(mesh, regions);
   TriMesh compact = without_loose_vertices(out.mesh);
   out.mesh = std::move(compact);
   return out;

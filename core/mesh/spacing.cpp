@@ -27,16 +27,26 @@ PointSpacing point_spacing(const std::vector<Vec3>& points) {
   return s;
 }
 
+PrincipalAxes principal_axes(const std::vector<Vec3>& points, const std::vector<int>& idx) {
+  PrincipalAxes p;
+  const size_t n = idx.empty() ? points.size() : idx.size();
+  if (n == 0) return p;
+  const auto at = [&](size_t i) -> const Vec3& { return idx.empty() ? points[i] : points[size_t(idx[i])]; };
+  for (size_t i = 0; i < n; ++i) p.centre += at(i);
+  p.centre /= double(n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < n; ++i) cov += (at(i) - p.centre) * (at(i) - p.centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(n));
+  for (int k = 0; k < 3; ++k) {  // Eigen orders them smallest first
+    p.axes[size_t(k)] = eig.eigenvectors().col(2 - k);
+    p.variance[k] = std::max(0.0, eig.eigenvalues()(2 - k));
+  }
+  return p;
+}
+
 Vec3 point_spread(const std::vector<Vec3>& points) {
   if (points.size() < 2) return Vec3::Zero();
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : points) mean += p;
-  mean /= double(points.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : points) cov += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(points.size()));
-  const Vec3 ascending = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-  return {ascending.z(), ascending.y(), ascending.x()};
+  return principal_axes(points).variance.cwiseSqrt();
 }
 
 }  // namespace c3d

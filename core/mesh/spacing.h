@@ -2,6 +2,7 @@
 // How far apart a cloud's points lie: each point's distance to its nearest
 // other point, summarised. Every meshing parameter of the ladder comes from
 // these figures (seed 003's tables), none from a constant in metres.
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -17,6 +18,15 @@ struct PointSpacing {
 // Copies of one place (distance 0) count once: their distance is to the next
 // point elsewhere. Fewer than two distinct points: all zero.
 PointSpacing point_spacing(const std::vector<Vec3>& points);
+
+// The points' (points[idx]'s, when idx is given) centre, principal axes,
+// largest variance first, and their variances along them (m2).
+struct PrincipalAxes {
+  Vec3 centre = Vec3::Zero();
+  std::array<Vec3, 3> axes{};
+  Vec3 variance = Vec3::Zero();
+};
+PrincipalAxes principal_axes(const std::vector<Vec3>& points, const std::vector<int>& idx = {});
 
 // How far the points spread along their principal axes: the square roots of
 // their covariance's eigenvalues, largest first (m). A last one of nothing

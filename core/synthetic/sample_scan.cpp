@@ -113,15 +113,10 @@ class Sampler {
   std::vector<double> cum_;
 
   int on_ring(const Ring3& ring, double density, double sigma, std::uint8_t cls) {
-    const long k = r_.count(density * ring_area(ring));
+    const long k = r_.count(density * area(ring));
     if (k > 0) fan(ring);
     for (long i = 0; i < k; ++i) add(on_fan(ring), sigma, cls, PointTag::Surface);
     return int(std::max(0L, k));
-  }
-  static double ring_area(const Ring3& r) {
-    Vec3 twice = Vec3::Zero();
-    for (size_t i = 1; i + 1 < r.size(); ++i) twice += (r[i] - r[0]).cross(r[i + 1] - r[0]);
-    return twice.norm() / 2;
   }
   // Whether a point of the wall plane lies inside the opening's frame.
   static bool in_frame(const Opening& o, const Vec3& p) {
@@ -130,6 +125,16 @@ class Sampler {
     return s > 0 && s < (o.frame[1] - o.frame[0]).norm() && z > o.frame[0].z() && z < o.frame[2].z();
   }
 };
+
+// Whether p lies in the convex counter-clockwise ring (its plan, for a Ring3).
+template <typename Ring>
+bool inside_convex(const Ring& r, const Vec2& p) {
+  for (size_t i = 0, n = r.size(); i < n; ++i) {
+    const Vec2 a = r[i].template head<2>(), b = r[(i + 1) % n].template head<2>();
+    if ((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x() < 0) return false;
+  }
+  return true;
+}
 
 // Recessed openings of one exterior wall face: windows 1.2 m wide and 1.3 m
 // high every 3 m along it, on each 3 m storey (sills 0.9 m above the
@@ -148,29 +153,18 @@ std::vector<Opening> openings_of(const Face& f, bool& door_left) {
   for (const Vec3& p : r) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const Vec3 mid = (lo + hi) / 2;
   const Vec3 along(-n.y(), n.x(), 0);
-  double s0 = 1e300, s1 = -1e300;
-  for (const Vec3& p : r) s0 = std::min(s0, (p - mid).dot(along)), s1 = std::max(s1, (p - mid).dot(along));
   const Vec3 plane = mid - n * (mid - r[0]).dot(n);  // a point on the face's plane
   const auto corner = [&](double s, double z) { return Vec3(plane + along * s + Vec3(0, 0, z - plane.z())); };
-  // Inside the face, 0.3 m clear: its (s, z) polygon is convex.
-  const auto inside = [&](double s, double z) {
-    const auto is_left = [&](size_t i) {
-      const Vec3 &a = r[i], &b = r[(i + 1) % r.size()];
-      const double as = (a - mid).dot(along), bs = (b - mid).dot(along);
-      return (bs - as) * (z - a.z()) - (b.z() - a.z()) * (s - as);
-    };
-    double sign = 0;
-    for (size_t i = 0; i < r.size(); ++i) {
-      const double c = is_left(i);
-      if (sign == 0) sign = c;
-      if (c * sign < 0) return false;
-    }
-    return true;
-  };
+  // The face in its own plane (along, up), counter-clockwise: a convex ring.
+  Ring2 flat;
+  for (const Vec3& p : r) flat.emplace_back((p - mid).dot(along), p.z());
+  if (signed_area(flat) < 0) std::reverse(flat.begin(), flat.end());
+  double s0 = 1e300, s1 = -1e300;
+  for (const Vec2& q : flat) s0 = std::min(s0, q.x()), s1 = std::max(s1, q.x());
   const auto fits = [&](double a, double b, double z0, double z1) {
     for (double s : {a - 0.3, b + 0.3})
       for (double z : {z0 - 0.3, z1 + 0.3})
-        if (!inside(s, z)) return false;
+        if (!inside_convex(flat, Vec2(s, z))) return false;
     return true;
   };
   const int slots = int(std::floor((s1 - s0) / 3.0));
@@ -191,13 +185,6 @@ std::vector<Opening> openings_of(const Face& f, bool& door_left) {
   return out;
 }
 
-bool inside_convex(const Ring3& r, const Vec2& p) {
-  for (size_t i = 0, n = r.size(); i < n; ++i) {
-    Vec2 a = r[i].head<2>(), b = r[(i + 1) % n].head<2>();
-    if ((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x() < 0) return false;
-  }
-  return true;
-}
 
 }  // namespace
 
