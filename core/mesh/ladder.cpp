@@ -15,10 +15,11 @@ size_t share_of(size_t faces, double share) { return std::max<size_t>(4, size_t(
 // to 4 balls' diameters long closes a sampling gap, not an opening.
 double small_hole(const PointSpacing& s) { return 8 * pivoting_radii(s).back(); }
 
-// A region is flat where its vertices keep within half a spacing of a plane.
+// A region is flat where its vertices keep within half a spacing of a plane,
+// or within 2.5 noise sigma where the scan is noisier than that.
 RegionParams region_params(const PointSpacing& s) {
   RegionParams p;
-  p.flat_m = s.mean / 2;
+  p.flat_m = std::max(s.mean / 2, 2.5 * s.noise);
   return p;
 }
 
@@ -38,7 +39,7 @@ void simplify_levels(MeshLadder& l, Simplifier simplifier, const std::vector<Vec
     const MeshLevel& above = l.levels[size_t(k)];
     // No vertex moves past two spacings: as far as level 4 may stray from the points.
     Simplified light = simplified(above.mesh, share_of(dense_faces, share), small_hole(l.spacing), 2 * l.spacing.mean,
-                                  MeshRegions{above.face_region, l.regions.kinds}, simplifier);
+                                  MeshRegions{above.face_region, l.regions.kinds, l.regions.extremes}, simplifier);
     level.seconds = thread_cpu_seconds() - t;
     level.mesh = std::move(light.mesh);
     level.face_region = std::move(light.face_region);

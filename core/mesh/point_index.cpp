@@ -49,4 +49,11 @@ double PointIndex::nearest_other(size_t i) const {
   return -1;
 }
 
+std::vector<int> PointIndex::nearest_k(size_t i, size_t k) const {
+  std::vector<int> idx;
+  std::vector<float> d2;
+  tree_->kd.nearestKSearch(tree_->cloud->points[i], int(k), idx, d2);
+  return idx;
+}
+
 }  // namespace c3d

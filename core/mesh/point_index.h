@@ -20,6 +20,8 @@ class PointIndex {
   // Distance from point i to the nearest point at another place (copies of
   // its place skipped); negative when every point is at its place.
   double nearest_other(size_t i) const;
+  // Indices of the k points nearest to point i (itself among them).
+  std::vector<int> nearest_k(size_t i, size_t k) const;
 
  private:
   struct Tree;

@@ -7,6 +7,8 @@
 
 #include "core/mesh/spacing.h"
 
+#include <Eigen/Eigenvalues>
+
 
 namespace c3d {
 
@@ -50,9 +52,13 @@ std::vector<int> vertices_of(const TriMesh& m, const std::vector<int>& faces) {
   return vertices;
 }
 
-// RMS distance of the region's vertices to their best plane.
-double plane_rms(const TriMesh& m, const std::vector<int>& faces) {
-  return std::sqrt(principal_axes(m.vertices, vertices_of(m, faces)).variance[2]);
+// RMS distance of the faces' vertices to the plane through `plane`'s centre
+// across its third axis.
+double rms_off_plane(const TriMesh& m, const std::vector<int>& faces, const PrincipalAxes& plane) {
+  const std::vector<int> vertices = vertices_of(m, faces);
+  double sum = 0;
+  for (int v : vertices) sum += std::pow(plane.axes[2].dot(m.vertices[size_t(v)] - plane.centre), 2);
+  return std::sqrt(sum / double(std::max<size_t>(1, vertices.size())));
 }
 
 std::vector<std::vector<int>> faces_by_region(const std::vector<int>& face_region, size_t regions) {
@@ -75,6 +81,36 @@ bool near_plane(const TriMesh& m, int f, const Vec3& centre, const Vec3& normal,
   return true;
 }
 
+// A growing region's plane: least squares through its faces' centres (a mean
+// of noisy faces' normals tilts by degrees, which sets a far face metres off
+// a large roof's plane), facing as its faces do on average. Refitted as the
+// region grows by a tenth; until it spans a plane, its faces' mean normal.
+class GrowingPlane {
+ public:
+  void add(const Vec3& centre, const Vec3& normal) {
+    ++n_, sum_ += centre, outer_ += centre * centre.transpose(), normals_ += normal;
+    if (n_ >= next_fit_) refit();
+  }
+  const Vec3& centre() const { return centre_; }
+  const Vec3& normal() const { return normal_; }
+
+ private:
+  void refit() {
+    next_fit_ = n_ + std::max<size_t>(1, n_ / 10);
+    centre_ = sum_ / double(n_);
+    normal_ = normals_.normalized();
+    if (n_ < 3) return;
+    const Eigen::Matrix3d cov = outer_ / double(n_) - centre_ * centre_.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    if (eig.eigenvalues()(1) <= 4 * std::max(0.0, eig.eigenvalues()(0))) return;  // a strip, not yet a plane
+    const Vec3 n = eig.eigenvectors().col(0);
+    normal_ = n.dot(normals_) < 0 ? Vec3(-n) : n;
+  }
+  size_t n_ = 0, next_fit_ = 1;
+  Vec3 sum_ = Vec3::Zero(), normals_ = Vec3::Zero(), centre_ = Vec3::Zero(), normal_ = Vec3::UnitZ();
+  Eigen::Matrix3d outer_ = Eigen::Matrix3d::Zero();
+};
+
 // Faces grown from the smoothest unassigned one, breadth first.
 std::vector<std::vector<int>> grown(const TriMesh& m, const RegionParams& p,
                                     const std::vector<std::vector<int>>& next, const std::vector<Vec3>& n) {
@@ -92,8 +128,8 @@ std::vector<std::vector<int>> grown(const TriMesh& m, const RegionParams& p,
     if (region[size_t(seed)] >= 0) continue;
     std::vector<int> members{seed};
     region[size_t(seed)] = int(out.size());
-    Vec3 sum = n[size_t(seed)];  // the region's mean normal, unnormalised
-    Vec3 centre_sum = centre_of(m, seed);  // and its faces' centres, summed
+    GrowingPlane plane;
+    plane.add(centre_of(m, seed), n[size_t(seed)]);
     for (size_t k = 0; k < members.size(); ++k) {
       const int f = members[k];
       // A face on a ridge joins but does not carry the region over it, unless
@@ -102,24 +138,57 @@ std::vector<std::vector<int>> grown(const TriMesh& m, const RegionParams& p,
       for (int g : next[size_t(f)]) {
         if (region[size_t(g)] >= 0) continue;
         // Smooth to its neighbour (a curved surface turns slowly), or to the
-        // region as a whole (a noisy plane's faces tilt both ways), or on
-        // the region's plane (a noisy plane's small faces tilt steeply).
+        // region's plane (a noisy plane's faces tilt both ways), or on it
+        // (a noisy plane's small faces tilt steeply).
         const Vec3& ng = n[size_t(g)];
-        const Vec3 mean = sum.normalized();
-        const bool planar = angle_deg(mean, ng) <= p.smooth_deg ||
-                            (angle_deg(mean, ng) <= p.on_plane_deg &&
-                             near_plane(m, g, centre_sum / double(members.size()), mean, p.flat_m));
+        const double tilt = angle_deg(plane.normal(), ng);
+        const bool planar = tilt <= p.smooth_deg ||
+                            (tilt <= p.on_plane_deg && near_plane(m, g, plane.centre(), plane.normal(), p.flat_m));
         if (!planar && angle_deg(n[size_t(f)], ng) > p.smooth_deg) continue;
         on_plane[size_t(g)] = planar;
         region[size_t(g)] = int(out.size());
         members.push_back(g);
-        sum += ng;
-        centre_sum += centre_of(m, g);
+        plane.add(centre_of(m, g), ng);
       }
     }
     out.push_back(std::move(members));
   }
   return out;
+}
+
+// The connected sets of faces of no region (-1), across their edges.
+std::vector<std::vector<int>> unassigned_clusters(const std::vector<int>& face_region,
+                                                  const std::vector<std::vector<int>>& next) {
+  std::vector<char> seen(face_region.size(), 0);
+  std::vector<std::vector<int>> out;
+  for (size_t start = 0; start < face_region.size(); ++start) {
+    if (face_region[start] >= 0 || seen[start]) continue;
+    std::vector<int> cluster{int(start)};
+    seen[start] = 1;
+    for (size_t k = 0; k < cluster.size(); ++k)
+      for (int g : next[size_t(cluster[k])])
+        if (face_region[size_t(g)] < 0 && !seen[size_t(g)]) seen[size_t(g)] = 1, cluster.push_back(g);
+    out.push_back(std::move(cluster));
+  }
+  return out;
+}
+
+// The large region holding two thirds of the faces across the border of a
+// cluster of faces of no region (any such face across is the cluster's own), or -1.
+int enclosing_region(const std::vector<int>& faces, const std::vector<int>& face_region,
+                     const std::vector<RegionKind>& kinds, const std::vector<std::vector<int>>& next) {
+  std::map<int, int> across;  // region -> faces across the border
+  int outside = 0;
+  for (int f : faces)
+    for (int g : next[size_t(f)]) {
+      const int other = face_region[size_t(g)];
+      if (other < 0) continue;
+      ++outside;
+      ++across[other];
+    }
+  for (const auto& [other, n] : across)
+    if (kinds[size_t(other)] != RegionKind::Detail && 3 * n >= 2 * outside) return other;
+  return -1;
 }
 
 }  // namespace
@@ -142,36 +211,30 @@ MeshRegions segment_regions(const TriMesh& mesh, const RegionParams& p) {
   const auto next = face_neighbours(mesh);
   const auto normals = face_normals(mesh);
   const auto regions = grown(mesh, p, next, normals);
-  // Small regions are detail; touching ones become one detail region.
+  // Regions of `min_faces` or more are planar or curved.
   std::vector<int> id(regions.size(), -1);
+  std::vector<PrincipalAxes> planes;  // per region kept
   for (size_t k = 0; k < regions.size(); ++k) {
     if (regions[k].size() < p.min_faces) continue;
     id[k] = int(r.kinds.size());
-    r.kinds.push_back(plane_rms(mesh, regions[k]) <= p.flat_m ? RegionKind::Planar : RegionKind::Curved);
+    planes.push_back(principal_axes(mesh.vertices, vertices_of(mesh, regions[k])));
+    r.kinds.push_back(std::sqrt(planes.back().variance[2]) <= p.flat_m ? RegionKind::Planar : RegionKind::Curved);
   }
   for (size_t k = 0; k < regions.size(); ++k)
     for (int f : regions[k]) r.face_region[size_t(f)] = id[k];
-  for (size_t k = 0; k < regions.size(); ++k) {
-    if (id[k] >= 0) continue;
-    // A small region enclosed by one large one (two thirds of the faces
-    // across its border: noise on a plane) joins it; one among several
-    // (a frame's corner, a sill) joins a touching detail region, else
-    // starts one.
-    std::map<int, int> across;  // region -> faces across the border
-    int joined = -1, outside = 0;
-    for (int f : regions[k])
-      for (int g : next[size_t(f)]) {
-        const int other = r.face_region[size_t(g)];
-        if (std::find(regions[k].begin(), regions[k].end(), g) != regions[k].end()) continue;
-        ++outside;
-        if (other >= 0) ++across[other];
-        if (other >= 0 && r.kinds[size_t(other)] == RegionKind::Detail) joined = other;
-      }
-    for (const auto& [other, n] : across)
-      if (r.kinds[size_t(other)] != RegionKind::Detail && 3 * n >= 2 * outside) joined = other;
-    if (joined < 0) joined = int(r.kinds.size()), r.kinds.push_back(RegionKind::Detail);
-    for (int f : regions[k]) r.face_region[size_t(f)] = joined;
+  // Touching small regions form one cluster. A cluster whose surroundings
+  // are two thirds one large region joins it, if on a planar one it lies on
+  // its plane (a speck of noise, not a chimney); the others (a frame's
+  // corner, a sill) are detail regions.
+  for (const std::vector<int>& cluster : unassigned_clusters(r.face_region, next)) {
+    int into = enclosing_region(cluster, r.face_region, r.kinds, next);
+    if (into >= 0 && r.kinds[size_t(into)] == RegionKind::Planar &&
+        rms_off_plane(mesh, cluster, planes[size_t(into)]) > p.flat_m)
+      into = -1;
+    if (into < 0) into = int(r.kinds.size()), r.kinds.push_back(RegionKind::Detail);
+    for (int f : cluster) r.face_region[size_t(f)] = into;
   }
+  r.extremes = planar_extremes(mesh, r);
   return r;
 }
 
@@ -182,6 +245,22 @@ std::vector<RegionFrame> planar_frames(const TriMesh& mesh, const MeshRegions& r
     if (regions.kinds[r] != RegionKind::Planar || faces[r].empty()) continue;
     const PrincipalAxes p = principal_axes(mesh.vertices, vertices_of(mesh, faces[r]));
     out.push_back({int(r), p.centre, p.axes});
+  }
+  return out;
+}
+
+std::vector<Vec3> planar_extremes(const TriMesh& mesh, const MeshRegions& regions) {
+  const auto faces = faces_by_region(regions.face_region, regions.kinds.size());
+  std::vector<Vec3> out;
+  for (const RegionFrame& frame : planar_frames(mesh, regions)) {
+    const std::vector<int> vertices = vertices_of(mesh, faces[size_t(frame.region)]);
+    for (size_t k = 0; k < 2; ++k) {
+      const auto along = [&](int v) { return frame.axes[k].dot(mesh.vertices[size_t(v)]); };
+      const auto [lo, hi] = std::minmax_element(vertices.begin(), vertices.end(),
+                                                [&](int a, int b) { return along(a) < along(b); });
+      out.push_back(mesh.vertices[size_t(*lo)]);
+      out.push_back(mesh.vertices[size_t(*hi)]);
+    }
   }
   return out;
 }

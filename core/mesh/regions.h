@@ -26,13 +26,17 @@ const char* region_kind_name(RegionKind k);
 // `on_plane_deg` from it: on a noisy plane a small face tilts steeply.
 struct RegionParams {
   double smooth_deg = 10, curvature_deg = 20, on_plane_deg = 45;
-  double flat_m = 0;  // the caller's: from the points' spacing
+  double flat_m = 0;  // the caller's: from the points' spacing and noise
   size_t min_faces = 12;
 };
 
 struct MeshRegions {
   std::vector<int> face_region;  // per triangle; regions numbered from 0
   std::vector<RegionKind> kinds;  // per region
+  // Each planar region's extremes on the mesh segmented (planar_extremes,
+  // below): the lighter levels keep them, so their extents are measured
+  // against the same vertices.
+  std::vector<Vec3> extremes;
   size_t count(RegionKind k) const;
 };
 
@@ -58,6 +62,10 @@ struct RegionShape {
 };
 std::vector<RegionShape> region_shapes(const TriMesh& mesh, const std::vector<int>& face_region,
                                        const std::vector<RegionFrame>& frames);
+
+// Each planar region's extremes: its vertices farthest either way along its
+// frame's first two axes, whose distances are its length and width.
+std::vector<Vec3> planar_extremes(const TriMesh& mesh, const MeshRegions& regions);
 
 // The vertices where faces of two or more regions meet: ridges, frames,
 // sills (the open border is not one).

@@ -28,6 +28,7 @@
 #include <stdexcept>
 
 #include "core/mesh/open3d_mesh.h"
+#include "core/mesh/spacing.h"
 
 namespace c3d {
 
@@ -140,18 +141,29 @@ Region carry_regions(Mesh& m, const TriMesh& t, const std::vector<int>& face_reg
   return region;
 }
 
-// Faces without a region take a neighbour's, until none can.
+// A face without a region (a hole fill, or a face the repair made) takes a
+// neighbour's region whose faces already touch all its corners, until none
+// can: a sampling gap inside a region, or at its edge, becomes its own; one
+// where regions meet keeps no region, and so no region grows across it
+// (stage one keeps its borders as another region's).
 void fill_unlabelled(Mesh& m, Region& region) {
+  const auto touches = [&](Mesh::Vertex_index v, int r) {
+    for (auto h : CGAL::halfedges_around_target(v, m))
+      if (m.face(h) != Mesh::null_face() && region[m.face(h)] == r) return true;
+    return false;
+  };
   for (bool changed = true; changed;) {
     changed = false;
     for (auto f : m.faces()) {
       if (region[f] >= 0) continue;
       for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
         const auto g = m.face(m.opposite(h));
-        if (g != Mesh::null_face() && region[g] >= 0) {
-          region[f] = region[g], changed = true;
-          break;
-        }
+        if (g == Mesh::null_face() || region[g] < 0) continue;
+        bool all = true;
+        for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) all = all && touches(v, region[g]);
+        if (!all) continue;
+        region[f] = region[g], changed = true;
+        break;
       }
     }
   }
@@ -278,22 +290,41 @@ int regions_at(const Mesh& m, Mesh::Vertex_index v, const Region& region) {
   return n;
 }
 
-// Stage two's placement: a vertex on a region's border stays, unless the
-// edge runs along that border: then the border gives up one of the edge's
-// two vertices (the one whose removal costs less; never a corner, where three
-// regions, or a region and the open border, meet). The kept border is a
-// subset of the dense border's vertices: a straight frame stays straight.
+// Places no collapse removes or moves (a planar region's extremes, from the
+// mesh as it came): both stages keep them, so each planar region keeps its
+// extent (seed 002's measure), where a noisy border's outermost zigzag, or a
+// sampling gap's border once filled, would otherwise go first. Held by place:
+// a collapse may keep either vertex's index at the place it keeps.
+struct Anchors {
+  std::set<Place> at;
+  bool operator()(const Mesh& m, Mesh::Vertex_index v) const { return at.count(place_of(m.point(v))) > 0; }
+};
+Anchors anchors_at(const std::vector<Vec3>& places) {
+  Anchors a;
+  for (const Vec3& p : places) a.at.insert(place_of(p));
+  return a;
+}
+
+// Stage two's placement: a vertex on a region's border or on the open border
+// stays, unless the edge runs along that border: then the border gives up
+// one of the edge's two vertices (the one whose removal costs less; never a
+// corner, where three regions, or two and the open border, meet, nor a
+// planar region's extreme). The kept border is a subset of the dense
+// border's vertices: a straight frame or eave stays straight, and no wall is
+// pulled up from its bottom edge.
 struct AlongBorders {
   Region region;
+  const Anchors* anchor = nullptr;
   SMS::LindstromTurk_placement<Mesh> free;
   SMS::LindstromTurk_cost<Mesh> cost;
   template <typename Profile>
   boost::optional<typename Profile::Point> operator()(const Profile& p) const {
     const Mesh& m = p.surface_mesh();
-    const int n0 = regions_at(m, p.v0(), region), n1 = regions_at(m, p.v1(), region);
+    const int n0 = (*anchor)(m, p.v0()) ? 3 : regions_at(m, p.v0(), region);
+    const int n1 = (*anchor)(m, p.v1()) ? 3 : regions_at(m, p.v1(), region);
     const auto h = p.v0_v1();
-    const auto f = m.face(h), g = m.face(m.opposite(h));
-    if (f != Mesh::null_face() && g != Mesh::null_face() && region[f] != region[g]) {
+    const auto region_of = [&](Mesh::Face_index f) { return f == Mesh::null_face() ? -2 : region[f]; };
+    if (region_of(m.face(h)) != region_of(m.face(m.opposite(h)))) {
       if (n0 >= 3 && n1 >= 3) return boost::none;
       if (n0 >= 3) return p.p0();
       if (n1 >= 3) return p.p1();
@@ -310,9 +341,10 @@ struct AlongBorders {
 // Seed 002's two stages. One: inside the regions down to their targets, the
 // regions' borders and the open border kept. Two, where that leaves more than
 // the budget: the borders give up vertices along themselves (AlongBorders).
-// Should many small regions still hold more, the last resort is plain edge
-// collapse (the level keeps its budget; its planar change tells the cost).
-void collapse_boundary_aware(Mesh& m, size_t faces, const SafeFilter& safe, Region& region,
+// Where the corners of many small regions still hold more, the level stays
+// above its budget: plain collapse past them folded a roof's plane over its
+// ridge and pulled faces metres off their planes (docs/meshes.md).
+void collapse_boundary_aware(Mesh& m, size_t faces, const SafeFilter& safe, Region& region, const Anchors& anchor,
                              const MeshRegions& regions, const RegionRetention& retention) {
   RegionTargets targets{region, std::vector<long>(regions.kinds.size(), 0), {}};
   for (auto f : m.faces())
@@ -320,14 +352,13 @@ void collapse_boundary_aware(Mesh& m, size_t faces, const SafeFilter& safe, Regi
   targets.target = region_targets(targets.faces, regions.kinds, faces, retention);
   const auto region_border = [&](Mesh::Edge_index e) {
     const auto h = m.halfedge(e);
-    return m.is_border(e) || region[m.face(h)] != region[m.face(m.opposite(h))];
+    return m.is_border(e) || region[m.face(h)] != region[m.face(m.opposite(h))] || anchor(m, m.source(h)) ||
+           anchor(m, m.target(h));
   };
-  const auto open_border = [&](Mesh::Edge_index e) { return m.is_border(e); };
   collapse_lindstrom_turk(m, faces, Filter{safe, &targets}, region_border);
   if (size_t(m.number_of_faces()) > faces)
-    collapse<true>(m, faces, SMS::LindstromTurk_cost<Mesh>(), AlongBorders{region, {}, {}}, Filter{safe, nullptr},
-                   open_border);
-  if (size_t(m.number_of_faces()) > faces) collapse_lindstrom_turk(m, faces, Filter{safe, nullptr}, open_border);
+    collapse<true>(m, faces, SMS::LindstromTurk_cost<Mesh>(), AlongBorders{region, &anchor, {}, {}},
+                   Filter{safe, nullptr}, [](Mesh::Edge_index) { return false; });
 }
 
 // Garland and Heckbert's plane quadrics, in one stage, the open border kept.
@@ -424,7 +455,11 @@ Simplified simplified(const TriMesh& mesh, size_t faces, double small_hole, doub
   fill_unlabelled(m, region);
   const auto border = [&](Mesh::Edge_index e) { return m.is_border(e); };
   switch (how) {
-    case Simplifier::BoundaryAware: collapse_boundary_aware(m, faces, safe, region, regions, retention); break;
+    case Simplifier::BoundaryAware:
+      collapse_boundary_aware(m, faces, safe, region,
+                              anchors_at(regions.extremes.empty() ? planar_extremes(mesh, regions) : regions.extremes),
+                              regions, retention);
+      break;
     case Simplifier::LindstromTurk: collapse_lindstrom_turk(m, faces, Filter{safe, nullptr}, border); break;
     case Simplifier::GarlandHeckbert: collapse_garland_heckbert(m, faces, safe); break;
     case Simplifier::VertexClustering: break;

@@ -41,10 +41,12 @@ struct Simplified {
 // at or under the budget). BoundaryAware, in two stages (seed 002): first
 // each region of `regions` collapses only inside itself, down to its own
 // retention, its borders with other regions kept; then, if more faces than
-// the budget are left, the borders collapse too. Every method but vertex
-// clustering keeps the mesh's open border (collapsing it pulled a box's walls
-// up from their bottom edge by a metre): a level with much border may end
-// above its budget (its face count says so).
+// the budget are left, the borders and the open border give up vertices along
+// themselves, each region's corners and a planar region's extremes kept: a
+// level of many small regions may end above its budget (its face count says
+// so). The other methods keep the mesh's open border (collapsing it freely
+// pulled a box's walls up from their bottom edge by a metre), and so may end
+// above it too.
 // Holes whose border is at most `small_hole` long (m) are filled first: gaps
 // in the sampling, whose borders would otherwise all be kept.
 // No collapse puts a vertex farther than `reach` (m) from the mesh it

@@ -3,10 +3,30 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/mesh/point_index.h"
 
 namespace c3d {
+
+namespace {
+
+constexpr size_t kNoiseNeighbours = 16;
+constexpr size_t kNoiseSamples = 4000;  // the median of as many points is within a few per cent
+
+double median_noise(const std::vector<Vec3>& points, const PointIndex& index) {
+  if (points.size() < kNoiseNeighbours) return 0;
+  const size_t stride = (points.size() + kNoiseSamples - 1) / kNoiseSamples;
+  std::vector<double> spread;
+  for (size_t i = 0; i < points.size(); i += stride) {
+    const PrincipalAxes p = principal_axes(points, index.nearest_k(i, kNoiseNeighbours));
+    spread.push_back(std::sqrt(p.variance[2] * double(kNoiseNeighbours) / double(kNoiseNeighbours - 3)));
+  }
+  std::nth_element(spread.begin(), spread.begin() + long(spread.size() / 2), spread.end());
+  return spread[spread.size() / 2];
+}
+
+}  // namespace
 
 PointSpacing point_spacing(const std::vector<Vec3>& points) {
   PointSpacing s;
@@ -24,6 +44,7 @@ PointSpacing point_spacing(const std::vector<Vec3>& points) {
   double sum = 0;
   for (double d : nearest) sum += d;
   s.mean = sum / double(nearest.size());
+  s.noise = median_noise(points, index);
   return s;
 }
 

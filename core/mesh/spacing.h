@@ -12,11 +12,17 @@ namespace c3d {
 
 struct PointSpacing {
   double min = 0, mean = 0, median = 0, p95 = 0, max = 0;  // m
+  // The points' noise about their surface (m): the RMS distance of each
+  // point's 16 nearest neighbours to their best plane, scaled by 16 / 13 for
+  // the three parameters the plane takes, median over the points (a curved
+  // surface or an edge raises a few points' figure, not the median's).
+  double noise = 0;
   size_t points = 0;
 };
 
 // Copies of one place (distance 0) count once: their distance is to the next
-// point elsewhere. Fewer than two distinct points: all zero.
+// point elsewhere. Fewer than two distinct points: all zero; fewer than 16,
+// no noise.
 PointSpacing point_spacing(const std::vector<Vec3>& points);
 
 // The points' (points[idx]'s, when idx is given) centre, principal axes,
