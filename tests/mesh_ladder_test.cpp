@@ -55,6 +55,52 @@ TEST(MeshLadder, SpacingOfAGridIsItsStep) {
   EXPECT_LE(s.p95, s.max);
 }
 
+// A noisy pitched roof: two 15 x 6 m planes at 30 degrees meeting on a ridge
+// along x, a point every 0.1 m (jittered), each moved across its plane by N(0, sigma).
+std::vector<Vec3> noisy_gable(double sigma, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> across(0, sigma);
+  std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+  const double slope = std::tan(30 * M_PI / 180), cosine = std::cos(30 * M_PI / 180);
+  std::vector<Vec3> pts;
+  for (double x = 0; x <= 15 + 1e-9; x += 0.1)
+    for (double y = -6; y <= 6 + 1e-9; y += 0.1) {
+      const double px = x + jitter(rng), py = y + jitter(rng);
+      const Vec3 normal = Vec3(0, py < 0 ? -slope : slope, 1) * cosine;
+      pts.push_back(Vec3(px, py, 10 - slope * std::abs(py)) + across(rng) * normal);
+    }
+  return pts;
+}
+
+TEST(MeshLadder, NoiseIsTheSpreadAcrossTheSurface) {
+  for (double sigma : {0.01, 0.03}) {
+    const PointSpacing s = point_spacing(noisy_gable(sigma, 5));
+    EXPECT_NEAR(s.noise, sigma, 0.2 * sigma) << "sigma " << sigma;
+  }
+  EXPECT_LT(point_spacing(noisy_gable(0, 5)).noise, 0.002) << "a ridge in a few neighbourhoods is no noise";
+}
+
+// On a scan at 3 cm of noise 0.1 m apart each face tilts by tens of degrees;
+// the roof's two planes are still two planar regions holding nearly every
+// face (a mean of the faces' normals split each into several).
+TEST(MeshLadder, ANoisyRoofIsItsTwoPlanes) {
+  const MeshLadder l = mesh_ladder(noisy_gable(0.03, 6));
+  const MeshRegions& r = l.regions;
+  std::vector<size_t> faces(r.kinds.size(), 0);
+  for (int id : r.face_region) ++faces[size_t(id)];
+  std::vector<size_t> planar;
+  for (size_t k = 0; k < faces.size(); ++k)
+    if (r.kinds[k] == RegionKind::Planar) planar.push_back(faces[k]);
+  std::sort(planar.rbegin(), planar.rend());
+  ASSERT_GE(planar.size(), 2u);
+  EXPECT_GT(double(planar[0] + planar[1]), 0.95 * double(r.face_region.size()));
+  EXPECT_LT(double(planar.size() > 2 ? planar[2] : 0), 0.01 * double(r.face_region.size()));
+  // Level 3 keeps both whole, within a centimetre, at a tenth of the faces.
+  EXPECT_LE(l.level(3).metrics.faces, l.level(4).metrics.faces / 10);
+  EXPECT_EQ(l.level(3).change.lost, 0u);
+  EXPECT_LE(l.level(3).change.extent_change, 0.01);
+}
+
 TEST(MeshLadder, CopiesOfAPlaceCountOnce) {
   std::vector<Vec3> pts = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}};
   const PointSpacing s = point_spacing(pts);
@@ -70,7 +116,9 @@ std::vector<Vec3> floor_of_box() {
   return pts;
 }
 
-MeshLadder box_ladder(const std::vector<Vec3>& pts, DenseMethod method) { return mesh_ladder(pts, method, floor_of_box()); }
+MeshLadder box_ladder(const std::vector<Vec3>& pts, DenseMethod method) {
+  return mesh_ladder(pts, method, [](double) { return floor_of_box(); });
+}
 
 void expect_ladder(const MeshLadder& l) {
   const MeshMetrics& dense = l.level(4).metrics;

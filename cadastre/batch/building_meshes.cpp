@@ -135,7 +135,7 @@ MeshLevelRecord level_record(const MeshLevel& l, const std::string& rel_stem) {
     for (const RegionShape& s : l.planar) r.thickness_m = std::max(r.thickness_m, s.thickness);
   }
   if (l.level == 2 || l.level == 3) r.planar_lost = long(l.change.lost), r.extent_change_m = l.change.extent_change;
-  const std::string level_stem = rel_stem + "_level" + std::to_string(l.level);
+  const std::string level_stem = level_file_stem(rel_stem, l.level);
   r.ply = level_stem + ".ply";
   if (m.faces > 0) r.glb = level_stem + ".glb", r.picture = level_stem + ".svg";
   return r;
@@ -229,9 +229,9 @@ void mesh_building(const ParcelScene& scene, const LocalFrame& frame, const Mesh
     m.problem = "its points lie on a line: there is no surface to mesh";
     return;
   }
-  const PointSpacing spacing = point_spacing(points);
-  m.spacing_m = spacing.mean;
-  const MeshLadder ladder = mesh_ladder(points, out.method, hull_closure(b, points, spacing.mean), out.simplifier);
+  const MeshLadder ladder = mesh_ladder(
+      points, out.method, [&](double spacing) { return hull_closure(b, points, spacing); }, out.simplifier);
+  m.spacing_m = ladder.spacing.mean;
   m.hull_alpha_m = ladder.hull_alpha;
   const std::string stem = file_stem_for_id(b.id);
   const fs::path dir = fs::path(out.out_dir) / kMeshFolder;

@@ -50,7 +50,7 @@ void simplify_levels(MeshLadder& l, Simplifier simplifier, const std::vector<Vec
   }
 }
 
-MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, const std::vector<Vec3>& ground,
+MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, const HullClosure& closure,
                        Simplifier simplifier) {
   MeshLadder l;
   l.method = method;
@@ -69,7 +69,10 @@ MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method, cons
   simplify_levels(l, simplifier, points);
   t = thread_cpu_seconds();
   std::vector<Vec3> closed = points;
-  closed.insert(closed.end(), ground.begin(), ground.end());
+  if (closure) {
+    const std::vector<Vec3> ground = closure(l.spacing.mean);
+    closed.insert(closed.end(), ground.begin(), ground.end());
+  }
   // The hull's budget is its own, not a share of level 4: it must follow a
   // small building's shape closely enough to check its model by (a share of a
   // few hundred faces wraps a shed in a blob).

@@ -3,6 +3,7 @@
 // named as the seed names them: level 4 dense, levels 3 and 2 simplified,
 // level 1 a closed hull of a few hundred faces at most.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,11 +43,15 @@ struct MeshLadder {
   const MeshLevel& level(int k) const { return levels[size_t(k - 1)]; }
 };
 
+// Points that close level 1's hull where no scan sees (the footprint at the
+// terrain, sampled at the points' mean spacing, given): without them a wrap
+// of a roof and walls is a thin shell.
+using HullClosure = std::function<std::vector<Vec3>(double spacing)>;
+
 // The four levels from one building's points (roof, walls, and a wall
-// cloud where given), in the caller's local frame. `ground` closes level 1's
-// hull where no scan sees (the footprint at the terrain, sampled at the
-// spacing): without it a wrap of a roof and walls is a thin shell. Fewer
-// than 4 points: an empty ladder (every level without faces).
+// cloud where given), in the caller's local frame, level 1 closed by
+// `closure` where given. Fewer than 4 points: an empty ladder (every level
+// without faces).
 // Levels 3 and 2 (re)made from the ladder's level 4 and its regions by
 // `simplifier`, and measured against the points, with level 4's planar
 // region shapes they are compared with: another simplification of
@@ -57,6 +62,6 @@ void simplify_levels(MeshLadder& ladder, Simplifier simplifier, const std::vecto
 // Levels 3 and 2 are made by `simplifier` (the boundary-aware one; the
 // others for comparison, docs/meshes.md).
 MeshLadder mesh_ladder(const std::vector<Vec3>& points, DenseMethod method = DenseMethod::AdvancingFront,
-                       const std::vector<Vec3>& ground = {}, Simplifier simplifier = Simplifier::BoundaryAware);
+                       const HullClosure& closure = {}, Simplifier simplifier = Simplifier::BoundaryAware);
 
 }  // namespace c3d

@@ -78,11 +78,13 @@ nlohmann::json ladder_json(const MeshLadder& ladder) {
           {"levels", levels}};
 }
 
+std::string level_file_stem(const std::string& name, int level) { return name + "_level" + std::to_string(level); }
+
 std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offset, const std::string& dir,
                                       const std::string& name) {
   std::vector<std::string> paths;
   for (const MeshLevel& l : ladder.levels) {
-    const std::string stem = dir + "/" + name + "_level" + std::to_string(l.level);
+    const std::string stem = dir + "/" + level_file_stem(name, l.level);
     paths.push_back(stem + ".ply");
     write_local_ply(paths.back(), l.mesh, offset);
     if (l.mesh.triangles.empty()) continue;  // glTF has no empty accessor

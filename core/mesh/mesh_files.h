@@ -21,6 +21,9 @@ void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& o
 // planar region's shape, levels 2 and 3 their change (regions.h).
 nlohmann::json ladder_json(const MeshLadder& ladder);
 
+// A level's files' path without extension: <name>_level<k>.
+std::string level_file_stem(const std::string& name, int level);
+
 // DIR/<name>_level<k>.ply and .glb (a level without faces: no .glb) for
 // k = 1..4 and DIR/<name>_ladder.json; returns the paths written. Throws InputError naming a file that cannot be written.
 std::vector<std::string> write_ladder(const MeshLadder& ladder, const Vec3& offset, const std::string& dir,

@@ -305,6 +305,26 @@ Anchors anchors_at(const std::vector<Vec3>& places) {
   return a;
 }
 
+// Stage one's placement: inside a planar region the edge's cheaper vertex
+// stays where it is (a plane needs no new vertices, and the level's plane
+// is then a subset of level 4's: an optimal placement near its border could
+// land past it, widening the region); elsewhere Lindstrom and Turk's.
+struct OnPlanesAVertex {
+  Region region;
+  const std::vector<RegionKind>* kinds = nullptr;
+  SMS::LindstromTurk_placement<Mesh> free;
+  SMS::LindstromTurk_cost<Mesh> cost;
+  template <typename Profile>
+  boost::optional<typename Profile::Point> operator()(const Profile& p) const {
+    const Mesh& m = p.surface_mesh();
+    const auto f = m.face(p.v0_v1()), g = m.face(m.opposite(p.v0_v1()));
+    const int r = f != Mesh::null_face() ? region[f] : g != Mesh::null_face() ? region[g] : -1;
+    if (r < 0 || size_t(r) >= kinds->size() || (*kinds)[size_t(r)] != RegionKind::Planar) return free(p);
+    const auto c0 = cost(p, boost::optional<Point>(p.p0())), c1 = cost(p, boost::optional<Point>(p.p1()));
+    return c0 && (!c1 || *c0 <= *c1) ? p.p0() : p.p1();
+  }
+};
+
 // Stage two's placement: a vertex on a region's border or on the open border
 // stays, unless the edge runs along that border: then the border gives up
 // one of the edge's two vertices (the one whose removal costs less; never a
@@ -355,7 +375,8 @@ void collapse_boundary_aware(Mesh& m, size_t faces, const SafeFilter& safe, Regi
     return m.is_border(e) || region[m.face(h)] != region[m.face(m.opposite(h))] || anchor(m, m.source(h)) ||
            anchor(m, m.target(h));
   };
-  collapse_lindstrom_turk(m, faces, Filter{safe, &targets}, region_border);
+  collapse(m, faces, SMS::LindstromTurk_cost<Mesh>(), OnPlanesAVertex{region, &regions.kinds, {}, {}},
+           Filter{safe, &targets}, region_border);
   if (size_t(m.number_of_faces()) > faces)
     collapse<true>(m, faces, SMS::LindstromTurk_cost<Mesh>(), AlongBorders{region, &anchor, {}, {}},
                    Filter{safe, nullptr}, [](Mesh::Edge_index) { return false; });
