@@ -125,7 +125,8 @@ void expect_ladder(const MeshLadder& l) {
   SCOPED_TRACE(dense_method_name(l.method));
   ASSERT_GT(dense.faces, 1000u);
   EXPECT_LE(dense.mean, kNoise);                          // level 4 follows the points within their noise
-  EXPECT_LE(dense.mesh_to_cloud, 2 * l.spacing.mean);     // no face strays past two spacings
+  // No face strays past two local spacings (within 5 % of the mean on this even grid).
+  EXPECT_LE(dense.mesh_to_cloud, 2.1 * l.spacing.mean);
   EXPECT_LT(dense.far_share, 0.01);                       // and few holes
   EXPECT_LE(l.level(3).metrics.faces, dense.faces / 10);  // level 3 at 10 % of the faces at most
   EXPECT_LE(l.level(2).metrics.faces, l.level(3).metrics.faces);

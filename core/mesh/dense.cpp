@@ -41,10 +41,44 @@ struct LongestEdge {
   }
 };
 
-// Poisson's faces with a corner or centre farther than `reach` from every point.
-DenseResult trimmed(TriMesh mesh, const std::vector<Vec3>& points, double reach) {
+// Each point's local spacing: the mean distance of its 16 nearest points to
+// their nearest others, found as asked (a building scanned densely from the
+// air and sparsely from the street has two spacings, and its walls' gaps are
+// judged by theirs).
+class LocalSpacing {
+ public:
+  LocalSpacing(const std::vector<Vec3>& points, const PointIndex& index)
+      : index_(index), nearest_(points.size(), -1), local_(points.size(), -1) {}
+  double at(int i) {
+    double& l = local_[size_t(i)];
+    if (l >= 0) return l;
+    const std::vector<int> near = index_.nearest_k(size_t(i), 16);
+    double sum = 0;
+    for (int j : near) {
+      double& d = nearest_[size_t(j)];
+      if (d < 0) d = std::max(0.0, index_.nearest_other(size_t(j)));
+      sum += d;
+    }
+    return l = sum / double(std::max<size_t>(1, near.size()));
+  }
+
+ private:
+  const PointIndex& index_;
+  std::vector<double> nearest_, local_;
+};
+
+// The faces with a corner or centre farther than two spacings from every
+// point (the mean spacing, or the local one at the nearest point where that
+// is more): Poisson's out-of-bounds faces, and an interpolating method's
+// triangles across a gap (their corners are points).
+DenseResult trimmed(TriMesh mesh, const std::vector<Vec3>& points, double spacing) {
   const PointIndex index(points);
-  const auto near = [&](const Vec3& p) { return index.nearest(p) <= reach; };
+  LocalSpacing local(points, index);
+  const auto near = [&](const Vec3& p) {
+    double d = 0;
+    const int i = index.nearest_index(p, &d);
+    return i >= 0 && d <= 2 * std::max(spacing, local.at(i));
+  };
   std::vector<char> vertex_near(mesh.vertices.size());
   for (size_t v = 0; v < mesh.vertices.size(); ++v) vertex_near[v] = near(mesh.vertices[v]);
   const auto strays = [&](const std::array<int, 3>& t) {
@@ -60,7 +94,7 @@ DenseResult trimmed(TriMesh mesh, const std::vector<Vec3>& points, double reach)
   return r;
 }
 
-DenseResult advancing_front(const std::vector<Vec3>& points, const PointSpacing& spacing) {
+TriMesh advancing_front(const std::vector<Vec3>& points, const PointSpacing& spacing) {
   std::vector<Point> pts;
   pts.reserve(points.size());
   for (const Vec3& p : points) pts.emplace_back(p.x(), p.y(), p.z());
@@ -68,10 +102,22 @@ DenseResult advancing_front(const std::vector<Vec3>& points, const PointSpacing&
   const double ball = pivoting_radii(spacing).back();
   CGAL::advancing_front_surface_reconstruction(pts.begin(), pts.end(), std::back_inserter(facets),
                                                LongestEdge{2 * ball});
-  DenseResult r;
-  r.mesh.vertices = points;
-  for (const auto& f : facets) r.mesh.triangles.push_back({int(f[0]), int(f[1]), int(f[2])});
-  return r;
+  TriMesh mesh;
+  mesh.vertices = points;
+  for (const auto& f : facets) mesh.triangles.push_back({int(f[0]), int(f[1]), int(f[2])});
+  return mesh;
+}
+
+TriMesh made_by(const std::vector<Vec3>& points, const PointSpacing& spacing, DenseMethod method) {
+  switch (method) {
+    case DenseMethod::AdvancingFront: return advancing_front(points, spacing);
+    case DenseMethod::AlphaShape: {  // Qhull's tetrahedra need a volume: flat points crash Open3D
+      const Vec3 spread = point_spread(points);
+      return spread.z() > kFlat * spread.x() ? alpha_shape(points, spacing) : TriMesh{};
+    }
+    case DenseMethod::BallPivoting: return ball_pivoting(points, oriented_normals(points), spacing);
+    default: return screened_poisson(points, oriented_normals(points), spacing);
+  }
 }
 
 }  // namespace
@@ -113,15 +159,7 @@ std::vector<Vec3> oriented_normals(const std::vector<Vec3>& points, int k) {
 
 DenseResult dense_mesh(const std::vector<Vec3>& points, const PointSpacing& spacing, DenseMethod method) {
   if (points.size() < 4 || spacing.mean <= 0) return {};
-  switch (method) {
-    case DenseMethod::AdvancingFront: return advancing_front(points, spacing);
-    case DenseMethod::AlphaShape: {  // Qhull's tetrahedra need a volume: flat points crash Open3D
-      const Vec3 spread = point_spread(points);
-      return {spread.z() > kFlat * spread.x() ? alpha_shape(points, spacing) : TriMesh{}, 0};
-    }
-    case DenseMethod::BallPivoting: return {ball_pivoting(points, oriented_normals(points), spacing), 0};
-    default: return trimmed(screened_poisson(points, oriented_normals(points), spacing), points, 2 * spacing.mean);
-  }
+  return trimmed(made_by(points, spacing, method), points, spacing.mean);
 }
 
 }  // namespace c3d

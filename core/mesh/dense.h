@@ -28,13 +28,14 @@ std::vector<Vec3> oriented_normals(const std::vector<Vec3>& points, int k = 12);
 
 struct DenseResult {
   TriMesh mesh;
-  size_t trimmed = 0;  // Poisson: faces dropped as farther than two spacings from every point
+  size_t trimmed = 0;  // faces dropped as farther than two spacings from every point
 };
 
 // Each method's parameters come from the spacing (open3d_mesh.h). Advancing
 // front: no triangle edge longer than the largest pivoting ball's diameter,
-// so gaps stay holes. Poisson: faces with a corner or centre farther than two
-// mean spacings from every point are dropped (the seeds' out-of-bounds faces).
+// so gaps stay holes. Every method: faces with a corner or centre farther
+// than two mean spacings from every point are dropped (the seeds'
+// out-of-bounds faces; for the interpolating methods, triangles across a gap).
 DenseResult dense_mesh(const std::vector<Vec3>& points, const PointSpacing& spacing, DenseMethod method);
 
 }  // namespace c3d

@@ -36,7 +36,7 @@ struct MeshLadder {
   PointSpacing spacing;
   DenseMethod method = DenseMethod::AdvancingFront;
   Simplifier simplifier = Simplifier::BoundaryAware;
-  size_t trimmed = 0;              // Poisson's out-of-bounds faces dropped from level 4
+  size_t trimmed = 0;              // level 4's faces dropped as farther than two spacings from the points
   double hull_alpha = 0, hull_offset = 0;  // level 1's wrap (simplify.h, Wrap), m
   MeshRegions regions;  // of level 4 (regions.h)
   std::array<MeshLevel, 4> levels;  // levels[0] is level 1

@@ -70,7 +70,7 @@ nlohmann::json ladder_json(const MeshLadder& ladder) {
           {"simplifier", simplifier_name(ladder.simplifier)},
           {"points", s.points},
           {"spacing", {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}, {"noise", s.noise}}},
-          {"poisson_trimmed_faces", ladder.trimmed},
+          {"trimmed_faces", ladder.trimmed},
           {"hull", {{"alpha", ladder.hull_alpha}, {"offset", ladder.hull_offset}}},
           {"regions", {{"planar", ladder.regions.count(RegionKind::Planar)},
                        {"curved", ladder.regions.count(RegionKind::Curved)},

@@ -15,7 +15,7 @@ namespace c3d {
 // comment "world = local + (x, y, z)" as the OBJ files carry it.
 void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& offset);
 
-// The ladder's figures: spacing, method, Poisson's trimmed faces, and per level
+// The ladder's figures: spacing, method, level 4's trimmed faces, and per level
 // faces, vertices, seconds, cloud-to-mesh mean / std / p95 / max,
 // mesh-to-cloud, far share, closed, manifold, volume; levels 2 to 4 each
 // planar region's shape, levels 2 and 3 their change (regions.h).

@@ -37,6 +37,16 @@ double PointIndex::nearest(const Vec3& p) const {
   return std::sqrt(double(d2[0]));
 }
 
+int PointIndex::nearest_index(const Vec3& p, double* d) const {
+  *d = std::numeric_limits<double>::infinity();
+  if (tree_->cloud->empty()) return -1;
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  tree_->kd.nearestKSearch(tree_->local(p), 1, idx, d2);
+  *d = std::sqrt(double(d2[0]));
+  return idx[0];
+}
+
 double PointIndex::nearest_other(size_t i) const {
   std::vector<int> idx;
   std::vector<float> d2;

@@ -17,6 +17,8 @@ class PointIndex {
   PointIndex& operator=(const PointIndex&) = delete;
   // Distance from p to the nearest point (infinity with no points).
   double nearest(const Vec3& p) const;
+  // The nearest point's index (-1 with no points), and its distance in *d.
+  int nearest_index(const Vec3& p, double* d) const;
   // Distance from point i to the nearest point at another place (copies of
   // its place skipped); negative when every point is at its place.
   double nearest_other(size_t i) const;
