@@ -5,6 +5,9 @@
 #include <deque>
 #include <limits>
 
+#include <pcl/point_types.h>
+#include <pcl/segmentation/approximate_progressive_morphological_filter.h>
+
 namespace c3d {
 namespace {
 
@@ -155,6 +158,30 @@ GroundFilter smrf_ground(const std::vector<Vec3>& world, const SmrfParams& p) {
     const double y = std::clamp(world[k].y(), d.y0, d.y0 + (d.ny - 1) * d.dy);
     out.ground[k] = std::abs(world[k].z() - d.height_at(x, y)) <= allowed;
   }
+  return out;
+}
+
+std::vector<char> pcl_pmf_ground(const std::vector<Vec3>& world, const SmrfParams& p) {
+  std::vector<char> out(world.size(), 0);
+  if (world.empty()) return out;
+  Vec3 lo = world.front();
+  for (const Vec3& q : world) lo = lo.cwiseMin(q);
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  cloud->reserve(world.size());
+  for (const Vec3& q : world) {  // float near zero: the local frame
+    const Vec3 l = q - lo;
+    cloud->push_back(pcl::PointXYZ(float(l.x()), float(l.y()), float(l.z())));
+  }
+  pcl::ApproximateProgressiveMorphologicalFilter<pcl::PointXYZ> pmf;
+  pmf.setInputCloud(cloud);
+  pmf.setCellSize(float(p.cell));
+  pmf.setMaxWindowSize(int(std::lround(p.max_window_m / p.cell)));
+  pmf.setSlope(float(p.slope));
+  pmf.setInitialDistance(float(p.elevation_m));
+  pmf.setMaxDistance(3.0f);  // Zhang et al.'s: no step of the terrain higher than 3 m
+  std::vector<int> ground;
+  pmf.extract(ground);
+  for (int i : ground) out[size_t(i)] = 1;
   return out;
 }
 

@@ -33,4 +33,10 @@ struct GroundFilter {
 // Works in a local frame whatever the coordinates. No points: empty.
 GroundFilter smrf_ground(const std::vector<Vec3>& world, const SmrfParams& params = {});
 
+// For comparison: PCL's approximate progressive morphological filter
+// (Zhang et al. 2003) with the same cell, slope and widest window, points
+// within elevation_m of the surface at the first window ground (per point,
+// 1 for ground).
+std::vector<char> pcl_pmf_ground(const std::vector<Vec3>& world, const SmrfParams& params = {});
+
 }  // namespace c3d
