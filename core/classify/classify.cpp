@@ -3,28 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/classify/ground_filter.h"
 #include "core/io/dtm_io.h"
 
 namespace c3d {
 namespace {
 
 constexpr double kGroundCell = 1.0;      // m: as the batch builds its DTM from ground points
-constexpr double kCoarseCell = 10.0;     // m: without ground points, cells of lowest points ...
-constexpr int kCoarseErosionCells = 2;   // ... lowered to the lowest within 2 cells: a 50 m window
-                                         // reaches past the roofs of all but the largest halls
-
-// Each cell lowered to the lowest cell within r cells (grey-scale erosion).
-void erode(Dtm& d, int r) {
-  const std::vector<float> z = d.z;
-  for (int j = 0; j < d.ny; ++j)
-    for (int i = 0; i < d.nx; ++i) {
-      float lo = z[size_t(j) * d.nx + i];
-      for (int b = std::max(0, j - r); b <= std::min(d.ny - 1, j + r); ++b)
-        for (int a = std::max(0, i - r); a <= std::min(d.nx - 1, i + r); ++a) lo = std::min(lo, z[size_t(b) * d.nx + a]);
-      d.z[size_t(j) * d.nx + i] = lo;
-    }
-}
-
 }  // namespace
 
 Dtm terrain_from_cloud(const PointCloud& cloud, const ClassMapping& classes, std::string* note) {
@@ -35,9 +20,9 @@ Dtm terrain_from_cloud(const PointCloud& cloud, const ClassMapping& classes, std
     if (note) *note = "terrain from " + std::to_string(ground.size()) + " ground-class points";
     return dtm_from_points(ground, cloud.crs_wkt, kGroundCell, DtmCell::Min, cloud.source + " (ground-class points)");
   }
-  Dtm d = dtm_from_points(cloud.points, cloud.crs_wkt, kCoarseCell, DtmCell::Min, cloud.source);
-  erode(d, kCoarseErosionCells);
-  if (note) *note = "no DTM and no ground-class points: terrain from the lowest points of 10 m cells (give --dtm for better heights)";
+  Dtm d = smrf_ground(cloud.points).terrain;
+  d.crs_wkt = cloud.crs_wkt, d.source = cloud.source + " (SMRF ground)";
+  if (note) *note = "no DTM and no ground-class points: terrain by the simple morphological filter";
   return d;
 }
 
