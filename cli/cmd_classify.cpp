@@ -1,6 +1,5 @@
-// cadastre3d classify: a cloud's points labelled ground / roof / wall / other by
-// the shipped Random Forest (core/classify); --train and --evaluate rebuild and
-// judge that model on the project's labelled data (cadastre/classify).
+// cadastre3d classify: a cloud labelled ground / roof / wall / other by the shipped
+// Random Forest (core/classify); --train, --evaluate: cadastre/classify.
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -10,7 +9,6 @@
 #include "cli/commands.h"
 #include "core/classify/classify.h"
 #include "core/config/config.h"
-#include "core/error.h"
 #include "core/io/dtm_io.h"
 #include "core/io/point_io.h"
 
@@ -39,17 +37,15 @@ void run_classify(const ClassifyArgs& a) {
   std::cout << "written: " << a.out << "\n";
 }
 
+void print_table(const std::string& table, const std::string& path) {  // and write it to path, if any
+  if (std::cout << table; !path.empty()) std::ofstream(path) << table;
+}
+
 // A labelled cloud judged as if it came unclassified (cloud_evaluation.h).
 void run_cloud_evaluation(const ClassifyArgs& a) {
   const Config cfg = a.config.empty() ? default_config() : load_config(a.config);
-  const PointCloud cloud = read_point_cloud(a.cloud);
-  if (cloud.classes.empty()) throw InputError(a.cloud, "has no classes to evaluate against");
-  const Dtm given = a.dtm.empty() ? Dtm{} : read_dtm(a.dtm);
-  const CloudEvaluation e =
-      evaluate_cloud(PointForest::load(a.model), cloud, cfg.classes, a.dtm.empty() ? nullptr : &given);
-  const std::string table = cloud_evaluation_text(e, a.cloud);
-  std::cout << table;
-  if (!a.table.empty()) std::ofstream(a.table) << table;
+  print_table(cloud_evaluation_text(evaluate_cloud_file(PointForest::load(a.model), a.cloud, cfg.classes, a.dtm), a.cloud),
+              a.table);
 }
 
 void run_training(const ClassifyArgs& a) {
@@ -66,9 +62,7 @@ void run_training(const ClassifyArgs& a) {
   }
   std::vector<Evaluation> evals;
   for (const auto& set : data.held_out) evals.push_back(evaluate(forest, set));
-  const std::string table = evaluation_table(evals);
-  std::cout << table;
-  if (!a.table.empty()) std::ofstream(a.table) << table;
+  print_table(evaluation_table(evals), a.table);
 }
 
 }  // namespace
@@ -77,28 +71,21 @@ void register_classify(CLI::App& app) {
   auto a = std::make_shared<ClassifyArgs>();
   auto* cmd = app.add_subcommand(
       "classify", "Label a cloud's points ground / roof / wall / other with the shipped Random Forest; "
-                  "--train rebuilds the model, --evaluate judges it on held-out data");
+                  "--train rebuilds the model, --evaluate judges it (held-out data, or a labelled --cloud)");
   cmd->add_option("--cloud", a->cloud, "Point cloud to classify: LAS, PLY, PCD, XYZ/CSV");
   cmd->add_option("--out", a->out, "Output LAS (classify) or model file (--train)");
-  cmd->add_option("--dtm", a->dtm, "Terrain model; default: from ground-class points, else the lowest points");
+  cmd->add_option("--dtm", a->dtm, "Terrain model; default: from ground-class points, else by the SMRF ground filter");
   cmd->add_option("--model", a->model, "Classifier model")->capture_default_str();
   cmd->add_option("--config", a->config, "TOML config: its [classes] codes are written");
   cmd->add_flag("--train", a->train, "Train a model on the sample towns and Cimahi, write it to --out");
-  cmd->add_flag("--evaluate", a->evaluate,
-                "Precision and recall of --model: with --cloud, on that labelled cloud as if it came unclassified "
-                "(ground, building, vegetation); else on the held-out data");
+  cmd->add_flag("--evaluate", a->evaluate, "Precision and recall of --model: on the labelled --cloud as if it came "
+                                           "unclassified (ground, building, vegetation), else on the held-out data");
   cmd->add_option("--cimahi", a->cimahi, "Cimahi data folder for --train / --evaluate");
   cmd->add_option("--table", a->table, "Also write the evaluation table (Markdown) here");
   cmd->callback([a] {
-    if (a->evaluate && !a->train && !a->cloud.empty()) {
-      run_cloud_evaluation(*a);
-      return;
-    }
-    if (a->train || a->evaluate) {
-      if (a->train && a->out.empty()) throw CLI::ValidationError("--train", "needs --out MODEL");
-      run_training(*a);
-      return;
-    }
+    if (a->evaluate && !a->train && !a->cloud.empty()) return run_cloud_evaluation(*a);
+    if (a->train && a->out.empty()) throw CLI::ValidationError("--train", "needs --out MODEL");
+    if (a->train || a->evaluate) return run_training(*a);
     if (a->cloud.empty() || a->out.empty()) throw CLI::ValidationError("classify", "needs --cloud IN and --out OUT.las");
     run_classify(*a);
   });

@@ -4,6 +4,9 @@
 #include <cstdio>
 
 #include "core/classify/classify.h"
+#include "core/error.h"
+#include "core/io/dtm_io.h"
+#include "core/io/point_io.h"
 
 namespace c3d {
 namespace {
@@ -91,6 +94,15 @@ CloudEvaluation evaluate_cloud(const PointForest& forest, const PointCloud& labe
     else ++e.confusion[size_t(truth)][size_t(c.classes[i])];
   }
   return e;
+}
+
+CloudEvaluation evaluate_cloud_file(const PointForest& forest, const std::string& cloud, const ClassMapping& classes,
+                                    const std::string& dtm) {
+  const PointCloud labelled = read_point_cloud(cloud);
+  if (labelled.classes.empty()) throw InputError(cloud, "has no classes to evaluate against");
+  if (dtm.empty()) return evaluate_cloud(forest, labelled, classes);
+  const Dtm given = read_dtm(dtm);
+  return evaluate_cloud(forest, labelled, classes, &given);
 }
 
 std::string cloud_evaluation_text(const CloudEvaluation& e, const std::string& name) {

@@ -35,6 +35,11 @@ struct CloudEvaluation {
 CloudEvaluation evaluate_cloud(const PointForest& forest, const PointCloud& labelled, const ClassMapping& classes,
                                const Dtm* terrain = nullptr);
 
+// The same for a labelled file (LAS, LAZ, ...) and a DTM file (empty: none).
+// Throws InputError naming a file without classes.
+CloudEvaluation evaluate_cloud_file(const PointForest& forest, const std::string& cloud, const ClassMapping& classes,
+                                    const std::string& dtm);
+
 // The scores and the confusion matrix as text for the terminal (Markdown tables).
 std::string cloud_evaluation_text(const CloudEvaluation& e, const std::string& name);
 
