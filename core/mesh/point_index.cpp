@@ -30,11 +30,9 @@ PointIndex::PointIndex(const std::vector<Vec3>& points) : tree_(std::make_unique
 PointIndex::~PointIndex() = default;
 
 double PointIndex::nearest(const Vec3& p) const {
-  if (tree_->cloud->empty()) return std::numeric_limits<double>::infinity();
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
-  tree_->kd.nearestKSearch(tree_->local(p), 1, idx, d2);
-  return std::sqrt(double(d2[0]));
+  double d = 0;
+  nearest_index(p, &d);
+  return d;
 }
 
 int PointIndex::nearest_index(const Vec3& p, double* d) const {

@@ -305,6 +305,13 @@ Anchors anchors_at(const std::vector<Vec3>& places) {
   return a;
 }
 
+// The edge's end whose keeping costs less: the other vertex goes to it.
+template <typename Cost, typename Profile>
+typename Profile::Point cheaper_end(const Cost& cost, const Profile& p) {
+  const auto c0 = cost(p, boost::optional<Point>(p.p0())), c1 = cost(p, boost::optional<Point>(p.p1()));
+  return c0 && (!c1 || *c0 <= *c1) ? p.p0() : p.p1();
+}
+
 // Stage one's placement: inside a planar region the edge's cheaper vertex
 // stays where it is (a plane needs no new vertices, and the level's plane
 // is then a subset of level 4's: an optimal placement near its border could
@@ -320,8 +327,7 @@ struct OnPlanesAVertex {
     const auto f = m.face(p.v0_v1()), g = m.face(m.opposite(p.v0_v1()));
     const int r = f != Mesh::null_face() ? region[f] : g != Mesh::null_face() ? region[g] : -1;
     if (r < 0 || size_t(r) >= kinds->size() || (*kinds)[size_t(r)] != RegionKind::Planar) return free(p);
-    const auto c0 = cost(p, boost::optional<Point>(p.p0())), c1 = cost(p, boost::optional<Point>(p.p1()));
-    return c0 && (!c1 || *c0 <= *c1) ? p.p0() : p.p1();
+    return cheaper_end(cost, p);
   }
 };
 
@@ -348,8 +354,7 @@ struct AlongBorders {
       if (n0 >= 3 && n1 >= 3) return boost::none;
       if (n0 >= 3) return p.p0();
       if (n1 >= 3) return p.p1();
-      const auto c0 = cost(p, boost::optional<Point>(p.p0())), c1 = cost(p, boost::optional<Point>(p.p1()));
-      return c0 && (!c1 || *c0 <= *c1) ? p.p0() : p.p1();
+      return cheaper_end(cost, p);
     }
     if (n0 >= 2 && n1 >= 2) return boost::none;
     if (n0 >= 2) return p.p0();
