@@ -4,37 +4,24 @@
 #include <iostream>
 #include <memory>
 
+#include "cadastre/classify/classify_files.h"
 #include "cadastre/classify/cloud_evaluation.h"
 #include "cadastre/classify/training.h"
 #include "cli/commands.h"
-#include "core/classify/classify.h"
 #include "core/config/config.h"
-#include "core/io/dtm_io.h"
-#include "core/io/point_io.h"
 
 namespace c3d::cli {
 namespace {
 
 struct ClassifyArgs {
-  std::string cloud, out, dtm, config, cimahi, table;
+  std::string cloud, out, dtm, config, cimahi, labelled, table;
   std::string model = C3D_DEFAULT_MODEL;
   bool train = false, evaluate = false;
 };
 
 void run_classify(const ClassifyArgs& a) {
   const Config cfg = a.config.empty() ? default_config() : load_config(a.config);
-  const PointForest forest = PointForest::load(a.model);
-  PointCloud cloud = read_point_cloud(a.cloud);
-  std::string note = "terrain from " + a.dtm;
-  const Dtm terrain = a.dtm.empty() ? terrain_from_cloud(cloud, cfg.classes, &note) : read_dtm(a.dtm);
-  const Classification c = classify_points(forest, cloud.points, terrain);
-  write_classes(cloud, c.classes, cfg.classes);
-  write_las(a.out, cloud);
-  std::cout << "classify: " << cloud.points.size() << " points (" << note << ")\n";
-  for (int k = 0; k < kPointClassCount; ++k)
-    std::cout << "  " << to_string(PointClass(k)) << " (class " << int(class_code(PointClass(k), cfg.classes))
-              << "): " << c.counts[k] << "\n";
-  std::cout << "written: " << a.out << "\n";
+  classify_files(PointForest::load(a.model), cfg.classes, a.cloud, a.out, a.dtm, std::cout);
 }
 
 void print_table(const std::string& table, const std::string& path) {  // and write it to path, if any
@@ -51,6 +38,11 @@ void run_cloud_evaluation(const ClassifyArgs& a) {
 void run_training(const ClassifyArgs& a) {
   TrainingOptions opt;
   opt.cimahi_dir = a.cimahi;
+  opt.labelled_dir = a.labelled;
+  if (a.evaluate && !a.labelled.empty()) {
+    const Config cfg = a.config.empty() ? default_config() : load_config(a.config);
+    return print_table(survey_scores_table(leave_one_survey_out(opt, cfg.classes)), a.table);
+  }
   const TrainingData data = training_data(opt);
   PointForest forest;
   if (a.train) {
@@ -72,8 +64,8 @@ void register_classify(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "classify", "Label a cloud's points ground / roof / wall / other with the shipped Random Forest; "
                   "--train rebuilds the model, --evaluate judges it (held-out data, or a labelled --cloud)");
-  cmd->add_option("--cloud", a->cloud, "Point cloud to classify: LAS, PLY, PCD, XYZ/CSV");
-  cmd->add_option("--out", a->out, "Output LAS (classify) or model file (--train)");
+  cmd->add_option("--cloud", a->cloud, "Point cloud to classify (LAS, LAZ, PLY, PCD, XYZ/CSV), or a folder of tiles");
+  cmd->add_option("--out", a->out, "Output LAS, a folder for a folder of tiles, or the model file (--train)");
   cmd->add_option("--dtm", a->dtm, "Terrain model; default: from ground-class points, else by the SMRF ground filter");
   cmd->add_option("--model", a->model, "Classifier model")->capture_default_str();
   cmd->add_option("--config", a->config, "TOML config: its [classes] codes are written");
@@ -81,6 +73,8 @@ void register_classify(CLI::App& app) {
   cmd->add_flag("--evaluate", a->evaluate, "Precision and recall of --model: on the labelled --cloud as if it came "
                                            "unclassified (ground, building, vegetation), else on the held-out data");
   cmd->add_option("--cimahi", a->cimahi, "Cimahi data folder for --train / --evaluate");
+  cmd->add_option("--labelled", a->labelled, "Folder of labelled LAS/LAZ surveys: trained on; with --evaluate, "
+                                             "each left out in turn");
   cmd->add_option("--table", a->table, "Also write the evaluation table (Markdown) here");
   cmd->callback([a] {
     if (a->evaluate && !a->train && !a->cloud.empty()) return run_cloud_evaluation(*a);

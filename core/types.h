@@ -35,7 +35,13 @@ struct PointCloud {
   std::vector<Vec3> points;           // world coordinates (double)
   std::vector<std::uint8_t> classes;  // one per point, or empty when the format has none
   std::string crs_wkt;                // empty when the file carries no CRS
+  std::vector<std::uint8_t> returns;  // LAS return fields per point (pack_returns), or empty
 };
+
+// A point's return number (1..15) and its pulse's number of returns, packed in one byte.
+inline std::uint8_t pack_returns(int number, int of) { return std::uint8_t((number & 15) << 4 | (of & 15)); }
+inline int return_number(std::uint8_t packed) { return packed >> 4; }
+inline int number_of_returns(std::uint8_t packed) { return packed & 15; }
 
 // Which raw classification codes mean roof, wall and ground.
 struct ClassMapping {

@@ -39,6 +39,7 @@ TEST(PointIo, LasRoundTripEveryFormatAndVersion) {
   std::string dir = test::temp_dir("las_formats");
   PointCloud in = sample_cloud(true);
   in.crs_wkt = wkt_from_epsg(32748);
+  for (size_t i = 0; i < in.points.size(); ++i) in.returns.push_back(pack_returns(1 + int(i % 3), 3));
   for (int format = 0; format <= 10; ++format) {
     int min_minor = format >= 6 ? 4 : format >= 4 ? 3 : format >= 2 ? 2 : 0;
     for (int minor = min_minor; minor <= 4; ++minor) {
@@ -54,6 +55,7 @@ TEST(PointIo, LasRoundTripEveryFormatAndVersion) {
         uint8_t expected = format >= 6 ? in.classes[i] : in.classes[i] & 0x1F;
         ASSERT_EQ(out.classes[i], expected) << "point " << i;
       }
+      EXPECT_EQ(out.returns, in.returns);  // return number and number of returns, every format
       EXPECT_EQ(epsg_of(out.crs_wkt), 32748);
     }
   }

@@ -29,7 +29,7 @@ void classify_clouds(const std::string& model, std::vector<PointCloud>& clouds, 
     std::string note;
     const Dtm terrain = dtm ? Dtm{} : terrain_from_cloud(clouds[i], classes, &note);
     if (note.rfind("no DTM", 0) == 0) warnings.push_back(clouds[i].source + ": " + note);
-    const Classification c = classify_points(forest, clouds[i].points, dtm ? *dtm : terrain);
+    const Classification c = classify_points(forest, clouds[i], dtm ? *dtm : terrain);
     write_classes(clouds[i], c.classes, classes);
     log::info(clouds[i].source + ": classified " + std::to_string(c.classes.size()) + " points: ground " +
               std::to_string(c.counts[0]) + ", roof " + std::to_string(c.counts[1]) + ", wall " +

@@ -87,7 +87,7 @@ CloudEvaluation evaluate_cloud(const PointForest& forest, const PointCloud& labe
     unlabelled.classes.clear();  // as the survey would come: the terrain found without its ground class
     found = terrain_from_cloud(unlabelled, classes, &e.terrain_note);
   }
-  const Classification c = classify_points(forest, labelled.points, terrain ? *terrain : found);
+  const Classification c = classify_points(forest, labelled, terrain ? *terrain : found);
   for (size_t i = 0; i < labelled.points.size(); ++i) {
     const int truth = i < labelled.classes.size() ? survey_class(labelled.classes[i], classes) : -1;
     if (truth < 0) ++e.unscored;

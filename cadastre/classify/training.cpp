@@ -1,12 +1,16 @@
 #include "cadastre/classify/training.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <random>
 
 #include "cadastre/parcels.h"
 #include "core/classify/classify.h"
+#include "core/error.h"
 #include "core/geometry/geometry.h"
 #include "core/io/dtm_io.h"
 #include "core/io/point_io.h"
@@ -77,7 +81,7 @@ void add_cimahi(const std::string& dir, TrainingData& data) {
   const Dtm dtm = read_dtm((fs::path(dir) / "dtm.tif").string());
   const ParcelLayer layer = read_parcels((fs::path(dir) / "parcels.shp").string());
   LabelledSet all;
-  all.features = cloud_features(cloud.points, dtm);
+  all.features = cloud_features(cloud, dtm);
   for (auto c : cloud.classes) all.labels.push_back(c == 64 ? PointClass::Wall : PointClass::Roof);
   std::vector<size_t> train, held;
   for (size_t i = 0; i < cloud.points.size(); ++i) {
@@ -99,13 +103,135 @@ std::vector<size_t> draw(std::vector<size_t> rows, long n, std::mt19937_64& rng)
   return rows;
 }
 
+constexpr double kWallVerticality = 0.7;  // a building point's 1.2 m neighbourhood: normal within ~45 deg of level
+constexpr int kVerticality1_2m = 1 * kFeaturesPerScale + 3;
+constexpr int kMultipleReturns = 8;  // per scale
+
+PointClass survey_label(int code, const ClassMapping& classes, const float* features) {
+  if (classes.is_ground(code)) return PointClass::Ground;
+  if (classes.is_roof(code) || classes.is_wall(code))
+    return features[kVerticality1_2m] > kWallVerticality ? PointClass::Wall : PointClass::Roof;
+  return PointClass::Other;
+}
+
+SurveyClass survey_class(PointClass c) {
+  return c == PointClass::Ground ? SurveyClass::Ground : c == PointClass::Other ? SurveyClass::Vegetation
+                                                                                : SurveyClass::Building;
+}
+
+// The set as a survey without return fields would give it: every return
+// feature unknown. Trained beside the set itself, so a forest learns real
+// surveys both with and without them.
+LabelledSet without_returns(LabelledSet s) {
+  constexpr int kNotLastReturn = kFeatureCount - 1;
+  for (size_t i = 0; i < s.features.rows; ++i) {
+    float* f = s.features.values.data() + i * kFeatureCount;
+    for (int k = 0; k < kScaleCount; ++k) f[k * kFeaturesPerScale + kMultipleReturns] = kUnknownReturns;
+    f[kNotLastReturn] = kUnknownReturns;
+  }
+  s.name += ", returns hidden";
+  return s;
+}
+
+bool has_returns(const LabelledSet& s) {
+  return s.features.rows > 0 && s.features.row(0)[kFeatureCount - 1] != kUnknownReturns;
+}
+
+// Every survey of `from` but the one at `skip` (none: SIZE_MAX), with its
+// returns and without them.
+void append_surveys(std::vector<LabelledSet>& to, const std::vector<LabelledSet>& from, size_t skip = SIZE_MAX) {
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (i == skip) continue;
+    to.push_back(from[i]);
+    if (has_returns(from[i])) to.push_back(without_returns(from[i]));
+  }
+}
+
+SurveyScore score(const PointForest& forest, const LabelledSet& set) {
+  SurveyScore s;
+  s.name = set.name;
+  const auto predicted = forest.predict(set.features);
+  for (size_t i = 0; i < predicted.size(); ++i)
+    ++s.scores.confusion[size_t(survey_class(set.labels[i]))][size_t(predicted[i])];
+  return s;
+}
+
 }  // namespace
+
+std::vector<std::string> labelled_survey_files(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  if (dir.empty() || !fs::is_directory(dir)) return files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    for (auto& ch : ext) ch = char(std::tolower(ch));
+    if (e.is_regular_file() && (ext == ".las" || ext == ".laz")) files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes) {
+  PointCloud cloud = read_point_cloud(path);
+  if (cloud.classes.empty()) throw InputError(path, "has no classes to train on");
+  const std::vector<std::uint8_t> codes = std::move(cloud.classes);
+  cloud.classes.clear();  // the terrain as an unclassified survey gets it
+  const Dtm terrain = terrain_from_cloud(cloud, classes, nullptr);
+  const FeatureTable all = cloud_features(cloud, terrain);
+  LabelledSet s;
+  s.name = std::filesystem::path(path).stem().string();
+  s.features.values.reserve(all.values.size());
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const int code = codes[i];
+    const bool vegetation = code >= 3 && code <= 5;
+    if (!classes.is_ground(code) && !classes.is_roof(code) && !classes.is_wall(code) && !vegetation) continue;
+    s.features.values.insert(s.features.values.end(), all.row(i), all.row(i) + kFeatureCount);
+    s.labels.push_back(survey_label(code, classes, all.row(i)));
+  }
+  s.features.rows = s.labels.size();
+  return s;
+}
+
+std::vector<SurveyScore> leave_one_survey_out(const TrainingOptions& opt, const ClassMapping& classes) {
+  std::vector<LabelledSet> surveys;
+  for (const auto& f : labelled_survey_files(opt.labelled_dir)) surveys.push_back(labelled_survey(f, classes));
+  TrainingOptions own = opt;
+  own.labelled_dir.clear();
+  const TrainingData base = training_data(own);
+  std::vector<SurveyScore> out;
+  for (size_t k = 0; k < surveys.size(); ++k) {
+    TrainingData d;
+    d.train = base.train;
+    append_surveys(d.train, surveys, k);
+    const PointForest forest = train_forest(d, opt);
+    out.push_back(score(forest, surveys[k]));
+    if (has_returns(surveys[k])) out.push_back(score(forest, without_returns(surveys[k])));
+  }
+  return out;
+}
+
+std::string survey_scores_table(const std::vector<SurveyScore>& scores) {
+  std::string out = "| left out | accuracy | ground P / R | building P / R | vegetation P / R |\n|---|---|---|---|---|\n";
+  char line[256];
+  for (const auto& s : scores) {
+    const auto& e = s.scores;
+    auto pr = [&](SurveyClass c) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%.3f / %.3f", e.precision(c), e.recall(c));
+      return std::string(b);
+    };
+    std::snprintf(line, sizeof line, "| %s | %.3f | %s | %s | %s |\n", s.name.c_str(), e.accuracy(),
+                  pr(SurveyClass::Ground).c_str(), pr(SurveyClass::Building).c_str(), pr(SurveyClass::Vegetation).c_str());
+    out += line;
+  }
+  return out;
+}
 
 LabelledSet labelled_sample_town(const SampleOptions& opt, const std::string& name) {
   const SampleTown t = make_sample_town(opt);
   LabelledSet s;
   s.name = name;
-  s.features = cloud_features(t.cloud.points, t.dtm);
+  s.features = cloud_features(t.cloud, t.dtm);
   for (size_t i = 0; i < t.cloud.points.size(); ++i) s.labels.push_back(sample_label(t.cloud.classes[i], t.point_tags[i]));
   return s;
 }
@@ -130,6 +256,9 @@ TrainingData training_data(const TrainingOptions& opt) {
     d.held_out.push_back(labelled_sample_town(o, "sample town " + std::to_string(o.seed)));
   if (!opt.cimahi_dir.empty() && std::filesystem::is_directory(opt.cimahi_dir)) add_cimahi(opt.cimahi_dir, d);
   else log::warn("classify: no Cimahi data at '" + opt.cimahi_dir + "': training on sample towns only");
+  std::vector<LabelledSet> surveys;
+  for (const auto& f : labelled_survey_files(opt.labelled_dir)) surveys.push_back(labelled_survey(f, ClassMapping{}));
+  append_surveys(d.train, surveys);
   return d;
 }
 

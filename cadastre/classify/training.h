@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cadastre/classify/cloud_evaluation.h"
 #include "core/classify/forest.h"
 #include "core/synthetic/sample_town.h"
 
@@ -28,7 +29,8 @@ std::vector<SampleOptions> training_towns();
 std::vector<SampleOptions> held_out_towns();
 
 struct TrainingOptions {
-  std::string cimahi_dir;  // empty or missing: sample towns only
+  std::string cimahi_dir;    // empty or missing: sample towns only
+  std::string labelled_dir;  // labelled surveys (LAS/LAZ with ASPRS classes); empty: none
   ForestSettings forest;
   long max_per_class = 12000;  // training points per class and source, drawn with the forest's seed
 };
@@ -48,8 +50,27 @@ struct Evaluation {
 };
 Evaluation evaluate(const PointForest& forest, const LabelledSet& set);
 
+// A labelled airborne survey (ASPRS classes) as training points: features over
+// the terrain found without its classes (as an unclassified survey is
+// classified); ground; building as roof, or wall where its neighbourhood is
+// vertical (ASPRS has one class for both); vegetation (3-5) as other. Points of
+// other codes are left out.
+LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes);
+// The LAS/LAZ files of a folder, sorted.
+std::vector<std::string> labelled_survey_files(const std::string& dir);
+
 // Trains on data.train (balanced per class and source).
 PointForest train_forest(const TrainingData& data, const TrainingOptions& opt);
+
+// Leave one tile out over the labelled surveys of opt.labelled_dir: for each,
+// a forest trained on the project's own sources and every other survey, scored
+// on the one left out (ground, building, vegetation; cloud_evaluation.h).
+struct SurveyScore {
+  std::string name;
+  CloudEvaluation scores;
+};
+std::vector<SurveyScore> leave_one_survey_out(const TrainingOptions& opt, const ClassMapping& classes);
+std::string survey_scores_table(const std::vector<SurveyScore>& scores);
 
 // Markdown table: per set and class, precision, recall and points.
 std::string evaluation_table(const std::vector<Evaluation>& evals);

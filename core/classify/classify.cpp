@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <map>
 
 #include "core/classify/ground_filter.h"
 #include "core/io/dtm_io.h"
@@ -38,19 +40,75 @@ std::vector<double> heights_above_terrain(const std::vector<Vec3>& world, const 
   return out;
 }
 
-FeatureTable cloud_features(const std::vector<Vec3>& world, const Dtm& terrain) {
-  if (world.empty()) return {};
+namespace {
+
+constexpr int kBlockGrids = 7;  // 67.2 m blocks: a block's features in cache and a bounded table, whatever the cloud
+
+// Calls visit(rows, features) for the points of each plan block in turn,
+// each block seen with a margin of its neighbours' points (feature_reach), in
+// a local frame: a cloud's features are the same whole or in blocks, and
+// memory holds one block's table at a time.
+void for_each_block(const PointCloud& cloud, const Dtm& terrain,
+                    const std::function<void(const std::vector<size_t>&, const FeatureTable&)>& visit) {
+  const std::vector<Vec3>& world = cloud.points;
+  if (world.empty()) return;
+  const double kBlock = kBlockGrids * feature_grid();
   Vec3 lo = world.front();
   for (const auto& p : world) lo = lo.cwiseMin(p);
-  const Vec3 origin(std::floor(lo.x() / 10) * 10, std::floor(lo.y() / 10) * 10, std::floor(lo.z()));
-  std::vector<Vec3> local(world.size());
-  for (size_t i = 0; i < world.size(); ++i) local[i] = world[i] - origin;
-  return compute_features(local, heights_above_terrain(world, terrain));
+  const Vec3 origin(std::floor(lo.x() / kBlock) * kBlock, std::floor(lo.y() / kBlock) * kBlock, std::floor(lo.z()));
+  const std::vector<double> hat = heights_above_terrain(world, terrain);
+  const bool returns = cloud.returns.size() == world.size() && has_multiple_returns(cloud.returns);
+  std::map<std::pair<long, long>, std::vector<size_t>> blocks;
+  for (size_t i = 0; i < world.size(); ++i)
+    blocks[{long(std::floor((world[i].x() - origin.x()) / kBlock)), long(std::floor((world[i].y() - origin.y()) / kBlock))}]
+        .push_back(i);
+  const double reach = feature_reach();
+  std::vector<Vec3> local;
+  std::vector<double> block_hat;
+  std::vector<std::uint8_t> block_returns;
+  for (const auto& [key, rows] : blocks) {
+    std::vector<size_t> all = rows;
+    const double x0 = key.first * kBlock - reach, x1 = (key.first + 1) * kBlock + reach;
+    const double y0 = key.second * kBlock - reach, y1 = (key.second + 1) * kBlock + reach;
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy) {
+        auto it = blocks.find({key.first + dx, key.second + dy});
+        if ((dx == 0 && dy == 0) || it == blocks.end()) continue;
+        for (size_t i : it->second) {
+          const Vec3 p = world[i] - origin;
+          if (p.x() >= x0 && p.x() <= x1 && p.y() >= y0 && p.y() <= y1) all.push_back(i);
+        }
+      }
+    local.clear(), block_hat.clear(), block_returns.clear();
+    for (size_t i : all) {
+      local.push_back(world[i] - origin);
+      block_hat.push_back(hat[i]);
+      if (returns) block_returns.push_back(cloud.returns[i]);
+    }
+    visit(rows, compute_features(local, block_hat, block_returns, rows.size()));
+  }
 }
 
-Classification classify_points(const PointForest& forest, const std::vector<Vec3>& world, const Dtm& terrain) {
+}  // namespace
+
+FeatureTable cloud_features(const PointCloud& cloud, const Dtm& terrain) {
+  FeatureTable t;
+  t.rows = cloud.points.size();
+  t.values.resize(t.rows * kFeatureCount);
+  for_each_block(cloud, terrain, [&](const std::vector<size_t>& rows, const FeatureTable& f) {
+    for (size_t k = 0; k < rows.size(); ++k)
+      std::copy(f.row(k), f.row(k) + kFeatureCount, t.values.begin() + long(rows[k] * kFeatureCount));
+  });
+  return t;
+}
+
+Classification classify_points(const PointForest& forest, const PointCloud& cloud, const Dtm& terrain) {
   Classification c;
-  c.classes = forest.predict(cloud_features(world, terrain));
+  c.classes.assign(cloud.points.size(), PointClass::Other);
+  for_each_block(cloud, terrain, [&](const std::vector<size_t>& rows, const FeatureTable& f) {
+    const std::vector<PointClass> block = forest.predict(f);
+    for (size_t k = 0; k < rows.size(); ++k) c.classes[rows[k]] = block[k];
+  });
   for (PointClass k : c.classes) ++c.counts[int(k)];
   return c;
 }

@@ -28,14 +28,15 @@ Dtm terrain_from_cloud(const PointCloud& cloud, const ClassMapping& classes, std
 // nearest edge.
 std::vector<double> heights_above_terrain(const std::vector<Vec3>& world, const Dtm& terrain);
 
-// Features of a cloud in world coordinates (computed in a local frame).
-FeatureTable cloud_features(const std::vector<Vec3>& world, const Dtm& terrain);
+// Features of a cloud in world coordinates (computed in a local frame), with its
+// return fields where it has them.
+FeatureTable cloud_features(const PointCloud& cloud, const Dtm& terrain);
 
 struct Classification {
   std::vector<PointClass> classes;                // one per point
   std::array<long, kPointClassCount> counts{};   // per PointClass
 };
-Classification classify_points(const PointForest& forest, const std::vector<Vec3>& world, const Dtm& terrain);
+Classification classify_points(const PointForest& forest, const PointCloud& cloud, const Dtm& terrain);
 
 // The class code written for each PointClass: the mapping's first ground, roof
 // and wall codes, kOtherClassCode for other.

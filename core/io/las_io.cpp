@@ -1,5 +1,6 @@
 // The LAS 1.0-1.4 reader (formats 0-10, CRS from WKT or GeoKeys VLRs; LAZ
 // point data decoded by core/io/laz into the same records) and the LAS writer.
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -273,6 +274,7 @@ void append_records(const std::string& path, const LasHeader& h, const char* rec
   const size_t at = cloud.points.size();
   cloud.points.resize(at + n);
   cloud.classes.resize(at + n);
+  cloud.returns.resize(at + n);
   // Formats 6-10 carry a full classification byte (classes >= 32 such as 64
   // survive); 0-5 keep the class in the low 5 bits beside three flags.
   const bool extended = h.format >= 6;
@@ -284,6 +286,8 @@ void append_records(const std::string& path, const LasHeader& h, const char* rec
              get<int32_t>(rec + 8) * h.scale[2] + h.offset[2]);
     check_coordinates(path, p.x(), p.y(), p.z(), first_index + i);
     cloud.classes[at + i] = uint8_t(rec[class_at]) & class_mask;
+    const uint8_t r = uint8_t(rec[14]);  // return number and number of returns: 4 + 4 bits, or 3 + 3
+    cloud.returns[at + i] = extended ? pack_returns(r & 15, r >> 4) : pack_returns(r & 7, (r >> 3) & 7);
   }
 }
 
@@ -395,6 +399,7 @@ void point_io_detail::stream_las(const std::string& path, size_t block_points,
   auto emit = [&](const char* rec, size_t n) {
     out.points.clear();
     out.classes.clear();
+    out.returns.clear();
     append_records(path, h, rec, n, index, out);
     index += n;
     block(out);
@@ -534,9 +539,11 @@ std::string las_file_bytes(const std::string& path, const PointCloud& cloud, int
   put<uint32_t>(out, 100, vlr.empty() ? 0u : 1u);
   out[104] = char(point_format);
   put<uint16_t>(out, 105, uint16_t(record));
-  uint32_t legacy = extended ? 0 : uint32_t(n);
-  put<uint32_t>(out, 107, legacy);
-  put<uint32_t>(out, 111, legacy);  // all points are first returns
+  const bool has_returns = cloud.returns.size() == n;
+  std::array<uint64_t, 15> by_return{};  // points per return number; formats 6-10 leave the 32-bit counts 0
+  for (size_t i = 0; i < n; ++i) ++by_return[has_returns ? std::max(1, return_number(cloud.returns[i])) - 1 : 0];
+  put<uint32_t>(out, 107, extended ? 0u : uint32_t(n));
+  for (int r = 0; r < 5; ++r) put<uint32_t>(out, 111 + 4 * r, extended ? 0u : uint32_t(by_return[size_t(r)]));
   for (int i = 0; i < 3; ++i) {
     put<double>(out, 131 + 8 * i, scale[i]);
     put<double>(out, 155 + 8 * i, offset[i]);
@@ -545,22 +552,21 @@ std::string las_file_bytes(const std::string& path, const PointCloud& cloud, int
   }
   if (minor_version >= 4) {
     put<uint64_t>(out, 247, n);
-    put<uint64_t>(out, 255, n);
+    for (int r = 0; r < 15; ++r) put<uint64_t>(out, 255 + 8 * r, by_return[size_t(r)]);
   }
   std::memcpy(&out[header_size], vlr.data(), vlr.size());
-
   const bool has_classes = cloud.classes.size() == n;
   for (size_t i = 0; i < n; ++i) {
-    size_t r = point_offset + i * record;
-    const Vec3& p = cloud.points[i];
+    const size_t r = point_offset + i * record;
     for (int k = 0; k < 3; ++k)
-      put<int32_t>(out, r + 4 * k, int32_t(std::llround((p[k] - offset[k]) / scale[k])));
-    uint8_t cls = has_classes ? cloud.classes[i] : 1;  // 1 = unclassified
+      put<int32_t>(out, r + 4 * k, int32_t(std::llround((cloud.points[i][k] - offset[k]) / scale[k])));
+    const uint8_t cls = has_classes ? cloud.classes[i] : 1;  // 1 = unclassified
+    const uint8_t ret = has_returns ? cloud.returns[i] : pack_returns(1, 1);
     if (extended) {
-      out[r + 14] = char(0x11);  // return 1 of 1
+      out[r + 14] = char(return_number(ret) | number_of_returns(ret) << 4);
       out[r + 16] = char(cls);
     } else {
-      out[r + 14] = char(0x09);  // return 1 of 1
+      out[r + 14] = char((return_number(ret) & 7) | (number_of_returns(ret) & 7) << 3);
       out[r + 15] = char(cls & 0x1F);
     }
   }

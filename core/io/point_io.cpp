@@ -181,6 +181,7 @@ void for_each_point_block(const std::string& path, const std::function<void(cons
     const size_t end = std::min(whole.points.size(), at + kPointBlock);
     part.points.assign(whole.points.begin() + long(at), whole.points.begin() + long(end));
     if (!whole.classes.empty()) part.classes.assign(whole.classes.begin() + long(at), whole.classes.begin() + long(end));
+    if (!whole.returns.empty()) part.returns.assign(whole.returns.begin() + long(at), whole.returns.begin() + long(end));
     block(part);
   }
 }
