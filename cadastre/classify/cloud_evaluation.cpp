@@ -21,13 +21,6 @@ bool called(SurveyClass c, int predicted) {
   return false;
 }
 
-int survey_class(int code, const ClassMapping& classes) {
-  if (classes.is_ground(code)) return int(SurveyClass::Ground);
-  if (classes.is_roof(code) || classes.is_wall(code)) return int(SurveyClass::Building);
-  if (code >= 3 && code <= 5) return int(SurveyClass::Vegetation);
-  return -1;
-}
-
 std::string share(double v) {
   char b[16];
   std::snprintf(b, sizeof b, std::isfinite(v) ? "%.3f" : "-", v);
@@ -35,6 +28,13 @@ std::string share(double v) {
 }
 
 }  // namespace
+
+std::optional<SurveyClass> survey_class(int code, const ClassMapping& classes) {
+  if (classes.is_ground(code)) return SurveyClass::Ground;
+  if (classes.is_roof(code) || classes.is_wall(code)) return SurveyClass::Building;
+  if (code >= 3 && code <= 5) return SurveyClass::Vegetation;
+  return std::nullopt;
+}
 
 const char* to_string(SurveyClass c) {
   switch (c) {
@@ -89,9 +89,9 @@ CloudEvaluation evaluate_cloud(const PointForest& forest, const PointCloud& labe
   }
   const Classification c = classify_points(forest, labelled, terrain ? *terrain : found);
   for (size_t i = 0; i < labelled.points.size(); ++i) {
-    const int truth = i < labelled.classes.size() ? survey_class(labelled.classes[i], classes) : -1;
-    if (truth < 0) ++e.unscored;
-    else ++e.confusion[size_t(truth)][size_t(c.classes[i])];
+    const auto truth = i < labelled.classes.size() ? survey_class(labelled.classes[i], classes) : std::nullopt;
+    if (!truth) ++e.unscored;
+    else ++e.confusion[size_t(*truth)][size_t(c.classes[i])];
   }
   return e;
 }

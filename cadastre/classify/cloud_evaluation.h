@@ -4,6 +4,7 @@
 // point classified, and the result scored against the classes it had
 // (`cadastre3d classify --cloud FILE --evaluate`, issue 51).
 #include <array>
+#include <optional>
 #include <string>
 
 #include "core/classify/forest.h"
@@ -18,6 +19,8 @@ namespace c3d {
 enum class SurveyClass { Ground, Building, Vegetation };
 constexpr int kSurveyClassCount = 3;
 const char* to_string(SurveyClass c);
+// The survey class of a class code under the mapping; none for codes not scored.
+std::optional<SurveyClass> survey_class(int code, const ClassMapping& classes);
 
 struct CloudEvaluation {
   std::array<std::array<long, kPointClassCount>, kSurveyClassCount> confusion{};  // [truth][predicted]

@@ -1,13 +1,13 @@
 #include "cadastre/classify/training.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <random>
 
+#include "cadastre/batch/tiles.h"
 #include "cadastre/parcels.h"
 #include "core/classify/classify.h"
 #include "core/error.h"
@@ -107,11 +107,12 @@ constexpr double kWallVerticality = 0.7;  // a building point's 1.2 m neighbourh
 constexpr int kVerticality1_2m = 1 * kFeaturesPerScale + 3;
 constexpr int kMultipleReturns = 8;  // per scale
 
-PointClass survey_label(int code, const ClassMapping& classes, const float* features) {
-  if (classes.is_ground(code)) return PointClass::Ground;
-  if (classes.is_roof(code) || classes.is_wall(code))
-    return features[kVerticality1_2m] > kWallVerticality ? PointClass::Wall : PointClass::Roof;
-  return PointClass::Other;
+// The forest's label for a labelled point: building as roof, or wall where
+// its neighbourhood is vertical (ASPRS has one class for both).
+PointClass survey_label(SurveyClass c, const float* features) {
+  if (c == SurveyClass::Ground) return PointClass::Ground;
+  if (c == SurveyClass::Vegetation) return PointClass::Other;
+  return features[kVerticality1_2m] > kWallVerticality ? PointClass::Wall : PointClass::Roof;
 }
 
 SurveyClass survey_class(PointClass c) {
@@ -159,16 +160,7 @@ SurveyScore score(const PointForest& forest, const LabelledSet& set) {
 }  // namespace
 
 std::vector<std::string> labelled_survey_files(const std::string& dir) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  if (dir.empty() || !fs::is_directory(dir)) return files;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    std::string ext = e.path().extension().string();
-    for (auto& ch : ext) ch = char(std::tolower(ch));
-    if (e.is_regular_file() && (ext == ".las" || ext == ".laz")) files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
+  return dir.empty() ? std::vector<std::string>{} : expand_point_files({dir});
 }
 
 LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes) {
@@ -182,11 +174,10 @@ LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes
   s.name = std::filesystem::path(path).stem().string();
   s.features.values.reserve(all.values.size());
   for (size_t i = 0; i < codes.size(); ++i) {
-    const int code = codes[i];
-    const bool vegetation = code >= 3 && code <= 5;
-    if (!classes.is_ground(code) && !classes.is_roof(code) && !classes.is_wall(code) && !vegetation) continue;
+    const auto truth = survey_class(codes[i], classes);
+    if (!truth) continue;
     s.features.values.insert(s.features.values.end(), all.row(i), all.row(i) + kFeatureCount);
-    s.labels.push_back(survey_label(code, classes, all.row(i)));
+    s.labels.push_back(survey_label(*truth, all.row(i)));
   }
   s.features.rows = s.labels.size();
   return s;

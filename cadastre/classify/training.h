@@ -56,7 +56,7 @@ Evaluation evaluate(const PointForest& forest, const LabelledSet& set);
 // vertical (ASPRS has one class for both); vegetation (3-5) as other. Points of
 // other codes are left out.
 LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes);
-// The LAS/LAZ files of a folder, sorted.
+// The point files of a folder, sorted (none for ""); InputError for a folder that is not there.
 std::vector<std::string> labelled_survey_files(const std::string& dir);
 
 // Trains on data.train (balanced per class and source).
