@@ -8,7 +8,7 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 PACKAGES=(
-  build-essential cmake ninja-build pkg-config ccache git
+  build-essential cmake ninja-build pkg-config ccache lld git
   libpcl-dev libeigen3-dev libopencv-dev libgeos-dev libgeos++-dev libgdal-dev gdal-bin python3-gdal
   python3-numpy python3-lxml libcgal-dev libopen3d-dev libocct-foundation-dev libocct-modeling-data-dev
   libocct-modeling-algorithms-dev libocct-data-exchange-dev

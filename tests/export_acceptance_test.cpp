@@ -37,44 +37,56 @@ namespace {
 
 struct Batch {
   std::string out, log;
-  std::string cloud, parcels;  // the inputs, for evaluate
+  std::string cloud, parcels, dtm;  // the inputs, for evaluate
   int rc = -1;
   BatchModel store;
   std::map<std::string, double> area;  // "<building>/e<k>" -> store area
 };
 
-Batch run_batch(const std::string& cloud, const std::string& parcels, const std::string& dtm,
-                const std::string& out) {
+// Where the batch of `data` in `dir` reads and writes: the shared data (cimahi)
+// or a sample town made in dir/town, and dir/out.
+Batch batch_files(const std::string& data, const std::string& dir) {
   Batch r;
-  r.out = out;
-  r.cloud = cloud;
-  r.parcels = parcels;
-  r.rc = test::run_cli("batch --quiet --cloud " + cloud + " --parcels " + parcels + " --dtm " + dtm + " --out " +
-                           out + " --formats gml,gml3,cityjson,cityjsonseq,ifc,obj",
-                       &r.log);
-  if (r.rc != 0) return r;
-  r.store = load_batch_model(out + "/cadastre.gpkg");
-  for (const auto& p : r.store.results)
-    for (const auto& b : p.buildings)
-      for (size_t e = 0; e < b.elements.size(); ++e)
-        r.area[b.id + "/e" + std::to_string(e)] = b.elements[e].area;
+  r.rc = 0;
+  r.out = dir + "/out";
+  const bool town = data != "cimahi";
+  r.dtm = town ? dir + "/town/dtm.tif" : test::cimahi_dir() + "/dtm.tif";
+  r.cloud = town ? dir + "/town/cloud.las" : test::cimahi_dir() + "/cimahi.las";
+  r.parcels = town ? dir + "/town/parcels.gpkg" : test::cimahi_dir() + "/parcels.shp";
   return r;
 }
 
-// Each batch runs once for all tests of this file.
+Batch run_batch(const std::string& data, const std::string& dir) {
+  Batch r = batch_files(data, dir);
+  if (data != "cimahi" && (r.rc = test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 1", &r.log)) != 0)
+    return r;
+  r.rc = test::run_cli("batch --quiet --cloud " + r.cloud + " --parcels " + r.parcels + " --dtm " + r.dtm + " --out " +
+                           r.out + " --formats gml,gml3,cityjson,cityjsonseq,ifc,obj",
+                       &r.log);
+  return r;
+}
+
+// Each batch runs once for all tests of this file, and under ctest once for all
+// its processes (test::shared_run); each test reads its files and writes none.
 const Batch& batch(const std::string& data) {
   static std::map<std::string, Batch> done;
   auto it = done.find(data);
   if (it != done.end()) return it->second;
-  const std::string dir = test::temp_dir(data);
-  if (data == "cimahi") {
-    const std::string d = test::cimahi_dir();
-    return done[data] = run_batch(d + "/cimahi.las", d + "/parcels.shp", d + "/dtm.tif", dir + "/out");
+  Batch failed;
+  failed.rc = 0;  // stays so where another process filled the folder
+  const std::string dir = test::shared_run("exports_" + data, [&](const std::string& d) {
+    failed = run_batch(data, d);
+    return failed.rc == 0;
+  });
+  Batch r = batch_files(data, dir);
+  if (failed.rc != 0) r.rc = failed.rc, r.log = failed.log;
+  if (r.rc == 0) {
+    r.store = load_batch_model(r.out + "/cadastre.gpkg");
+    for (const auto& p : r.store.results)
+      for (const auto& b : p.buildings)
+        for (size_t e = 0; e < b.elements.size(); ++e) r.area[b.id + "/e" + std::to_string(e)] = b.elements[e].area;
   }
-  std::string log;
-  EXPECT_EQ(test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 1", &log), 0) << log;
-  const std::string t = dir + "/town";
-  return done[data] = run_batch(t + "/cloud.las", t + "/parcels.gpkg", t + "/dtm.tif", dir + "/out");
+  return done[data] = r;
 }
 
 class Exports : public ::testing::TestWithParam<std::string> {
@@ -274,7 +286,7 @@ TEST_P(Exports, CityJsonSchemaIndicesAndGeometryAreas) {
 TEST_P(Exports, CityJsonMeasuresAsTheBatchMeasuredItsModels) {
   C3D_BATCH(b);
   std::string out;
-  const std::string json = b.out + "/cityjson.eval.json";
+  const std::string json = test::temp_dir("evaluate") + "/cityjson.eval.json";
   ASSERT_EQ(test::run_cli("evaluate --mesh " + b.out + "/buildings.city.json --cloud " + b.cloud + " --parcels " +
                               b.parcels + " --json " + json,
                           &out),

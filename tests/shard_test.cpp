@@ -72,7 +72,7 @@ TEST(Shard, PartsCoverTheLayerOnceAndAreCompact) {
 
 namespace {
 
-const test::SampleTown& sample_town() { return test::sample_town("--parcels 24 --seed 3"); }
+const test::SampleTown& sample_town();
 
 // Runs the sample town (one shard of it, or all) into a fresh store (or
 // `store`), from its own inputs or `inputs`.
@@ -126,21 +126,60 @@ void expect_equal_stores(const std::string& want_store, const std::string& got_s
   }
 }
 
+// The unsharded run's whole-run fit, under the keys summary.json gives it
+// (JSON numbers keep doubles exactly).
+nlohmann::json whole_run_fit(const BatchReport& r) {
+  nlohmann::json j;
+  for (const auto& [key, d] : {std::pair<std::string, Deviation>{"any_model_roof_deviation", r.any_model_roof},
+                               {"any_model_wall_deviation", r.any_model_wall}})
+    j[key] = {{"n", d.n}, {"rmse", d.rmse}, {"mean", d.mean}, {"max", d.max}};
+  for (const auto& [key, f] :
+       {std::pair<std::string, RulerFigures>{"roof_ruler", r.roof_ruler}, {"wall_ruler", r.wall_ruler}})
+    j[key] = {{"n", f.n}, {"median", f.median}, {"p95", f.p95}, {"rmse", f.rmse}};
+  j["wall_points_measured_share"] = r.wall_points_measured;
+  return j;
+}
+
 struct Shards {
+  test::SampleTown town;
   std::string full;
   std::vector<std::string> stores;  // shard 1..3 of 3
-  BatchReport whole;                // the unsharded run's
+  nlohmann::json whole;             // the unsharded run's fit (whole_run_fit)
 };
 
+// The town, its unsharded run and its three shards, made once for every
+// process of a ctest run (test::shared_run); tests read them or copy them.
 const Shards& three_shards() {
   static const Shards s = [] {
     Shards r;
-    r.full = run_town("full", {}, &r.whole);
-    for (int k = 1; k <= 3; ++k) r.stores.push_back(run_town("shard" + std::to_string(k), {k, 3}));
+    const auto files_in = [&r](const std::string& dir) {
+      r.town = test::sample_town_files(dir + "/town");
+      r.full = dir + "/full.gpkg";
+      r.stores.clear();
+      for (int k = 1; k <= 3; ++k) r.stores.push_back(dir + "/shard" + std::to_string(k) + ".gpkg");
+    };
+    const std::string dir = test::shared_run("shards_of_town", [&](const std::string& d) {
+      std::string log;
+      if (test::run_cli("sample --out " + d + "/town --parcels 24 --seed 3", &log) != 0) {
+        ADD_FAILURE() << log;
+        return false;
+      }
+      files_in(d);
+      BatchReport whole;
+      run_town("", {}, &whole, r.full, &r.town.inputs);
+      for (int k = 1; k <= 3; ++k) run_town("", {k, 3}, nullptr, r.stores[size_t(k - 1)], &r.town.inputs);
+      std::ofstream(d + "/whole_fit.json") << whole_run_fit(whole).dump();
+      return true;
+    });
+    files_in(dir);
+    std::ifstream f(dir + "/whole_fit.json");
+    r.whole = nlohmann::json::parse(f, nullptr, false);
     return r;
   }();
   return s;
 }
+
+const test::SampleTown& sample_town() { return three_shards().town; }
 
 }  // namespace
 
@@ -327,26 +366,24 @@ std::string read_text(const std::string& path) {
 
 // summary.json's whole-run fit equals the unsharded run's: counts and ruler
 // bins exactly, pooled figures to rounding.
-void expect_whole_run_fit(const std::string& summary_path, const BatchReport& want) {
+void expect_whole_run_fit(const std::string& summary_path, const nlohmann::json& want) {
   const nlohmann::json j = nlohmann::json::parse(read_text(summary_path));
   ASSERT_EQ(j["any_model_fit"], "computed");
-  ASSERT_GT(want.any_model_roof.n, 1000);
-  ASSERT_GT(want.any_model_wall.n, 100);
-  for (const auto& [key, d] : {std::pair<std::string, Deviation>{"any_model_roof_deviation", want.any_model_roof},
-                               {"any_model_wall_deviation", want.any_model_wall}}) {
-    EXPECT_EQ(j[key]["n"].get<int>(), d.n) << key;
-    EXPECT_NEAR(j[key]["rmse"].get<double>(), d.rmse, 1e-12) << key;
-    EXPECT_NEAR(j[key]["mean"].get<double>(), d.mean, 1e-12) << key;
-    EXPECT_NEAR(j[key]["max"].get<double>(), d.max, 1e-9) << key;
+  ASSERT_GT(want["any_model_roof_deviation"]["n"].get<int>(), 1000);
+  ASSERT_GT(want["any_model_wall_deviation"]["n"].get<int>(), 100);
+  for (const char* key : {"any_model_roof_deviation", "any_model_wall_deviation", "roof_ruler", "wall_ruler"}) {
+    EXPECT_EQ(j[key]["n"].get<long>(), want[key]["n"].get<long>()) << key;
+    EXPECT_NEAR(j[key]["rmse"].get<double>(), want[key]["rmse"].get<double>(), 1e-12) << key;
   }
-  for (const auto& [key, r] : {std::pair<std::string, RulerFigures>{"roof_ruler", want.roof_ruler},
-                               {"wall_ruler", want.wall_ruler}}) {
-    EXPECT_EQ(j[key]["n"].get<size_t>(), size_t(r.n)) << key;
-    EXPECT_EQ(j[key]["median"].get<double>(), r.median) << key;  // 0.1 mm bins: exact across chunkings
-    EXPECT_EQ(j[key]["p95"].get<double>(), r.p95) << key;
-    EXPECT_NEAR(j[key]["rmse"].get<double>(), r.rmse, 1e-12) << key;
+  for (const char* key : {"any_model_roof_deviation", "any_model_wall_deviation"}) {
+    EXPECT_NEAR(j[key]["mean"].get<double>(), want[key]["mean"].get<double>(), 1e-12) << key;
+    EXPECT_NEAR(j[key]["max"].get<double>(), want[key]["max"].get<double>(), 1e-9) << key;
   }
-  EXPECT_EQ(j["wall_points_measured_share"].get<double>(), want.wall_points_measured);
+  for (const char* key : {"roof_ruler", "wall_ruler"}) {  // 0.1 mm bins: exact across chunkings
+    EXPECT_EQ(j[key]["median"].get<double>(), want[key]["median"].get<double>()) << key;
+    EXPECT_EQ(j[key]["p95"].get<double>(), want[key]["p95"].get<double>()) << key;
+  }
+  EXPECT_EQ(j["wall_points_measured_share"].get<double>(), want["wall_points_measured_share"].get<double>());
 }
 
 RunInputs town_inputs(Config cfg = default_config()) { return {sample_town().inputs, std::move(cfg)}; }

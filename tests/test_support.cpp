@@ -17,7 +17,10 @@
 #include <fstream>
 #include <iostream>
 #include <functional>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -100,9 +103,13 @@ const SampleTown& sample_town(const std::string& args) {
     const std::string d = temp_dir(name);
     std::string log;
     EXPECT_EQ(run_cli("sample --out " + d + " " + args, &log), 0) << log;
-    at->second = SampleTown{d, BatchInputs{{d + "/cloud.las"}, {}, d + "/parcels.gpkg", d + "/dtm.tif"}};
+    at->second = sample_town_files(d);
   }
   return at->second;
+}
+
+SampleTown sample_town_files(const std::string& dir) {
+  return SampleTown{dir, BatchInputs{{dir + "/cloud.las"}, {}, dir + "/parcels.gpkg", dir + "/dtm.tif"}};
 }
 
 std::string temp_dir(const std::string& name) {
@@ -117,6 +124,25 @@ std::string temp_dir(const std::string& name) {
   fs::remove_all(p);
   fs::create_directories(p);
   return p.string();
+}
+
+std::string shared_run(const std::string& key, const std::function<bool(const std::string& dir)>& fill) {
+  const char* root = std::getenv("C3D_SHARED_RUNS");
+  if (!root || !*root) {
+    const std::string dir = temp_dir(key);
+    fill(dir);
+    return dir;
+  }
+  const fs::path dir = fs::path(root) / key, done = dir / ".done";
+  fs::create_directories(dir);
+  const int lock = ::open((dir.string() + ".lock").c_str(), O_CREAT | O_RDWR, 0644);
+  if (lock < 0 || ::flock(lock, LOCK_EX) != 0) ADD_FAILURE() << "cannot lock " << dir << ".lock";
+  if (!fs::exists(done)) {
+    for (const auto& entry : fs::directory_iterator(dir)) fs::remove_all(entry.path());
+    if (fill(dir.string())) std::ofstream(done) << "filled\n";
+  }
+  if (lock >= 0) ::close(lock);  // releases the lock
+  return dir.string();
 }
 
 std::string shell(const std::string& cmd, int* rc) {

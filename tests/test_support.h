@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: where the shared data is, temp dirs, running the
 // CLI, a box-shaped shell.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,14 @@ std::string laz_dir();
 // A fresh empty directory under the build's temp area (<build>/tests/tmp/<Suite.Test>/name),
 // so tests running in parallel never share one.
 std::string temp_dir(const std::string& name);
+// A folder that `fill` makes once per ctest run for every test process asking
+// for `key` (ctest runs each test as a process of its own): ctest sets
+// C3D_SHARED_RUNS and empties it first (the fixture Tests.SharedRunsEmptied);
+// the first process to lock the key fills the folder, the others wait and
+// reuse it. Without C3D_SHARED_RUNS (a test binary run by hand) each process
+// fills a temp_dir of its own. A failed fill (false) is not kept: the next
+// process tries again and fails with its own message.
+std::string shared_run(const std::string& key, const std::function<bool(const std::string& dir)>& fill);
 
 // A sample town, `cadastre3d sample --out DIR ARGS`, made once per test binary
 // and argument list (a failure fails the test that first asks), and its files
@@ -34,6 +43,8 @@ struct SampleTown {
   BatchInputs inputs;
 };
 const SampleTown& sample_town(const std::string& args);
+// The files of the sample town `cadastre3d sample` wrote into `dir`.
+SampleTown sample_town_files(const std::string& dir);
 
 // Closed shells as CityJSON, one Building object per solid (vertices on a
 // 1 mm grid), for val3dity to judge shells that no export writes alone.
