@@ -47,7 +47,6 @@ struct Batch {
 // or a sample town made in dir/town, and dir/out.
 Batch batch_files(const std::string& data, const std::string& dir) {
   Batch r;
-  r.rc = 0;
   r.out = dir + "/out";
   const bool town = data != "cimahi";
   r.dtm = town ? dir + "/town/dtm.tif" : test::cimahi_dir() + "/dtm.tif";
@@ -56,14 +55,14 @@ Batch batch_files(const std::string& data, const std::string& dir) {
   return r;
 }
 
-Batch run_batch(const std::string& data, const std::string& dir) {
-  Batch r = batch_files(data, dir);
-  if (data != "cimahi" && (r.rc = test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 1", &r.log)) != 0)
-    return r;
-  r.rc = test::run_cli("batch --quiet --cloud " + r.cloud + " --parcels " + r.parcels + " --dtm " + r.dtm + " --out " +
-                           r.out + " --formats gml,gml3,cityjson,cityjsonseq,ifc,obj",
-                       &r.log);
-  return r;
+// Makes the inputs of `data` in `dir` where they are made, and runs its batch.
+int run_batch(const std::string& data, const std::string& dir, std::string* log) {
+  const Batch b = batch_files(data, dir);
+  if (data != "cimahi")
+    if (const int rc = test::run_cli("sample --out " + dir + "/town --parcels 24 --seed 1", log)) return rc;
+  return test::run_cli("batch --quiet --cloud " + b.cloud + " --parcels " + b.parcels + " --dtm " + b.dtm + " --out " +
+                           b.out + " --formats gml,gml3,cityjson,cityjsonseq,ifc,obj",
+                       log);
 }
 
 // Each batch runs once for all tests of this file, and under ctest once for all
@@ -72,14 +71,13 @@ const Batch& batch(const std::string& data) {
   static std::map<std::string, Batch> done;
   auto it = done.find(data);
   if (it != done.end()) return it->second;
-  Batch failed;
-  failed.rc = 0;  // stays so where another process filled the folder
+  int rc = 0;  // stays 0 where another process filled the folder
+  std::string log;
   const std::string dir = test::shared_run("exports_" + data, [&](const std::string& d) {
-    failed = run_batch(data, d);
-    return failed.rc == 0;
+    return (rc = run_batch(data, d, &log)) == 0;
   });
   Batch r = batch_files(data, dir);
-  if (failed.rc != 0) r.rc = failed.rc, r.log = failed.log;
+  r.rc = rc, r.log = log;
   if (r.rc == 0) {
     r.store = load_batch_model(r.out + "/cadastre.gpkg");
     for (const auto& p : r.store.results)

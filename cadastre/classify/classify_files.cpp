@@ -1,7 +1,5 @@
 #include "cadastre/classify/classify_files.h"
 
-#include <malloc.h>
-
 #include <filesystem>
 
 #include "cadastre/batch/tiles.h"
@@ -31,11 +29,6 @@ void classify_file(const PointForest& forest, const ClassMapping& classes, const
 
 void classify_files(const PointForest& forest, const ClassMapping& classes, const std::string& in,
                     const std::string& out, const std::string& dtm, std::ostream& log) {
-  // The features build and drop tables of a few MB per block and scale: keep
-  // freed memory for the next instead of refaulting it from the kernel (a
-  // tenth of the command's CPU on this project's VMs; docs/classification.md).
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   namespace fs = std::filesystem;
   if (!fs::is_directory(in)) return classify_file(forest, classes, in, out, dtm, log);
   fs::create_directories(out);

@@ -183,9 +183,14 @@ LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes
   return s;
 }
 
-std::vector<SurveyScore> leave_one_survey_out(const TrainingOptions& opt, const ClassMapping& classes) {
+std::vector<LabelledSet> labelled_surveys(const std::string& dir, const ClassMapping& classes) {
   std::vector<LabelledSet> surveys;
-  for (const auto& f : labelled_survey_files(opt.labelled_dir)) surveys.push_back(labelled_survey(f, classes));
+  for (const auto& f : labelled_survey_files(dir)) surveys.push_back(labelled_survey(f, classes));
+  return surveys;
+}
+
+std::vector<SurveyScore> leave_one_survey_out(const TrainingOptions& opt, const ClassMapping& classes) {
+  const std::vector<LabelledSet> surveys = labelled_surveys(opt.labelled_dir, classes);
   TrainingOptions own = opt;
   own.labelled_dir.clear();
   const TrainingData base = training_data(own);
@@ -247,9 +252,7 @@ TrainingData training_data(const TrainingOptions& opt) {
     d.held_out.push_back(labelled_sample_town(o, "sample town " + std::to_string(o.seed)));
   if (!opt.cimahi_dir.empty() && std::filesystem::is_directory(opt.cimahi_dir)) add_cimahi(opt.cimahi_dir, d);
   else log::warn("classify: no Cimahi data at '" + opt.cimahi_dir + "': training on sample towns only");
-  std::vector<LabelledSet> surveys;
-  for (const auto& f : labelled_survey_files(opt.labelled_dir)) surveys.push_back(labelled_survey(f, ClassMapping{}));
-  append_surveys(d.train, surveys);
+  append_surveys(d.train, labelled_surveys(opt.labelled_dir, ClassMapping{}));
   return d;
 }
 

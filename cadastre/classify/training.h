@@ -58,6 +58,8 @@ Evaluation evaluate(const PointForest& forest, const LabelledSet& set);
 LabelledSet labelled_survey(const std::string& path, const ClassMapping& classes);
 // The point files of a folder, sorted (none for ""); InputError for a folder that is not there.
 std::vector<std::string> labelled_survey_files(const std::string& dir);
+// labelled_survey of each file of the folder (none for "").
+std::vector<LabelledSet> labelled_surveys(const std::string& dir, const ClassMapping& classes);
 
 // Trains on data.train (balanced per class and source).
 PointForest train_forest(const TrainingData& data, const TrainingOptions& opt);
