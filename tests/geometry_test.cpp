@@ -122,3 +122,76 @@ TEST(LabelGrid, PolygonsFollowTheCellLinesWithHolesAndParts) {
   EXPECT_EQ(regions[2].size(), 2u);
   EXPECT_TRUE(regions[3].empty());
 }
+
+namespace {
+// A grid from rows written top-down, as the grid is drawn.
+LabelGrid grid_of(int nx, int ny, const std::vector<int>& rows_top_down) {
+  LabelGrid g{nx, ny, Vec2(0, 0), 1.0, std::vector<int>(size_t(nx * ny))};
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) g.labels[size_t(j * nx + i)] = rows_top_down[size_t((ny - 1 - j) * nx + i)];
+  return g;
+}
+int at(const LabelGrid& g, int column, int row_from_top) { return g.labels[size_t((g.ny - 1 - row_from_top) * g.nx + column)]; }
+}  // namespace
+
+// Runs under 3 cells: the 1 shares 5 edges with 0 and 1 with 2, and joins 0;
+// the 3 shares 3 with 2 and 1 with 0, and joins 2. The 4 shares 3 edges with
+// either big run and joins the lower label.
+TEST(LabelGrid, SieveGivesSmallRunsToTheBigNeighbourSharingMostEdges) {
+  // clang-format off
+  LabelGrid g = grid_of(6, 4, {
+      0, 0, 0, 2, 2, 2,
+      0, 1, 1, 2, 2, 2,
+      0, 0, 0, 3, 2, 2,
+      0, 0, 0, 2, 2, 2});
+  LabelGrid tie = grid_of(4, 3, {
+      0, 0, 2, 2,
+      0, 4, 4, 2,
+      0, 0, 2, 2});
+  // clang-format on
+  sieve(g, std::vector<char>(g.labels.size(), 1), 3);
+  EXPECT_EQ(at(g, 1, 1), 0);
+  EXPECT_EQ(at(g, 2, 1), 0);
+  EXPECT_EQ(at(g, 3, 2), 2);
+  sieve(tie, std::vector<char>(tie.labels.size(), 1), 3);
+  EXPECT_EQ(at(tie, 1, 1), 0);
+  EXPECT_EQ(at(tie, 2, 1), 0);
+}
+
+// A small run never takes another: the 5 touches only the four one-cell 6s;
+// they join 0 first, and then the 5 does (merged with a 6 it would have made
+// a run big enough to stay).
+TEST(LabelGrid, SieveSmallRunsAmongSmallRunsWaitForABigOne) {
+  // clang-format off
+  LabelGrid g = grid_of(5, 5, {
+      0, 0, 0, 0, 0,
+      0, 0, 6, 0, 0,
+      0, 6, 5, 6, 0,
+      0, 0, 6, 0, 0,
+      0, 0, 0, 0, 0});
+  // clang-format on
+  sieve(g, std::vector<char>(g.labels.size(), 1), 2);
+  for (int v : g.labels) EXPECT_EQ(v, 0);
+}
+
+// Only counted cells make a run big or small: the 1 holds four cells but one
+// counted, so it goes; the 3 has none counted and stays (it lies outside).
+TEST(LabelGrid, SieveCountsOnlyTheCellsItIsTold) {
+  // clang-format off
+  LabelGrid g = grid_of(4, 3, {
+      1, 1, 0, 3,
+      1, 1, 0, 0,
+      0, 0, 0, 0});
+  const std::vector<int> counted_top_down = {
+      0, 0, 1, 0,
+      0, 1, 1, 1,
+      1, 1, 1, 1};
+  // clang-format on
+  std::vector<char> counted(g.labels.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) counted[size_t(j * g.nx + i)] = char(counted_top_down[size_t((g.ny - 1 - j) * g.nx + i)]);
+  sieve(g, counted, 2);
+  EXPECT_EQ(at(g, 0, 0), 0);
+  EXPECT_EQ(at(g, 1, 1), 0);
+  EXPECT_EQ(at(g, 3, 0), 3);
+}

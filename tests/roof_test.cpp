@@ -18,6 +18,7 @@
 #include "core/reconstruct/ownership/ownership.h"
 #include "core/reconstruct/reconstruct.h"
 #include "core/reconstruct/roof/roof.h"
+#include "core/reconstruct/roof/roof_tiles.h"
 #include "core/synthetic/sample_town.h"
 #include "core/geometry/polygon_ops.h"
 #include "core/reconstruct/segment/segmentation.h"
@@ -52,18 +53,26 @@ TEST(RoofPartition, DetachedFragmentGoesToTheRegionItsPointsBelongTo) {
   EXPECT_TRUE(poly::covers(regions[1], Vec2(3.25, 6.25)));
 }
 
-TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
-  std::mt19937_64 rng(6);
-  Plane north = plane_through({0, 4, 6}, {0, 0.7, 1}), south = plane_through({0, 4, 6}, {0, -0.7, 1});
-  auto pn = sample_plane(north, 0, 10, 4, 8, 40, 0.02, rng);
-  auto ps = sample_plane(south, 0, 10, 0, 4, 40, 0.02, rng);
+namespace {
+// A gable over [0, length] x [0, 2 half], its ridge along y = half at height
+// z: the north face (component 0) above it, the south face (1) below.
+RoofPartitionInput gable(double length, double half, double z, double slope, double density, std::mt19937_64& rng) {
+  const Plane north = plane_through({0, half, z}, {0, slope, 1}), south = plane_through({0, half, z}, {0, -slope, 1});
   RoofPartitionInput in;
-  in.outline = Polygon2{{{0, 0}, {10, 0}, {10, 8}, {0, 8}}, {}};
+  in.outline = Polygon2{{{0, 0}, {length, 0}, {length, 2 * half}, {0, 2 * half}}, {}};
   in.components = {0, 1};
   in.planes = {north, south};
-  for (auto& p : pn) in.points.emplace_back(p.x(), p.y()), in.labels.push_back(0);
-  for (auto& p : ps) in.points.emplace_back(p.x(), p.y()), in.labels.push_back(1);
-  auto regions = partition_roof(in);
+  for (auto& p : sample_plane(north, 0, length, half, 2 * half, density, 0.02, rng))
+    in.points.emplace_back(p.x(), p.y()), in.labels.push_back(0);
+  for (auto& p : sample_plane(south, 0, length, 0, half, density, 0.02, rng))
+    in.points.emplace_back(p.x(), p.y()), in.labels.push_back(1);
+  return in;
+}
+}  // namespace
+
+TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
+  std::mt19937_64 rng(6);
+  auto regions = partition_roof(gable(10, 4, 6, 0.7, 40, rng));
   ASSERT_EQ(regions.size(), 2u);
   EXPECT_NEAR(area(regions[0].plan), 40.0, 0.01);
   EXPECT_NEAR(area(regions[1].plan), 40.0, 0.01);
@@ -76,6 +85,54 @@ TEST(RoofPartition, GableSplitsExactlyAtTheRidge) {
       EXPECT_TRUE(on_ridge || on_outline) << v.transpose();
       EXPECT_GE(v.y(), 4.0 - 1e-6);
     }
+}
+
+// A ridge 40 m long crosses a dozen of the partition's tiles (kTileCells
+// cells): still one straight cut, each face its exact half.
+TEST(RoofPartition, LongRidgeAcrossManyTilesIsOneStraightCut) {
+  std::mt19937_64 rng(7);
+  RoofPartitionInput in = gable(40, 12, 8, 0.6, 8, rng);
+  in.cell = 0.25;
+  auto regions = partition_roof(in);
+  ASSERT_EQ(regions.size(), 2u);
+  EXPECT_NEAR(area(regions[0].plan), 480.0, 0.01);
+  EXPECT_NEAR(area(regions[1].plan), 480.0, 0.01);
+  for (const auto& r : regions) {
+    EXPECT_EQ(r.plan.size(), 1u);
+    for (const auto& poly : r.plan)
+      for (const auto& v : poly.outer) {
+        const bool on_ridge = std::abs(v.y() - 12.0) < 1e-6;
+        const bool on_outline = std::abs(v.y()) < 1e-6 || std::abs(v.y() - 24.0) < 1e-6 || std::abs(v.x()) < 1e-6 ||
+                                std::abs(v.x() - 40.0) < 1e-6;
+        EXPECT_TRUE(on_ridge || on_outline) << v.transpose();
+      }
+  }
+}
+
+// Regions held in tiles: a window's tiles come back as one polygon, an edit
+// there leaves the other tiles alone, and the whole is the regions again.
+TEST(RoofTiles, EditsStayInTheirTilesAndTheWholeComesBack) {
+  const std::vector<MultiPolygon2> regions{poly::box({0, 0}, {20, 10}), poly::box({0, 10}, {20, 12})};
+  roof::TiledRegions tiled(regions, 4.0);
+  EXPECT_NEAR(area(tiled.whole(0)), 200.0, 1e-9);
+  EXPECT_EQ(tiled.whole(0).size(), 1u);
+  const roof::Box window{{9, 9}, {11, 11}};  // the tiles x 8..12, y 8..12
+  EXPECT_NEAR(area(tiled.within(0, window)), 4 * 2, 1e-9);
+  EXPECT_NEAR(area(tiled.within(1, window)), 4 * 2, 1e-9);
+  // Region 0 gives the square (9..11, 9..10) to region 1.
+  const MultiPolygon2 square = poly::box({9, 9}, {11, 10});
+  tiled.edit_pair(0, 1, window, [&](MultiPolygon2& a, MultiPolygon2& b) {
+    b = poly::unite(b, poly::intersect(a, square));
+    a = poly::subtract(a, square);
+  });
+  const MultiPolygon2 r0 = tiled.whole(0), r1 = tiled.whole(1);
+  EXPECT_NEAR(area(r0), 198.0, 1e-9);
+  EXPECT_NEAR(area(r1), 42.0, 1e-9);
+  EXPECT_EQ(r0.size(), 1u);
+  EXPECT_EQ(r1.size(), 1u);
+  EXPECT_TRUE(poly::covers(r1, Vec2(10, 9.5)));
+  EXPECT_FALSE(poly::covers(r0, Vec2(10, 9.5)));
+  EXPECT_NEAR(tiled.box(1).lo.y(), 9.0, 1e-12);
 }
 
 TEST(RoofPartition, UntakenPointsCarryALowerRoofWhereTheHigherOnesLabelsLieNearer) {

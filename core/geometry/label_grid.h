@@ -16,6 +16,14 @@ struct LabelGrid {
   std::vector<int> labels;  // row-major, nx * ny; -1: no label
 };
 
+// Runs of equal cells (4-neighbours, as polygonize traces them) holding fewer
+// than min_cells counted cells join the big neighbouring run they share the
+// most cell edges with (edges with a counted cell on either side; ties to the
+// lower label, so no float decides). A small run touching only small runs
+// waits for a round in which one of them has joined a big run. Runs with no
+// counted cell, and cells labelled -1, are left as they are.
+void sieve(LabelGrid& grid, const std::vector<char>& counted, int min_cells);
+
 // One MultiPolygon2 per label 0 .. label_count - 1 (empty where no cell has it).
 std::vector<MultiPolygon2> polygonize(const LabelGrid& grid, size_t label_count);
 

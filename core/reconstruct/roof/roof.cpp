@@ -14,27 +14,13 @@
 #include "core/geometry/polygon_ops.h"
 #include "core/reconstruct/roof/roof_constants.h"
 #include "core/reconstruct/roof/roof_snap.h"
+#include "core/reconstruct/roof/roof_tiles.h"
 
 namespace c3d {
 
 using namespace roof;
 
 namespace {
-
-struct Box {
-  Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
-  bool near(const Box& o, double margin) const {
-    return lo.x() <= o.hi.x() + margin && o.lo.x() <= hi.x() + margin &&
-           lo.y() <= o.hi.y() + margin && o.lo.y() <= hi.y() + margin;
-  }
-};
-
-Box box_of(const MultiPolygon2& mp) {
-  Box b;
-  for (const auto& p : mp)
-    for (const auto& v : p.outer) b.lo = b.lo.cwiseMin(v), b.hi = b.hi.cwiseMax(v);
-  return b;
-}
 
 double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
   double len = 0;
@@ -44,7 +30,7 @@ double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
 }
 
 // Each region's near zone (poly::NearZone at kSharedTol), built on first use
-// and dropped when the region changes: the same shared boundaries as
+// (the regions must not change meanwhile): the same shared boundaries as
 // poly::shared_boundary without buffering a region once per pair.
 class ZoneCache {
  public:
@@ -53,7 +39,6 @@ class ZoneCache {
     if (!zones_[j]) zones_[j] = std::make_unique<poly::NearZone>(regions_[j], kSharedTol);
     return polyline_length(zones_[j]->shared_with(a));
   }
-  void changed(size_t j) { zones_[j].reset(); }
 
  private:
   const std::vector<MultiPolygon2>& regions_;
@@ -99,38 +84,59 @@ std::vector<MultiPolygon2> label_regions(const RoofPartitionInput& in) {
       for (auto& [lab, v] : votes)
         if (v >= kSmoothMajority) smooth[size_t(j) * nx + i] = lab;
     }
-  std::vector<MultiPolygon2> regions = polygonize(LabelGrid{nx, ny, lo, in.cell, std::move(smooth)}, k);
+  // Runs too small to keep go to a neighbour here, on the cells, where shared
+  // lengths are whole cell edges: fix_coverage is left the outline's slivers.
   const MultiPolygon2 outline{in.outline};
+  LabelGrid labels{nx, ny, lo, in.cell, std::move(smooth)};
+  std::vector<char> inside(labels.labels.size());
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      inside[size_t(j) * nx + i] = poly::covers(outline, lo + in.cell * Vec2(i + 0.5, j + 0.5));
+  sieve(labels, inside, int(std::ceil(kMinCoverPart / (in.cell * in.cell))));
+  std::vector<MultiPolygon2> regions = polygonize(labels, k);
   for (auto& r : regions) r = poly::intersect(r, outline);
   return regions;
 }
 
-// Every piece of the outline belongs to exactly one region: small parts and
-// gaps go to the neighbour sharing the longest boundary with them.
+// The region `o` shares the longest boundary with (lengths within kLengthTie
+// are equal: the lower index wins, so last digits decide nothing); failing
+// that, one it touches at a corner; -1 if none.
+int best_neighbour(const Polygon2& o, const std::vector<MultiPolygon2>& regions, ZoneCache& zones) {
+  int best = -1;
+  double best_len = 0;
+  Box ob = box_of({o});
+  for (size_t i = 0; i < regions.size(); ++i) {
+    if (!ob.near(box_of(regions[i]), kBoxMargin)) continue;
+    double len = zones.shared_length({o}, i);
+    if (len > best_len + kLengthTie) best_len = len, best = int(i);
+  }
+  for (size_t i = 0; best < 0 && i < regions.size(); ++i)
+    if (ob.near(box_of(regions[i]), kCornerTouchTol) && !poly::shared_boundary({o}, regions[i], kCornerTouchTol).empty())
+      best = int(i);
+  return best;
+}
+
+// Every piece of the outline belongs to exactly one region: gaps and small
+// parts, neighbouring ones united, go whole to the region sharing the longest
+// boundary with them. All are measured against the regions as they stand and
+// given at the end, so no choice depends on the order of the others.
 void fix_coverage(const Polygon2& outline, std::vector<MultiPolygon2>& regions, double min_part) {
-  MultiPolygon2 orphans;
   for (auto& r : regions) {
     MultiPolygon2 keep;
-    for (auto& part : r) (area(part) < min_part ? orphans : keep).push_back(part);
+    for (auto& part : r)
+      if (area(part) >= min_part) keep.push_back(part);
     r = keep;
   }
-  MultiPolygon2 gaps = poly::subtract({outline}, poly::unite_all(regions));
-  for (auto& g : gaps) orphans.push_back(g);
+  const MultiPolygon2 orphans = poly::subtract({outline}, poly::unite_all(regions));
   ZoneCache zones(regions);
+  std::vector<MultiPolygon2> gifts(regions.size());
   for (const auto& o : orphans) {
     if (area(o) < kOrphanDust) continue;
-    int best = -1;
-    double best_len = 0;
-    Box ob = box_of({o});
-    for (size_t i = 0; i < regions.size(); ++i) {
-      if (!ob.near(box_of(regions[i]), kBoxMargin)) continue;
-      double len = zones.shared_length({o}, i);
-      if (len > best_len) best_len = len, best = int(i);
-    }
-    for (size_t i = 0; best < 0 && i < regions.size(); ++i)  // touching only at a corner
-      if (!poly::shared_boundary({o}, regions[i], kCornerTouchTol).empty()) best = int(i);
-    if (best >= 0) regions[best] = poly::unite(regions[best], {o}), zones.changed(size_t(best));
+    const int best = best_neighbour(o, regions, zones);
+    if (best >= 0) gifts[size_t(best)].push_back(o);
   }
+  for (size_t i = 0; i < regions.size(); ++i)
+    if (!gifts[i].empty()) regions[i] = poly::unite_all({regions[i], gifts[i]});
 }
 
 struct CutLine {
@@ -247,12 +253,15 @@ std::vector<std::vector<Vec2>> chain_pieces(std::vector<std::vector<Vec2>> piece
   return chains;
 }
 
-// Within `corridor`, region i takes what lies in `side_of_i` and region j the rest.
-void share_corridor(std::vector<MultiPolygon2>& regions, int i, int j, const MultiPolygon2& corridor,
+// Within `corridor`, region i takes what lies in `side_of_i` and region j the
+// rest, tile by tile over the tiles the corridor touches.
+void share_corridor(TiledRegions& regions, int i, int j, const MultiPolygon2& corridor,
                     const MultiPolygon2& side_of_i) {
-  const MultiPolygon2 both = poly::intersect(poly::unite(regions[i], regions[j]), corridor);
-  regions[i] = poly::unite(poly::subtract(regions[i], corridor), poly::intersect(both, side_of_i));
-  regions[j] = poly::unite(poly::subtract(regions[j], corridor), poly::subtract(both, side_of_i));
+  regions.edit_pair(size_t(i), size_t(j), box_of(corridor), [&](MultiPolygon2& pi, MultiPolygon2& pj) {
+    const MultiPolygon2 both = poly::intersect(poly::unite(pi, pj), corridor);
+    pi = poly::unite(poly::subtract(pi, corridor), poly::intersect(both, side_of_i));
+    pj = poly::unite(poly::subtract(pj, corridor), poly::subtract(both, side_of_i));
+  });
 }
 
 // A boundary no single line fits (an L-shaped step between roof levels): the
@@ -260,7 +269,7 @@ void share_corridor(std::vector<MultiPolygon2>& regions, int i, int j, const Mul
 // taking its side of them within a corridor.
 // Left as a staircase, a step at 45 degrees to the grid is 41 % longer, and so
 // is the step wall built on it.
-void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j,
+void polyline_cut(const RoofPartitionInput& in, TiledRegions& regions, int i, int j,
                   const std::vector<std::vector<Vec2>>& shared) {
   const double tolerance = kStaircaseCells * in.cell;
   for (const auto& piece : chain_pieces(shared, tolerance)) {
@@ -283,8 +292,11 @@ void polyline_cut(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regi
   }
 }
 
-void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions, int i, int j) {
-  auto shared = poly::shared_boundary(regions[i], regions[j], kSharedTol);
+void cut_pair(const RoofPartitionInput& in, TiledRegions& regions, int i, int j) {
+  // Their shared boundary lies within both boxes: the regions there suffice.
+  const Box both = regions.box(size_t(i)).meet(regions.box(size_t(j))).grown(kBoxMargin);
+  if (both.lo.x() > both.hi.x() || both.lo.y() > both.hi.y()) return;
+  auto shared = poly::shared_boundary(regions.within(size_t(i), both), regions.within(size_t(j), both), kSharedTol);
   if (polyline_length(shared) < kMinSharedLength) return;
   const auto samples = boundary_samples(shared, kSampleCells * in.cell);
   auto cut = intersection_cut(in.planes[i], in.planes[j], samples);
@@ -307,6 +319,31 @@ void cut_pair(const RoofPartitionInput& in, std::vector<MultiPolygon2>& regions,
   Vec2 side = local_side_point(in, i, corridor, samples.front());
   if (std::abs(across.dot(side - cut->point)) < 1e-6) return;
   share_corridor(regions, i, j, corridor, poly::halfplane_box(cut->point, cut->dir, side, kFarBox));
+}
+
+// The neighbour a fragment of region `self` joins: the one holding most of
+// its points, on equal votes the longer shared boundary; -1 where it has no
+// neighbour or its own points hold it.
+int fragment_owner(const Polygon2& part, size_t self, const std::vector<MultiPolygon2>& regions,
+                   const std::vector<Vec2>& points, const std::vector<int>& region_of_point, ZoneCache& zones) {
+  std::vector<int> votes(regions.size(), 0);  // the fragment's points, by their region
+  const MultiPolygon2 piece{part};
+  const Box pb = box_of(piece);  // a point outside the box is not covered
+  for (size_t k = 0; k < points.size(); ++k)
+    if (region_of_point[k] >= 0 && pb.near(Box{points[k], points[k]}, 0) && poly::covers(piece, points[k]))
+      ++votes[size_t(region_of_point[k])];
+  int best = -1;
+  double best_len = 0;
+  for (size_t j = 0; j < regions.size(); ++j) {
+    if (j == self) continue;
+    if (!pb.near(box_of(regions[j]), kBoxMargin)) continue;  // further apart than kSharedTol: no boundary shared
+    double len = zones.shared_length(piece, j);
+    if (len <= 0) continue;  // not a neighbour
+    if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len + kLengthTie))
+      best_len = len, best = int(j);
+  }
+  if (best < 0 || votes[self] > votes[size_t(best)]) return -1;
+  return best;
 }
 
 }  // namespace
@@ -349,7 +386,9 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
         if (len > kMinSharedLength) pairs.emplace_back(len, int(i), int(j));
       }
     std::sort(pairs.rbegin(), pairs.rend());
-    for (auto& [len, i, j] : pairs) cut_pair(in, regions, i, j);
+    TiledRegions tiled(regions, kTileCells * in.cell);
+    for (auto& [len, i, j] : pairs) cut_pair(in, tiled, i, j);
+    for (size_t r = 0; r < k; ++r) regions[r] = tiled.whole(r);
     fix_coverage(in.outline, regions, kMinCoverPart);
     std::vector<int> region_of_point(in.labels.size(), -1);
     for (size_t p = 0; p < in.labels.size(); ++p)
@@ -375,44 +414,25 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
 
 void absorb_fragments(std::vector<MultiPolygon2>& regions, const std::vector<Vec2>& points,
                       const std::vector<int>& region_of_point) {
+  // Measured against the regions as they stand, the fragments united at the
+  // end: one overlay per region that takes any, and no order between them.
   ZoneCache zones(regions);
+  std::vector<MultiPolygon2> keep(regions.size()), gifts(regions.size());
   for (size_t i = 0; i < regions.size(); ++i) {
-    if (regions[i].size() < 2) continue;
+    if (regions[i].size() < 2) {
+      keep[i] = regions[i];
+      continue;
+    }
     double biggest = 0;
     for (const auto& part : regions[i]) biggest = std::max(biggest, area(part));
-    MultiPolygon2 keep;
     for (const auto& part : regions[i]) {
       const double a = area(part);
-      if (a >= kFragment || a >= biggest) {
-        keep.push_back(part);
-        continue;
-      }
-      std::vector<int> votes(regions.size(), 0);  // the fragment's points, by their region
-      const MultiPolygon2 piece{part};
-      const Box pb = box_of(piece);  // a point outside the box is not covered
-      for (size_t k = 0; k < points.size(); ++k)
-        if (region_of_point[k] >= 0 && pb.near(Box{points[k], points[k]}, 0) && poly::covers(piece, points[k]))
-          ++votes[size_t(region_of_point[k])];
-      int best = -1;
-      double best_len = 0;
-      for (size_t j = 0; j < regions.size(); ++j) {
-        if (j == i) continue;
-        if (!pb.near(box_of(regions[j]), kBoxMargin)) continue;  // further apart than kSharedTol: no boundary shared
-        double len = zones.shared_length(piece, j);
-        if (len <= 0) continue;  // not a neighbour
-        if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len))
-          best_len = len, best = int(j);
-      }
-      if (best < 0 || votes[i] > votes[size_t(best)]) {  // no neighbour, or its own points hold it
-        keep.push_back(part);
-        continue;
-      }
-      regions[size_t(best)] = poly::unite(regions[size_t(best)], piece);
-      zones.changed(size_t(best));
+      const int to = a >= kFragment || a >= biggest ? -1 : fragment_owner(part, i, regions, points, region_of_point, zones);
+      (to < 0 ? keep[i] : gifts[size_t(to)]).push_back(part);
     }
-    regions[i] = keep;
-    zones.changed(i);
   }
+  for (size_t i = 0; i < regions.size(); ++i)
+    regions[i] = gifts[i].empty() ? keep[i] : poly::unite_all({keep[i], gifts[i]});
 }
 
 }  // namespace c3d
