@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/label_grid.h"
@@ -29,20 +30,27 @@ double polyline_length(const std::vector<std::vector<Vec2>>& lines) {
   return len;
 }
 
-// Each region's near zone (poly::NearZone at kSharedTol), built on first use
-// (the regions must not change meanwhile): the same shared boundaries as
-// poly::shared_boundary without buffering a region once per pair.
+// Each region's box and near zone (poly::NearZone at kSharedTol), built on
+// first use (the regions must not change meanwhile): the same shared
+// boundaries as poly::shared_boundary without buffering a region once per
+// pair, nor walking its vertices once per neighbour for its box.
 class ZoneCache {
  public:
-  explicit ZoneCache(const std::vector<MultiPolygon2>& regions) : regions_(regions), zones_(regions.size()) {}
+  explicit ZoneCache(const std::vector<MultiPolygon2>& regions)
+      : regions_(regions), zones_(regions.size()), boxes_(regions.size()) {}
   double shared_length(const MultiPolygon2& a, size_t j) {
     if (!zones_[j]) zones_[j] = std::make_unique<poly::NearZone>(regions_[j], kSharedTol);
     return polyline_length(zones_[j]->shared_with(a));
+  }
+  const Box& box(size_t j) {
+    if (!boxes_[j]) boxes_[j] = box_of(regions_[j]);
+    return *boxes_[j];
   }
 
  private:
   const std::vector<MultiPolygon2>& regions_;
   std::vector<std::unique_ptr<poly::NearZone>> zones_;
+  std::vector<std::optional<Box>> boxes_;
 };
 
 // Label grid -> one region per component.
@@ -106,12 +114,12 @@ int best_neighbour(const Polygon2& o, const std::vector<MultiPolygon2>& regions,
   double best_len = 0;
   Box ob = box_of({o});
   for (size_t i = 0; i < regions.size(); ++i) {
-    if (!ob.near(box_of(regions[i]), kBoxMargin)) continue;
+    if (!ob.near(zones.box(i), kBoxMargin)) continue;
     double len = zones.shared_length({o}, i);
     if (len > best_len + kLengthTie) best_len = len, best = int(i);
   }
   for (size_t i = 0; best < 0 && i < regions.size(); ++i)
-    if (ob.near(box_of(regions[i]), kCornerTouchTol) && !poly::shared_boundary({o}, regions[i], kCornerTouchTol).empty())
+    if (ob.near(zones.box(i), kCornerTouchTol) && !poly::shared_boundary({o}, regions[i], kCornerTouchTol).empty())
       best = int(i);
   return best;
 }
@@ -295,7 +303,7 @@ void polyline_cut(const RoofPartitionInput& in, TiledRegions& regions, int i, in
 void cut_pair(const RoofPartitionInput& in, TiledRegions& regions, int i, int j) {
   // Their shared boundary lies within both boxes: the regions there suffice.
   const Box both = regions.box(size_t(i)).meet(regions.box(size_t(j))).grown(kBoxMargin);
-  if (both.lo.x() > both.hi.x() || both.lo.y() > both.hi.y()) return;
+  if (both.empty()) return;
   auto shared = poly::shared_boundary(regions.within(size_t(i), both), regions.within(size_t(j), both), kSharedTol);
   if (polyline_length(shared) < kMinSharedLength) return;
   const auto samples = boundary_samples(shared, kSampleCells * in.cell);
@@ -336,7 +344,7 @@ int fragment_owner(const Polygon2& part, size_t self, const std::vector<MultiPol
   double best_len = 0;
   for (size_t j = 0; j < regions.size(); ++j) {
     if (j == self) continue;
-    if (!pb.near(box_of(regions[j]), kBoxMargin)) continue;  // further apart than kSharedTol: no boundary shared
+    if (!pb.near(zones.box(j), kBoxMargin)) continue;  // further apart than kSharedTol: no boundary shared
     double len = zones.shared_length(piece, j);
     if (len <= 0) continue;  // not a neighbour
     if (best < 0 || votes[j] > votes[size_t(best)] || (votes[j] == votes[size_t(best)] && len > best_len + kLengthTie))
@@ -381,7 +389,7 @@ std::vector<RoofRegion> partition_roof(const RoofPartitionInput& in) {
     ZoneCache zones(regions);
     for (size_t i = 0; i < k; ++i)
       for (size_t j = i + 1; j < k; ++j) {
-        if (!box_of(regions[i]).near(box_of(regions[j]), kBoxMargin)) continue;
+        if (!zones.box(i).near(zones.box(j), kBoxMargin)) continue;
         double len = zones.shared_length(regions[i], j);
         if (len > kMinSharedLength) pairs.emplace_back(len, int(i), int(j));
       }

@@ -13,16 +13,20 @@ Box box_of(const MultiPolygon2& mp) {
   return b;
 }
 
+namespace {
+// The pieces as one multipolygon: united where there are several.
+MultiPolygon2 united(const std::vector<MultiPolygon2>& pieces) {
+  if (pieces.size() == 1) return pieces[0];
+  return pieces.empty() ? MultiPolygon2{} : poly::unite_all(pieces);
+}
+}  // namespace
+
 TiledRegions::TiledRegions(const std::vector<MultiPolygon2>& regions, double tile)
     : tile_(tile), pieces_(regions.size()), boxes_(regions.size()) {
   Box all;
-  for (const auto& r : regions) {
-    const Box b = box_of(r);
-    all.lo = all.lo.cwiseMin(b.lo), all.hi = all.hi.cwiseMax(b.hi);
-  }
+  for (size_t r = 0; r < regions.size(); ++r) all.add(boxes_[r] = box_of(regions[r]));
   origin_ = all.lo;
   for (size_t r = 0; r < regions.size(); ++r) {
-    boxes_[r] = box_of(regions[r]);
     const std::vector<Key> keys = tiles_of(boxes_[r]);
     if (keys.size() == 1) put(r, keys[0], regions[r]);  // within one tile: nothing to cut
     else
@@ -32,7 +36,7 @@ TiledRegions::TiledRegions(const std::vector<MultiPolygon2>& regions, double til
 
 std::vector<TiledRegions::Key> TiledRegions::tiles_of(const Box& window) const {
   std::vector<Key> keys;
-  if (window.lo.x() > window.hi.x() || window.lo.y() > window.hi.y()) return keys;
+  if (window.empty()) return keys;
   const long x0 = long(std::floor((window.lo.x() - origin_.x()) / tile_));
   const long x1 = long(std::floor((window.hi.x() - origin_.x()) / tile_));
   const long y0 = long(std::floor((window.lo.y() - origin_.y()) / tile_));
@@ -58,8 +62,7 @@ MultiPolygon2 TiledRegions::within(size_t r, const Box& window) const {
     auto it = pieces_[r].find(k);
     if (it != pieces_[r].end()) parts.push_back(it->second);
   }
-  if (parts.size() == 1) return parts[0];
-  return parts.empty() ? MultiPolygon2{} : poly::unite_all(parts);
+  return united(parts);
 }
 
 void TiledRegions::edit_pair(size_t a, size_t b, const Box& window,
@@ -79,18 +82,14 @@ void TiledRegions::edit_pair(size_t a, size_t b, const Box& window,
 
 void TiledRegions::update_box(size_t r) {
   Box b;
-  for (const auto& [k, piece] : pieces_[r]) {
-    const Box pb = box_of(piece);
-    b.lo = b.lo.cwiseMin(pb.lo), b.hi = b.hi.cwiseMax(pb.hi);
-  }
+  for (const auto& [k, piece] : pieces_[r]) b.add(box_of(piece));
   boxes_[r] = b;
 }
 
 MultiPolygon2 TiledRegions::whole(size_t r) const {
   std::vector<MultiPolygon2> parts;
   for (const auto& [k, piece] : pieces_[r]) parts.push_back(piece);
-  if (parts.size() == 1) return parts[0];
-  return parts.empty() ? MultiPolygon2{} : poly::unite_all(parts);
+  return united(parts);
 }
 
 }  // namespace c3d::roof

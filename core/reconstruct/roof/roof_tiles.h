@@ -17,6 +17,8 @@ struct Box {
     return lo.x() <= o.hi.x() + margin && o.lo.x() <= hi.x() + margin &&
            lo.y() <= o.hi.y() + margin && o.lo.y() <= hi.y() + margin;
   }
+  bool empty() const { return lo.x() > hi.x() || lo.y() > hi.y(); }
+  void add(const Box& o) { lo = lo.cwiseMin(o.lo), hi = hi.cwiseMax(o.hi); }
   Box grown(double margin) const { return {lo - Vec2(margin, margin), hi + Vec2(margin, margin)}; }
   Box meet(const Box& o) const { return {lo.cwiseMax(o.lo), hi.cwiseMin(o.hi)}; }
 };
