@@ -68,23 +68,60 @@ struct Contacts {
   double lowest_roof = INFINITY;  // the lowest roof height met
 };
 
+// The points of `tree` (a plan cloud) that may lie within `reach` of one of
+// `idx`'s points: those within the circle round their box, grown by `reach`
+// (and a centimetre: the tree measures in float). Searching these alone keeps
+// each query to the component's surroundings, not the density squared.
+pcl::Indices near_points(const std::vector<Vec3>& points, const std::vector<int>& idx,
+                         const pcl::KdTreeFLANN<pcl::PointXYZ>& tree, double reach) {
+  Vec2 lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (int i : idx) lo = lo.cwiseMin(points[size_t(i)].head<2>()), hi = hi.cwiseMax(points[size_t(i)].head<2>());
+  const Vec2 mid = (lo + hi) / 2;
+  pcl::Indices nn;
+  std::vector<float> d2;
+  tree.radiusSearch(pcl::PointXYZ(float(mid.x()), float(mid.y()), 0.f), (hi - lo).norm() / 2 + reach + 0.01, nn, d2);
+  return nn;
+}
+
+// A k-d tree of some points of a plan cloud; `at[k]`: the cloud index of its k-th point.
+struct SubTree {
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  std::vector<int> at;
+  bool empty() const { return at.empty(); }
+};
+
+SubTree sub_tree(const pcl::PointCloud<pcl::PointXYZ>& plan, std::vector<int> at) {
+  SubTree t;
+  t.at = std::move(at);
+  if (t.at.empty()) return t;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  for (int k : t.at) cloud->push_back(plan[size_t(k)]);
+  t.tree.setInputCloud(cloud);
+  return t;
+}
+
 Contacts contacts_of(const std::vector<Vec3>& points, const Segmentation& seg, int c,
                      const pcl::KdTreeFLANN<pcl::PointXYZ>& tree, const std::vector<int>& index) {
   Contacts out;
   const RoofComponent& comp = seg.components[size_t(c)];
   const Vec3& centre = comp.fit.centroid;
+  std::vector<int> others;  // points of other planes around c
+  for (int k : near_points(points, comp.points, tree, kContactReachM))
+    if (seg.label[size_t(index[size_t(k)])] != c) others.push_back(k);
+  const SubTree near = sub_tree(*tree.getInputCloud(), std::move(others));
+  if (near.empty()) return out;
+  const float reach2 = float(kContactReachM * kContactReachM);
   pcl::Indices nn;
   std::vector<float> d2;
   for (int i : comp.points) {
     const Vec3& p = points[size_t(i)];
     const pcl::PointXYZ q(float(p.x()), float(p.y()), 0.f);
-    if (tree.radiusSearch(q, kContactReachM, nn, d2) == 0) continue;
     // the roof under the rim is the plane of the nearest point of another
-    // plane (sorted by distance): across a ridge, a gable's other side
-    // extended would stand higher than the roof there
-    const auto other = std::find_if(nn.begin(), nn.end(), [&](int k) { return seg.label[size_t(index[size_t(k)])] != c; });
-    if (other == nn.end()) continue;
-    const double z = seg.components[size_t(seg.label[size_t(index[size_t(*other)])])].fit.plane.z_at(p.x(), p.y());
+    // plane: across a ridge, a gable's other side extended would stand
+    // higher than the roof there
+    if (near.tree.nearestKSearch(q, 1, nn, d2) != 1 || !(d2[0] < reach2)) continue;
+    const int other = index[size_t(near.at[size_t(nn[0])])];
+    const double z = seg.components[size_t(seg.label[size_t(other)])].fit.plane.z_at(p.x(), p.y());
     if (!std::isfinite(z)) continue;
     out.rise.push_back(p.z() - z);
     out.lowest_roof = std::min(out.lowest_roof, z);
@@ -132,16 +169,21 @@ bool on_a_raised_roof(const RoofComponent& comp, double lowest_roof, const Terra
 // at the roof.
 bool wall_under(const std::vector<Vec3>& points, const RoofComponent& comp, double lowest_roof,
                 const pcl::KdTreeFLANN<pcl::PointXYZ>& all) {
-  std::vector<char> seen(points.size(), 0);
-  int below = 0;
+  std::vector<int> low;  // points around c below the roof it meets
+  for (int k : near_points(points, comp.points, all, kWallReachM))
+    if (points[size_t(k)].z() < lowest_roof - kWallDropM) low.push_back(k);
+  if (int(low.size()) < kMinWallPoints) return false;
+  const SubTree below = sub_tree(*all.getInputCloud(), std::move(low));
+  std::vector<char> seen(below.at.size(), 0);
+  int count = 0;
   pcl::Indices nn;
   std::vector<float> d2;
   for (int i : comp.points) {
     const Vec3& p = points[size_t(i)];
-    all.radiusSearch(pcl::PointXYZ(float(p.x()), float(p.y()), 0.f), kWallReachM, nn, d2);
+    below.tree.radiusSearch(pcl::PointXYZ(float(p.x()), float(p.y()), 0.f), kWallReachM, nn, d2);
     for (int k : nn)
-      if (!seen[size_t(k)] && points[size_t(k)].z() < lowest_roof - kWallDropM) seen[size_t(k)] = 1, ++below;
-    if (below >= kMinWallPoints) return true;
+      if (!seen[size_t(k)]) seen[size_t(k)] = 1, ++count;
+    if (count >= kMinWallPoints) return true;
   }
   return false;
 }

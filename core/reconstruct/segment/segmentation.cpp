@@ -2,6 +2,7 @@
 
 #include "core/geometry/unique_points.h"
 #include "core/reconstruct/planes/ransac.h"
+#include "core/reconstruct/segment/clusters.h"
 #include "core/reconstruct/segment/coplanar.h"
 #include "core/reconstruct/segment/neighbours.h"
 #include "core/reconstruct/segment/normals.h"
@@ -10,7 +11,6 @@
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
-#include <pcl/segmentation/extract_clusters.h>
 #include <pcl/segmentation/region_growing.h>
 
 #include <algorithm>
@@ -97,18 +97,8 @@ double median_density(const Cloud::Ptr& cloud, const NeighbourTable& table) {
 
 std::vector<pcl::PointIndices> cluster_roofs(const Cloud::Ptr& cloud, const pcl::Indices& kept, double tolerance,
                                              int min_points) {
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
-  ec.setClusterTolerance(tolerance);
-  ec.setMinClusterSize(min_points);
-  ec.setMaxClusterSize(std::numeric_limits<int>::max());
-  // Its own tree (extract() re-indexes it), unsorted: the clusters come back
-  // sorted whatever order the radius search lists a point's neighbours in.
-  ec.setSearchMethod(Tree::Ptr(new Tree(false)));
-  ec.setInputCloud(cloud);
-  ec.setIndices(pcl::make_shared<pcl::Indices>(kept));
-  std::vector<pcl::PointIndices> clusters;
-  ec.extract(clusters);
-  return clusters;
+  return euclidean_clusters(*cloud, kept, float(tolerance), size_t(std::max(min_points, 0)),
+                            std::numeric_limits<int>::max());
 }
 
 // Planar regions of one roof, and each roof point's nearest roof points
