@@ -35,25 +35,25 @@ bool has_vertex(const Ring3& r, const Vec3& p) {
 TEST(EnvelopeShell, WeldingClosesABoxWhoseCornersMissByLessThanAMillimetre) {
   std::vector<Face> box = box_with_a_missed_corner();
   EXPECT_FALSE(check_solid(box).ok);  // open along the top's two edges at that corner
-  std::vector<Vec3> seen;
-  weld_faces(box, 1e-3, seen, true);
+  Welder<Vec3> seen(1e-3);
+  weld_faces(box, seen, true);
   const SolidCheck check = check_solid(box);
   EXPECT_TRUE(check.ok) << check.summary();
   EXPECT_NEAR(check.volume, 240, 0.01);
-  EXPECT_EQ(seen.size(), 8u);  // the box's eight corners, each once
+  EXPECT_EQ(seen.seen().size(), 8u);  // the box's eight corners, each once
 }
 
 TEST(EnvelopeShell, WeldingDropsAFaceLeftALine) {
   std::vector<Face> faces = box_shell({0, 0, 0}, {10, 8, 3});
   const Face speck{{{0, 0, 3}, {0.0004, 0, 3}, {0, 0.0003, 3.0002}}, {}};  // within a millimetre of a corner
   faces.push_back(speck);
-  std::vector<Vec3> seen;
-  weld_faces(faces, 1e-3, seen, true);
+  Welder<Vec3> seen(1e-3);
+  weld_faces(faces, seen, true);
   EXPECT_EQ(faces.size(), 6u);
   std::vector<Face> kept = box_shell({0, 0, 0}, {10, 8, 3});
   kept.push_back(speck);
-  std::vector<Vec3> keep_seen;
-  weld_faces(kept, 1e-3, keep_seen, false);
+  Welder<Vec3> keep_seen(1e-3);
+  weld_faces(kept, keep_seen, false);
   ASSERT_EQ(kept.size(), 7u);  // left to the caller
   EXPECT_EQ(kept[6].ring.size(), 1u);
 }
@@ -65,7 +65,8 @@ TEST(EnvelopeShell, NodingPutsAVertexIntoTheEdgeItLiesOn) {
   box[1] = Face{{{0, 0, 3}, {4, 0, 3}, {4, 8, 3}, {0, 8, 3}}, {}};
   box.push_back(Face{{{4, 0, 3}, {10, 0, 3}, {10, 8, 3}, {4, 8, 3}}, {}});
   EXPECT_FALSE(has_vertex(box[2].ring, {4, 0, 3}));
-  node_faces(box, shell_vertices(box), 1e-3);
+  const std::vector<Vec3> verts = shell_vertices(box);
+  node_faces(box, EdgeNoder<Vec3>(verts, 1e-3));
   EXPECT_TRUE(has_vertex(box[2].ring, {4, 0, 3}));  // the south wall
   EXPECT_TRUE(has_vertex(box[3].ring, {4, 8, 3}));  // the north wall
   EXPECT_EQ(box[4].ring.size(), 4u);                // the west wall: nothing on it

@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+
 #include "core/geometry/geometry.h"
 #include "core/geometry/label_grid.h"
+#include "core/geometry/welding.h"
 
 using namespace c3d;
 
@@ -72,11 +76,63 @@ TEST(Geometry, TJunctionsGoIntoTheEdgeTheyLieOn) {
   // one 2 cm off, one at a corner and one beyond the edge's end stay out.
   const std::vector<Vec3> ring{{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}};
   const std::vector<Vec3> verts{{3, 0.005, 0}, {1, 0, 0}, {2, 0.02, 0}, {4, 0, 0}, {5, 0, 0}};
-  const std::vector<Vec3> out = insert_on_edges(ring, verts, 0.01);
+  const std::vector<Vec3> out = EdgeNoder<Vec3>(verts, 0.01).insert_on_edges(ring);
   ASSERT_EQ(out.size(), 6u);
   EXPECT_TRUE(out[1].isApprox(Vec3(1, 0, 0)));
   EXPECT_TRUE(out[2].isApprox(Vec3(3, 0.005, 0)));
   EXPECT_TRUE(out[3].isApprox(Vec3(4, 0, 0)));
+}
+
+// The cell-indexed welder and noder answer as the plain scans over every
+// vertex do: the first kept vertex within tol, every vertex on an edge.
+TEST(Geometry, WeldingAndNodingOnCellsAnswerAsThePlainScans) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 3);
+  std::uniform_int_distribution<int> pick(0, 199);
+  const double tol = 0.01;
+  std::vector<Vec3> pts;  // clumps a few mm wide (one place), lines of vertices on edges
+  for (int i = 0; i < 200; ++i) pts.push_back(Vec3(u(rng), u(rng), u(rng)));
+  for (int i = 0; i < 400; ++i) pts.push_back(pts[size_t(pick(rng))] + Vec3(u(rng), u(rng), u(rng)) * 0.004);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 a = pts[size_t(pick(rng))], b = pts[size_t(pick(rng))];
+    pts.push_back(a + (b - a) * (u(rng) / 3) + Vec3(0, 0, 0.003));
+  }
+  std::vector<Vec3> plain = pts, seen;
+  for (Vec3& v : plain) {
+    const auto first = std::find_if(seen.begin(), seen.end(), [&](const Vec3& s) { return (s - v).norm() < tol; });
+    if (first != seen.end()) v = *first;
+    else seen.push_back(v);
+  }
+  Welder<Vec3> welder(tol);
+  std::vector<Vec3> welded = pts;
+  for (Vec3& v : welded) welder.weld(v);
+  EXPECT_EQ(welded, plain);
+  EXPECT_EQ(welder.seen(), seen);
+  ASSERT_LT(seen.size(), 500u);  // the clumps did weld
+  const EdgeNoder<Vec3> noder(pts, tol);
+  size_t inserted = 0;
+  for (int r = 0; r < 50; ++r) {
+    const std::vector<Vec3> ring{pts[size_t(pick(rng))], pts[size_t(pick(rng))], pts[size_t(pick(rng))]};
+    std::vector<Vec3> want;  // the plain scan
+    for (size_t i = 0; i < ring.size(); ++i) {
+      const Vec3 a = ring[i], b = ring[(i + 1) % ring.size()], ab = b - a;
+      want.push_back(a);
+      if (ab.squaredNorm() < tol * tol) continue;
+      std::vector<std::pair<double, Vec3>> inner;
+      for (const Vec3& v : pts) {
+        const double t = (v - a).dot(ab) / ab.squaredNorm();
+        if (t > 1e-9 && t < 1 - 1e-9 && (a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
+          inner.emplace_back(t, v);
+      }
+      std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
+      for (auto& [t, v] : inner)
+        if ((v - want.back()).norm() > tol) want.push_back(v);
+    }
+    const std::vector<Vec3> got = noder.insert_on_edges(ring);
+    EXPECT_EQ(got, want) << "ring " << r;
+    inserted += got.size() - ring.size();
+  }
+  EXPECT_GT(inserted, 20u);  // the lines of vertices went into their edges
 }
 
 TEST(Dtm, BilinearAndOutside) {

@@ -51,47 +51,6 @@ double planarity_deviation(const Face& f);
 // (projected along the largest component of its normal); nullopt for a simple ring.
 std::optional<std::pair<size_t, size_t>> ring_crossing(const Ring3& ring, const Vec3& normal);
 
-// Making faces that share boundaries share vertices (2D rings in the roof
-// partition, 3D rings of the shell), one algorithm for both:
-// weld_vertex snaps v to the first vertex of `seen` closer than tol, else adds it;
-template <class V>
-void weld_vertex(V& v, std::vector<V>& seen, double tol) {
-  for (const auto& s : seen)
-    if ((s - v).norm() < tol) {
-      v = s;
-      return;
-    }
-  seen.push_back(v);
-}
-
-// insert_on_edges puts into each edge of the ring, in order, the vertices of
-// `verts` lying on it within tol (T-junctions), away from its ends.
-template <class V>
-std::vector<V> insert_on_edges(const std::vector<V>& ring, const std::vector<V>& verts, double tol) {
-  std::vector<V> out;
-  for (size_t i = 0; i < ring.size(); ++i) {
-    const V a = ring[i], b = ring[(i + 1) % ring.size()];
-    out.push_back(a);
-    const V ab = b - a;
-    double len2 = ab.squaredNorm();
-    if (len2 < tol * tol) continue;
-    std::vector<std::pair<double, V>> inner;
-    // A vertex within tol of the edge lies in its box grown by tol (2 tol: rounding).
-    const V lo = a.cwiseMin(b).array() - 2 * tol, hi = a.cwiseMax(b).array() + 2 * tol;
-    for (const auto& v : verts) {
-      if ((v.array() < lo.array()).any() || (v.array() > hi.array()).any()) continue;
-      double t = (v - a).dot(ab) / len2;
-      if (t <= 1e-9 || t >= 1 - 1e-9) continue;
-      if ((a + t * ab - v).norm() < tol && (v - a).norm() > tol && (v - b).norm() > tol)
-        inner.emplace_back(t, v);
-    }
-    std::sort(inner.begin(), inner.end(), [](auto& x, auto& y) { return x.first < y.first; });
-    for (auto& [t, v] : inner)
-      if ((v - out.back()).norm() > tol) out.push_back(v);
-  }
-  return out;
-}
-
 // The sigma of a sum of one building's elements: their sigma_shared parts
 // add linearly (one error moves them all), the rest in quadrature.
 struct SharedSigma {

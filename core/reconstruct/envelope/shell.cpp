@@ -29,9 +29,9 @@ void set_height(Face& f, double z) {
 
 // Vertices closer than tol become one (the first seen), and rings lose the
 // consecutive duplicates that leaves: validators treat < 1 mm as the same point.
-void weld_faces(std::vector<Face>& shell, double tol, std::vector<Vec3>& seen, bool drop_degenerate) {
+void weld_faces(std::vector<Face>& shell, Welder<Vec3>& welder, bool drop_degenerate) {
   auto clean = [&](Ring3& r) {
-    for (auto& v : r) weld_vertex(v, seen, tol);
+    for (auto& v : r) welder.weld(v);
     Ring3 out;
     for (const auto& v : r)
       if (out.empty() || (v - out.back()).norm() > 0) out.push_back(v);
@@ -60,25 +60,26 @@ std::vector<Vec3> shell_vertices(const std::vector<Face>& shell) {
 // Inserts into every shell edge the shell vertices lying on it (a wall corner
 // that meets a step between roof levels, a T-junction left by clipping), so each
 // edge is shared by exactly two faces.
-void node_faces(std::vector<Face>& shell, const std::vector<Vec3>& verts, double tol) {
+void node_faces(std::vector<Face>& shell, const EdgeNoder<Vec3>& noder) {
   for (auto& f : shell) {
-    f.ring = insert_on_edges(f.ring, verts, tol);
-    for (auto& h : f.holes) h = insert_on_edges(h, verts, tol);
+    f.ring = noder.insert_on_edges(f.ring);
+    for (auto& h : f.holes) h = noder.insert_on_edges(h);
   }
 }
 
 void weld_shell(std::vector<Face>& solid, std::vector<Element>& elements) {
   // Weld and node the shell, then the element faces against the same vertices,
   // so an element face and its copy in the shell stay identical.
-  std::vector<Vec3> pool;
-  weld_faces(solid, kWeldTol, pool, true);
+  Welder<Vec3> pool(kWeldTol);
+  weld_faces(solid, pool, true);
   const std::vector<Vec3> verts = shell_vertices(solid);
-  node_faces(solid, verts, kWeldTol);
+  const EdgeNoder<Vec3> noder(verts, kWeldTol);
+  node_faces(solid, noder);
   for (auto& e : elements) {
     std::vector<double> level;  // an outer ceiling is horizontal: welding must not tilt it
     for (const auto& f : e.faces) level.push_back(f.ring.empty() ? 0.0 : f.ring[0].z());
-    weld_faces(e.faces, kWeldTol, pool, false);
-    node_faces(e.faces, verts, kWeldTol);
+    weld_faces(e.faces, pool, false);
+    node_faces(e.faces, noder);
     if (e.type == ElementType::OuterCeiling)
       for (size_t i = 0; i < e.faces.size(); ++i) set_height(e.faces[i], level[i]);
     // A face the weld left a line (a step wall's sliver whose ends met) has

@@ -8,6 +8,7 @@
 
 #include "core/geometry/geometry.h"
 #include "core/geometry/polygon_ops.h"
+#include "core/geometry/welding.h"
 #include "core/reconstruct/roof/roof.h"
 #include "core/reconstruct/roof/roof_constants.h"
 #include "core/reconstruct/roof/roof_snap.h"
@@ -232,11 +233,12 @@ void split_four_plane_vertices(const Polygon2& outline, std::vector<MultiPolygon
 }
 
 void node_rings(std::vector<Ring2*>& rings, double tol) {
-  std::vector<Vec2> seen;
+  Welder<Vec2> welder(tol);
   for (auto* r : rings)
-    for (auto& v : *r) weld_vertex(v, seen, tol);
+    for (auto& v : *r) welder.weld(v);
+  const EdgeNoder<Vec2> noder(welder.seen(), tol);
   for (auto* r : rings) {
-    Ring2 out = insert_on_edges(*r, seen, tol);
+    Ring2 out = noder.insert_on_edges(*r);
     // Drop consecutive duplicates produced by welding.
     Ring2 clean;
     for (const auto& v : out)
