@@ -5,11 +5,14 @@ doubling gives about 1.1).
 
   bench_growth.py densify CLOUD.las PARCELS DTM [--factors 1 2 4 8] [--c3d BIN]
   bench_growth.py towns [--sizes 1000 4000 16000] [--c3d BIN]
+  bench_growth.py pieces [--grids 0 1 2 4] [--c3d BIN]
 
 `densify`: the one building (or few) of CLOUD, its points repeated k times,
 each copy after the first moved by a random offset within a quarter of the
 point spacing in plan and 5 mm in height (seeded): the same roof, k times
-the points. `towns`: sample towns of growing parcel counts (`sample
+the points. `pieces`: one 32 x 32 m building whose roof is a k x k field of
+pyramids (4k² planes; k = 0: one shed plane), at 20 points/m² with 3 cm
+noise, so the points stay the same and the roof's pieces grow. `towns`: sample towns of growing parcel counts (`sample
 --parcels N`). Each size is batched once, one thread (--jobs 1), CityJSON
 only; the table gives every stage's CPU seconds (summary.json's stages_cpu)
 per size and the exponent between consecutive sizes, log(t2/t1)/log(n2/n1),
@@ -82,6 +85,83 @@ def densify_las(src, dst, k, seed=1):
     return total
 
 
+SIDE_M = 32.0          # the pieces building's side
+EAVE_M = 6.0           # its eaves above the flat terrain
+PIECES_DENSITY = 20.0  # roof points per m²
+EPSG = 32748
+ORIGIN = (781000.0, 9240000.0)
+
+
+def pyramid_roof_z(x, y, k):
+    """Height above the eaves of a k x k field of pyramids (pitch 35°) over
+    the building's square; k = 0 gives one shed plane rising 3 m."""
+    if k == 0:
+        return 3.0 * y / SIDE_M
+    cell = SIDE_M / k
+    u, v = np.mod(x, cell), np.mod(y, cell)
+    to_edge = np.minimum(np.minimum(u, cell - u), np.minimum(v, cell - v))
+    return math.tan(math.radians(35)) * to_edge
+
+
+def write_las(path, xyz, classes):
+    """LAS 1.2, point format 0, mm scale, offset at the origin."""
+    scale, off = 0.001, np.array([ORIGIN[0], ORIGIN[1], 0.0])
+    q = np.round((xyz - off) / scale).astype("<i4")
+    rec = np.zeros(len(xyz), dtype=[("xyz", "<i4", 3), ("i", "<u2"), ("f", "u1"), ("c", "u1"),
+                                    ("a", "i1"), ("u", "u1"), ("s", "<u2")])
+    rec["xyz"], rec["f"], rec["c"] = q, 0x09, classes  # return 1 of 1
+    head = bytearray(227)
+    head[0:4] = b"LASF"
+    head[24], head[25] = 1, 2
+    head[26:58] = b"cadastre3d bench_growth".ljust(32, b"\0")
+    struct.pack_into("<HIIBHI", head, 94, 227, 227, 0, 0, 20, len(xyz))
+    struct.pack_into("<5I", head, 111, len(xyz), 0, 0, 0, 0)
+    struct.pack_into("<3d3d", head, 131, scale, scale, scale, *off)
+    hi, lo = xyz.max(axis=0), xyz.min(axis=0)
+    struct.pack_into("<6d", head, 179, hi[0], lo[0], hi[1], lo[1], hi[2], lo[2])
+    with open(path, "wb") as f:
+        f.write(head)
+        f.write(rec.tobytes())
+
+
+def pieces_scene(folder, k, seed=1):
+    """The pieces building (see the module's docstring) with ground round it:
+    cloud.las, parcels.gpkg (one parcel), dtm.tif (flat, z = 0)."""
+    from osgeo import gdal, ogr, osr
+    rng = np.random.default_rng(seed)
+    x0, y0 = ORIGIN[0] + 10, ORIGIN[1] + 10
+    n_roof = int(PIECES_DENSITY * SIDE_M * SIDE_M)
+    x, y = rng.uniform(0, SIDE_M, n_roof), rng.uniform(0, SIDE_M, n_roof)
+    z = EAVE_M + pyramid_roof_z(x, y, k) + rng.normal(0, 0.03, n_roof)
+    roof = np.stack([x0 + x, y0 + y, z], axis=1)
+    ground = []
+    while len(ground) < 4 * n_roof // 5:  # 10 points/m² on the open ground of the 52 m square
+        g = rng.uniform(-10, SIDE_M + 10, (4096, 2))
+        ground.extend(g[~((g >= 0) & (g <= SIDE_M)).all(axis=1)])
+    ground = np.array(ground)
+    ground = np.column_stack([x0 + ground[:, 0], y0 + ground[:, 1], rng.normal(0, 0.03, len(ground))])
+    write_las(os.path.join(folder, "cloud.las"), np.vstack([roof, ground]),
+              np.concatenate([np.full(len(roof), 6), np.full(len(ground), 2)]).astype("u1"))
+    srs = osr.SpatialReference()
+    srs.ImportFromEPSG(EPSG)
+    ds = ogr.GetDriverByName("GPKG").CreateDataSource(os.path.join(folder, "parcels.gpkg"))
+    layer = ds.CreateLayer("parcels", srs, ogr.wkbPolygon)
+    layer.CreateField(ogr.FieldDefn("NIB", ogr.OFTString))
+    f = ogr.Feature(layer.GetLayerDefn())
+    f.SetField("NIB", f"pieces{k}")
+    f.SetGeometry(ogr.CreateGeometryFromWkt(
+        f"POLYGON(({x0 - 5} {y0 - 5},{x0 + SIDE_M + 5} {y0 - 5},{x0 + SIDE_M + 5} {y0 + SIDE_M + 5},"
+        f"{x0 - 5} {y0 + SIDE_M + 5},{x0 - 5} {y0 - 5}))"))
+    layer.CreateFeature(f)
+    ds = None
+    size = int(SIDE_M + 20)
+    dtm = gdal.GetDriverByName("GTiff").Create(os.path.join(folder, "dtm.tif"), size, size, 1, gdal.GDT_Float32)
+    dtm.SetGeoTransform((x0 - 10, 1, 0, y0 + SIDE_M + 10, 0, -1))
+    dtm.SetProjection(srs.ExportToWkt())
+    dtm.GetRasterBand(1).Fill(0.0)
+    dtm = None
+
+
 def batch(c3d, cloud, parcels, dtm, out):
     """Stages' CPU seconds and the whole process's user+sys of one batch."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -130,7 +210,9 @@ def main():
     d.add_argument("--factors", type=int, nargs="+", default=[1, 2, 4, 8])
     t = sub.add_parser("towns")
     t.add_argument("--sizes", type=int, nargs="+", default=[1000, 4000, 16000])
-    for p in (d, t):
+    g = sub.add_parser("pieces")
+    g.add_argument("--grids", type=int, nargs="+", default=[0, 1, 2, 4])
+    for p in (d, t, g):
         p.add_argument("--c3d", default=DEFAULT_C3D)
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as work:
@@ -144,6 +226,16 @@ def main():
                 os.remove(cloud)
                 print(f"x{k}: {points} points, {runs[-1][1]:.1f} CPU s", file=sys.stderr)
             print_table("x", sizes, runs)
+        elif a.what == "pieces":
+            sizes = [max(1, 4 * k * k) for k in a.grids]
+            for k, n in zip(a.grids, sizes):
+                folder = os.path.join(work, f"pieces{n}")
+                os.makedirs(folder)
+                pieces_scene(folder, k)
+                runs.append(batch(a.c3d, os.path.join(folder, "cloud.las"), os.path.join(folder, "parcels.gpkg"),
+                                  os.path.join(folder, "dtm.tif"), os.path.join(work, f"out{n}")))
+                print(f"{n} pieces: {runs[-1][1]:.1f} CPU s", file=sys.stderr)
+            print_table("pieces", sizes, runs)
         else:
             sizes = a.sizes
             for n in sizes:
