@@ -1,6 +1,7 @@
 #include "core/primitives/height_field.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -90,7 +91,12 @@ Eigen::VectorXd solve_poles(const std::vector<Vec3>& points, const std::vector<c
   for (int j = 1; j + 1 < ay.poles(); ++j)
     for (int i = 0; i < ax.poles(); ++i)
       penalise(i + ax.poles() * (j - 1), i + ax.poles() * j, i + ax.poles() * (j + 1));
-  return N.ldlt().solve(r);
+  // N is banded (a point speaks for 4 x 4 neighbouring poles): a sparse
+  // factorisation costs the band's width squared per pole, not m^2.
+  const Eigen::SparseMatrix<double> sparse = N.sparseView();
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(sparse);
+  if (ldlt.info() == Eigen::Success) return ldlt.solve(r);
+  return N.ldlt().solve(r);  // not positive definite: the pivoting dense one
 }
 
 // The plan frame a surface is fitted in: u along `along`, v across it.
