@@ -6,13 +6,17 @@ doubling gives about 1.1).
   bench_growth.py densify CLOUD.las PARCELS DTM [--factors 1 2 4 8] [--c3d BIN]
   bench_growth.py towns [--sizes 1000 4000 16000] [--c3d BIN]
   bench_growth.py pieces [--grids 0 1 2 4] [--c3d BIN]
+  bench_growth.py layer [--sizes 1000 10000 100000] [--c3d BIN]
 
 `densify`: the one building (or few) of CLOUD, its points repeated k times,
 each copy after the first moved by a random offset within a quarter of the
 point spacing in plan and 5 mm in height (seeded): the same roof, k times
 the points. `pieces`: one 32 x 32 m building whose roof is a k x k field of
 pyramids (4k² planes; k = 0: one shed plane), at 20 points/m² with 3 cm
-noise, so the points stay the same and the roof's pieces grow. `towns`: sample towns of growing parcel counts (`sample
+noise, so the points stay the same and the roof's pieces grow. `layer`: a
+sample town of 24 parcels and its points, its parcel layer grown to N
+parcels by 10 x 20 m lots of open land beside it (no points): what grows is
+only the layer. `towns`: sample towns of growing parcel counts (`sample
 --parcels N`). Each size is batched once, one thread (--jobs 1), CityJSON
 only; the table gives every stage's CPU seconds (summary.json's stages_cpu)
 per size and the exponent between consecutive sizes, log(t2/t1)/log(n2/n1),
@@ -162,6 +166,30 @@ def pieces_scene(folder, k, seed=1):
     dtm = None
 
 
+def layer_with_lots(src, dst, total):
+    """src's parcels and, beside them to the east, 10 x 20 m lots of open land
+    up to `total` parcels in all, in rows of 100."""
+    from osgeo import ogr
+    ds = ogr.Open(src)
+    layer = ds.GetLayer(0)
+    x0, x1, y0, _ = layer.GetExtent()
+    out = ogr.GetDriverByName("GPKG").CreateDataSource(dst)
+    lots = out.CopyLayer(layer, "parcels")
+    field = lots.GetLayerDefn().GetFieldIndex("NIB")
+    lots.StartTransaction()
+    for k in range(total - layer.GetFeatureCount()):
+        col, row = k % 100, k // 100
+        ox, oy = x1 + 50 + 10 * col, y0 + 20 * row
+        f = ogr.Feature(lots.GetLayerDefn())
+        if field >= 0:
+            f.SetField(field, f"lot{k}")
+        f.SetGeometry(ogr.CreateGeometryFromWkt(
+            f"POLYGON(({ox} {oy},{ox + 10} {oy},{ox + 10} {oy + 20},{ox} {oy + 20},{ox} {oy}))"))
+        lots.CreateFeature(f)
+    lots.CommitTransaction()
+    out = None
+
+
 def batch(c3d, cloud, parcels, dtm, out):
     """Stages' CPU seconds and the whole process's user+sys of one batch."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -212,7 +240,9 @@ def main():
     t.add_argument("--sizes", type=int, nargs="+", default=[1000, 4000, 16000])
     g = sub.add_parser("pieces")
     g.add_argument("--grids", type=int, nargs="+", default=[0, 1, 2, 4])
-    for p in (d, t, g):
+    y = sub.add_parser("layer")
+    y.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000])
+    for p in (d, t, g, y):
         p.add_argument("--c3d", default=DEFAULT_C3D)
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as work:
@@ -236,6 +266,18 @@ def main():
                                   os.path.join(folder, "dtm.tif"), os.path.join(work, f"out{n}")))
                 print(f"{n} pieces: {runs[-1][1]:.1f} CPU s", file=sys.stderr)
             print_table("pieces", sizes, runs)
+        elif a.what == "layer":
+            sizes = a.sizes
+            town = os.path.join(work, "town")
+            subprocess.run([a.c3d, "sample", "--out", town, "--parcels", "24", "--seed", "1"],
+                           check=True, capture_output=True)
+            for n in sizes:
+                parcels = os.path.join(work, f"layer{n}.gpkg")
+                layer_with_lots(os.path.join(town, "parcels.gpkg"), parcels, n)
+                runs.append(batch(a.c3d, os.path.join(town, "cloud.las"), parcels, os.path.join(town, "dtm.tif"),
+                                  os.path.join(work, f"out{n}")))
+                print(f"{n} parcels: {runs[-1][1]:.1f} CPU s", file=sys.stderr)
+            print_table("n", sizes, runs)
         else:
             sizes = a.sizes
             for n in sizes:
