@@ -162,24 +162,43 @@ Building read_building(const sql::Db& db, const sql::Stmt& q, const LocalFrame& 
   return b;
 }
 
-std::vector<Building> read_buildings(const sql::Db& db, std::int64_t su, const LocalFrame& frame) {
-  sql::Stmt qb(db, "SELECT " + select_list(db, kBuilding) + " FROM building WHERE spatialunit_id=? ORDER BY building_index");
-  sql::Stmt qe(db, "SELECT " + select_list(db, kElement) + " FROM building_element WHERE building_fid=? ORDER BY element_index");
-  store_lods::Reader lods(db);
-  store_meshes::Reader meshes(db);
-  std::vector<Building> out;
-  qb.bind(su);
-  while (qb.step()) {
-    Building b = read_building(db, qb, frame);
-    lods.read(qb.get_int("fid"), frame.origin, b);
-    meshes.read(qb.get_int("fid"), b);
-    qe.bind(qb.get_int("fid"));
-    while (qe.step()) b.elements.push_back(read_element(db, qe, b, frame.origin));
-    qe.reset();
-    out.push_back(std::move(b));
+// The statements that read a parcel's buildings, prepared once for all the
+// parcels one query gives: each asks the schema what it may select, and a
+// page of thousands of parcels would otherwise ask it thousands of times.
+class BuildingRows {
+ public:
+  explicit BuildingRows(const sql::Db& db)
+      : db_(db),
+        building_(db, "SELECT " + select_list(db, kBuilding) +
+                          " FROM building WHERE spatialunit_id=? ORDER BY building_index"),
+        element_(db, "SELECT " + select_list(db, kElement) +
+                         " FROM building_element WHERE building_fid=? ORDER BY element_index"),
+        lods_(db),
+        meshes_(db) {}
+
+  std::vector<Building> of(std::int64_t su, const LocalFrame& frame) {
+    std::vector<Building> out;
+    building_.bind(su);
+    while (building_.step()) {
+      Building b = read_building(db_, building_, frame);
+      const std::int64_t fid = building_.get_int("fid");
+      lods_.read(fid, frame.origin, b);
+      meshes_.read(fid, b);
+      element_.bind(fid);
+      while (element_.step()) b.elements.push_back(read_element(db_, element_, b, frame.origin));
+      element_.reset();
+      out.push_back(std::move(b));
+    }
+    building_.reset();
+    return out;
   }
-  return out;
-}
+
+ private:
+  const sql::Db& db_;
+  sql::Stmt building_, element_;
+  store_lods::Reader lods_;
+  store_meshes::Reader meshes_;
+};
 
 // At most this many ids bound in one query: well under SQLite's (32766) and
 // libpq's (65535) limits on bound parameters; a page of parcels is one query.
@@ -256,6 +275,7 @@ void read_parcels(const sql::Db& db, const std::string& filter, const std::vecto
                       "LEFT JOIN parcel_job j ON j.parcel_id = su.parcel_id" + filter +
                       " ORDER BY su.layer_index, su.parcel_id");
   for (const std::string& id : ids) q.bind(id);
+  BuildingRows buildings(db);
   while (q.step()) {
     Parcel p;
     std::size_t n;
@@ -275,7 +295,7 @@ void read_parcels(const sql::Db& db, const std::string& filter, const std::vecto
     r.roof_points = long(q.get_int("roof_points"));
     r.wall_points = long(q.get_int("wall_points"));
     r.timings = parse_timings(q.get_text("timings"));
-    r.buildings = read_buildings(db, q.get_int("fid"), m.frame);
+    r.buildings = buildings.of(q.get_int("fid"), m.frame);
     m.parcels.push_back(std::move(p));
     m.results.push_back(std::move(r));
   }
