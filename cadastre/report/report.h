@@ -7,6 +7,7 @@
 //   OUT/report.csv               the per-parcel and per-element figures
 #include <fstream>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "cadastre/store/pages.h"
@@ -73,6 +74,7 @@ class ReportWriter {
   ReportInfo info_;
   BatchModel rows_;  // every parcel so far; whole results only of those whose pages wait
   std::vector<ParcelValuation> vals_;  // cost items only of parcels whose pages wait
+  std::unordered_map<std::string, size_t> val_of_;  // a parcel id's latest valuation in vals_
   size_t written_ = 0;  // parcels whose detail pages (and CSV rows) are written
   std::string csv_path_;
   std::ofstream csv_;

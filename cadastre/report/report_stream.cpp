@@ -1,7 +1,6 @@
 // The report a page of the store at a time (report.h, ReportWriter).
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <stdexcept>
 
 #include "cadastre/report/report.h"
@@ -66,7 +65,10 @@ void ReportWriter::add(BatchModel page, std::vector<ParcelValuation> valuations)
     rows_.parcels.push_back(std::move(page.parcels[i]));
     rows_.results.push_back(std::move(page.results[i]));
   }
-  for (auto& v : valuations) vals_.push_back(std::move(v));
+  for (auto& v : valuations) {
+    val_of_[v.parcel_id] = vals_.size();
+    vals_.push_back(std::move(v));
+  }
   if (rows_.parcels.size() > total_)  // the store changed under us: page totals would be wrong
     throw InputError(info_.source, "the store gave more parcels than the " + std::to_string(total_) + " counted");
   write_ready(false);
@@ -80,21 +82,27 @@ void ReportWriter::write_ready(bool all) {
     const size_t to = std::min(written_ + kParcelsPerPage, total_);
     // Ready: the page's parcels are in, and the next parcel too unless it is the last page.
     if (!all && (have < to || (have == to && to < total_))) return;
-    write("report/" + group_page(written_), group_html(rows_, vals_, info_, written_, total_));
-    auto vmap = by_parcel(vals_);
-    std::set<std::string> done;
+    // The page's parcels' valuations alone: looking through every one so far
+    // for each page would grow with the square of the parcels.
+    std::vector<size_t> on_page;
+    for (size_t i = written_; i < to && i < have; ++i) {
+      const auto it = val_of_.find(rows_.parcels[i].id);
+      if (it != val_of_.end()) on_page.push_back(it->second);
+    }
+    std::vector<ParcelValuation> page_vals;
+    for (size_t k : on_page) page_vals.push_back(vals_[k]);
+    write("report/" + group_page(written_), group_html(rows_, page_vals, info_, written_, total_));
+    const auto vmap = by_parcel(page_vals);
     for (size_t i = written_; i < to && i < have; ++i) {
       const Parcel& p = rows_.parcels[i];
       const ParcelValuation* v = find_valuation(vmap, p.id);
       write("report/" + parcel_page(p), parcel_html(rows_, v, info_, i, total_));
       csv_ << csv_rows(p, rows_.results[i], v);
       keep_summary_row(rows_.parcels[i], rows_.results[i]);
-      done.insert(p.id);
     }
     if (!csv_) throw InputError(csv_path_, "cannot write report");
     // The summary page needs no cost items: only the detail pages and the CSV did.
-    for (ParcelValuation& v : vals_)
-      if (done.count(v.parcel_id)) std::vector<CostItem>().swap(v.items);
+    for (size_t k : on_page) std::vector<CostItem>().swap(vals_[k].items);
     written_ = std::min(to, have);
   }
 }
