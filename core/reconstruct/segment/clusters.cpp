@@ -4,16 +4,17 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace c3d {
 namespace {
 
-using Cell = std::array<int32_t, 3>;
+using Cell = std::array<int64_t, 3>;
 
 struct CellHash {
   size_t operator()(const Cell& c) const {
-    return size_t(uint32_t(c[0])) * 73856093u ^ size_t(uint32_t(c[1])) * 19349663u ^ size_t(uint32_t(c[2])) * 83492791u;
+    return size_t(c[0]) * 73856093u ^ size_t(c[1]) * 19349663u ^ size_t(c[2]) * 83492791u;
   }
 };
 
@@ -49,6 +50,7 @@ std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::Poi
                                                   size_t min_points, size_t max_points) {
   // PCL squares the tolerance in double and compares float squares.
   const float reach2 = float(double(tolerance) * double(tolerance));
+  if (!(reach2 > 0)) throw std::invalid_argument("euclidean_clusters: the tolerance must be positive");
   // Cells whose diagonal is a little under the tolerance: any two points of one are near.
   const double side = double(tolerance) / std::sqrt(3.0) * 0.999;
   const int span = int(std::ceil(double(tolerance) / side));  // cells apart that may still hold a near pair
@@ -56,7 +58,7 @@ std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::Poi
   std::vector<Cell> cell_of(indices.size());
   for (size_t k = 0; k < indices.size(); ++k) {
     const pcl::PointXYZ& p = cloud[size_t(indices[k])];
-    cell_of[k] = {int32_t(std::floor(p.x / side)), int32_t(std::floor(p.y / side)), int32_t(std::floor(p.z / side))};
+    cell_of[k] = {int64_t(std::floor(p.x / side)), int64_t(std::floor(p.y / side)), int64_t(std::floor(p.z / side))};
     cells[cell_of[k]].push_back(int(k));
   }
   Sets sets(indices.size());

@@ -16,7 +16,7 @@ namespace c3d {
 // with this tolerance and these sizes: the same points, each cluster's
 // indices ascending, the clusters largest first in PCL's own order. Two points
 // are near as PCL's k-d tree judges them: squared float distance below the
-// float square of the tolerance.
+// float square of the tolerance, which must be positive.
 std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                                   const pcl::Indices& indices, float tolerance,
                                                   size_t min_points, size_t max_points);
