@@ -5,51 +5,15 @@
 // not compare each with all (the answers are those of the plain scans: the
 // first vertex in order, the vertices of an edge in the order given).
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdint>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "core/geometry/cell_key.h"
 #include "core/types.h"
 
 namespace c3d {
-namespace welding_detail {
-
-template <int D>
-using Key = std::array<int64_t, D>;
-
-template <int D>
-struct KeyHash {
-  size_t operator()(const Key<D>& k) const {
-    size_t h = 0;
-    for (int64_t c : k) h = h * 1000003u ^ size_t(c);
-    return h;
-  }
-};
-
-template <int D, class V>
-Key<D> cell_of(const V& v, double cell) {
-  Key<D> k;
-  for (int d = 0; d < D; ++d) k[size_t(d)] = int64_t(std::floor(v[d] / cell));
-  return k;
-}
-
-// Calls f on the keys of the 3^D cells round k (k's own among them).
-template <int D, class F>
-void for_cells_round(const Key<D>& k, F&& f) {
-  int count = 1;
-  for (int d = 0; d < D; ++d) count *= 3;
-  for (int i = 0; i < count; ++i) {
-    Key<D> n = k;
-    for (int d = 0, rest = i; d < D; ++d, rest /= 3) n[size_t(d)] += rest % 3 - 1;
-    f(n);
-  }
-}
-
-}  // namespace welding_detail
-
 // Snaps each vertex to the first vertex kept before it closer than tol, else
 // keeps it: validators treat points this close as one.
 template <class V>
@@ -63,7 +27,7 @@ class Welder {
 
   void weld(V& v) {
     int first = -1;
-    welding_detail::for_cells_round<D>(welding_detail::cell_of<D>(v, cell_), [&](const auto& k) {
+    for_cells_round<D>(cell_key<D>(v, cell_), [&](const auto& k) {
       const auto it = cells_.find(k);
       if (it == cells_.end()) return;
       for (int s : it->second)
@@ -73,7 +37,7 @@ class Welder {
       v = seen_[size_t(first)];
       return;
     }
-    cells_[welding_detail::cell_of<D>(v, cell_)].push_back(int(seen_.size()));
+    cells_[cell_key<D>(v, cell_)].push_back(int(seen_.size()));
     seen_.push_back(v);
   }
   const std::vector<V>& seen() const { return seen_; }
@@ -81,7 +45,7 @@ class Welder {
  private:
   double tol_, cell_;
   std::vector<V> seen_;
-  std::unordered_map<welding_detail::Key<D>, std::vector<int>, welding_detail::KeyHash<D>> cells_;
+  std::unordered_map<CellKey<D>, std::vector<int>, CellKeyHash<D>> cells_;
 };
 
 // Puts into each edge of a ring, in order, the vertices of `verts` lying on it
@@ -122,9 +86,9 @@ class EdgeNoder {
   }
 
  private:
-  using Key = welding_detail::Key<2>;
+  using Key = CellKey<2>;
 
-  static Key plan_cell(double x, double y) { return {int64_t(std::floor(x / kCellM)), int64_t(std::floor(y / kCellM))}; }
+  static Key plan_cell(double x, double y) { return cell_key<2>(Vec2(x, y), kCellM); }
 
   // The indices, ascending, of the vertices in the cells within 2 tol of the
   // edge ab in plan, a cell's length of it at a time.
@@ -149,7 +113,7 @@ class EdgeNoder {
 
   const std::vector<V>& verts_;
   double tol_;
-  std::unordered_map<Key, std::vector<int>, welding_detail::KeyHash<2>> cells_;
+  std::unordered_map<Key, std::vector<int>, CellKeyHash<2>> cells_;
 };
 
 }  // namespace c3d

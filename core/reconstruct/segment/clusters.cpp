@@ -1,7 +1,8 @@
 #include "core/reconstruct/segment/clusters.h"
 
+#include "core/geometry/cell_key.h"
+
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -10,13 +11,7 @@
 namespace c3d {
 namespace {
 
-using Cell = std::array<int64_t, 3>;
-
-struct CellHash {
-  size_t operator()(const Cell& c) const {
-    return size_t(c[0]) * 73856093u ^ size_t(c[1]) * 19349663u ^ size_t(c[2]) * 83492791u;
-  }
-};
+using Cell = CellKey<3>;
 
 // Union-find over positions in the indices.
 struct Sets {
@@ -54,13 +49,9 @@ std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::Poi
   // Cells whose diagonal is a little under the tolerance: any two points of one are near.
   const double side = double(tolerance) / std::sqrt(3.0) * 0.999;
   const int span = int(std::ceil(double(tolerance) / side));  // cells apart that may still hold a near pair
-  std::unordered_map<Cell, std::vector<int>, CellHash> cells;  // positions in `indices`
-  std::vector<Cell> cell_of(indices.size());
-  for (size_t k = 0; k < indices.size(); ++k) {
-    const pcl::PointXYZ& p = cloud[size_t(indices[k])];
-    cell_of[k] = {int64_t(std::floor(p.x / side)), int64_t(std::floor(p.y / side)), int64_t(std::floor(p.z / side))};
-    cells[cell_of[k]].push_back(int(k));
-  }
+  std::unordered_map<Cell, std::vector<int>, CellKeyHash<3>> cells;  // positions in `indices`
+  for (size_t k = 0; k < indices.size(); ++k)
+    cells[cell_key<3>(cloud[size_t(indices[k])].getVector3fMap(), side)].push_back(int(k));
   Sets sets(indices.size());
   for (const auto& [cell, members] : cells) {
     for (int k : members) sets.unite(members.front(), k);
