@@ -23,13 +23,13 @@ on these 2-core session machines (docs/speed.md, stop 70); if the issue's
 import argparse
 import json
 import os
-import resource
-import subprocess
 import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_C3D = os.path.join(HERE, "..", "build", "cli", "cadastre3d")
+sys.path.insert(0, HERE)
+from bench_growth import DEFAULT_C3D, batch  # noqa: E402  (one way to time a batch)
+
 DEFAULT_DATA = os.path.normpath(os.path.join(HERE, "..", "..", "shared", "data", "ahn3"))
 
 ROOFER_S = 7.0  # roofer's whole process on the town, CPU s, as issue 53 measured it
@@ -53,17 +53,11 @@ JOINED = {"roof partition input": "roof partition", "refine curved": "curved sur
 
 
 def one_run(c3d, data, out):
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    r = subprocess.run([c3d, "batch", "--quiet", "--jobs", "1", "--cloud", os.path.join(data, "cloud.las"),
-                        "--parcels", os.path.join(data, "parcels.gpkg"), "--dtm", os.path.join(data, "dtm.tif"),
-                        "--out", out], capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if r.returncode not in (0, 3):
-        raise SystemExit(f"bench_budget: the batch failed: {r.stderr.strip()[-400:]}")
+    """CPU seconds, stage CPU and parcel count of one batch of the town."""
+    stages, cpu = batch(c3d, os.path.join(data, "cloud.las"), os.path.join(data, "parcels.gpkg"),
+                        os.path.join(data, "dtm.tif"), out, formats=None)
     with open(os.path.join(out, "summary.json")) as f:
-        summary = json.load(f)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return cpu, summary["timings_s"].get("stages_cpu", {}), len(summary["parcels"])
+        return cpu, stages, len(json.load(f)["parcels"])
 
 
 def by_budget(stages, cpu):

@@ -190,11 +190,13 @@ def layer_with_lots(src, dst, total):
     out = None
 
 
-def batch(c3d, cloud, parcels, dtm, out):
-    """Stages' CPU seconds and the whole process's user+sys of one batch."""
+def batch(c3d, cloud, parcels, dtm, out, formats="cityjson"):
+    """Stages' CPU seconds and the whole process's user+sys of one batch,
+    one thread; `formats` None: the default outputs."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cmd = [c3d, "batch", "--quiet", "--jobs", "1", "--formats", "cityjson",
-           "--cloud", cloud, "--parcels", parcels, "--out", out]
+    cmd = [c3d, "batch", "--quiet", "--jobs", "1", "--cloud", cloud, "--parcels", parcels, "--out", out]
+    if formats:
+        cmd += ["--formats", formats]
     if dtm:
         cmd += ["--dtm", dtm]
     r = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
