@@ -11,7 +11,7 @@ constexpr double kMinCoverPartFine = 0.05;   // ...and this after simplifying an
 constexpr double kOrphanDust = 1e-6;         // orphans smaller than this are numerical dust, given to no one
 constexpr double kBoxMargin = 1e-3;          // regions whose boxes are further apart share no boundary
 constexpr double kSharedTol = 1e-4;          // edges this close count as one shared boundary
-constexpr double kLengthTie = 1e-6;         // shared lengths this close are equal (their last digits decide nothing)
+constexpr double kLengthTie = 1e-6;          // shared lengths this close are equal (their last digits decide nothing)
 constexpr double kCornerTouchTol = 0.02;     // an orphan touching a region only at a corner still joins it
 constexpr double kSimplifyTol = 0.02;        // the label grid's staircase simplified away, corners kept
 constexpr double kFragment = 1.5;            // a detached bit smaller than this is a cut's leftover, not a roof part
@@ -27,7 +27,7 @@ constexpr double kSampleCells = 0.5;         // the shared boundary sampled ever
 constexpr double kStaircaseCells = 2.0;      // the label grid's staircase steps are one cell: two absorb them
 constexpr double kCorridor = 1.0;            // a cut reassigns the strip this wide either side of the boundary
 constexpr double kFarBox = 1e4;              // a half-plane as a box larger than any roof
-constexpr double kTileCells = 32;           // regions are cut in tiles this many cells wide (roof_tiles.h)
+constexpr double kTileCells = 32;            // regions are cut in tiles this many cells wide (roof_tiles.h)
 constexpr double kCutOverrun = 0.25;         // a cut may reach this far past the ends of the shared boundary
 
 // Snapping shared vertices onto the planes' meeting lines (roof_snap.cpp).
