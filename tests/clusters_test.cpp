@@ -7,6 +7,7 @@
 
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 #include "core/reconstruct/segment/clusters.h"
 
@@ -84,6 +85,14 @@ TEST(Clusters, AtTheToleranceApartJustUnderTogether) {
   ASSERT_EQ(got.size(), 2u);
   EXPECT_EQ(got[0].indices, (pcl::Indices{1, 2}));
   EXPECT_EQ(got[1].indices, (pcl::Indices{0}));
+}
+
+// No tolerance is no clustering: said, not a division by zero.
+TEST(Clusters, ToleranceMustBePositive) {
+  const Cloud::Ptr cloud = town(1);
+  const pcl::Indices some{0, 1, 2};
+  EXPECT_THROW(euclidean_clusters(*cloud, some, 0.f, 1, 10), std::invalid_argument);
+  EXPECT_THROW(euclidean_clusters(*cloud, some, -0.5f, 1, 10), std::invalid_argument);
 }
 
 }  // namespace

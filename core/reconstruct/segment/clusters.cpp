@@ -45,7 +45,7 @@ std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::Poi
                                                   size_t min_points, size_t max_points) {
   // PCL squares the tolerance in double and compares float squares.
   const float reach2 = float(double(tolerance) * double(tolerance));
-  if (!(reach2 > 0)) throw std::invalid_argument("euclidean_clusters: the tolerance must be positive");
+  if (!(tolerance > 0)) throw std::invalid_argument("euclidean_clusters: the tolerance must be positive");
   // Cells whose diagonal is a little under the tolerance: any two points of one are near.
   const double side = double(tolerance) / std::sqrt(3.0) * 0.999;
   const int span = int(std::ceil(double(tolerance) / side));  // cells apart that may still hold a near pair
