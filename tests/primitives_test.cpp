@@ -184,6 +184,11 @@ TEST(Primitives, CurvedBuildingsStandOnTheirSurfaces) {
   EXPECT_NEAR(areas(*b)[ElementType::Ground] / (M_PI * 16), 1, 0.01);
   EXPECT_EQ(drum(*b).evidence, WallEvidence::Measured);
   EXPECT_EQ(drum(*b).support_points, 400);
+  // A wall scan whose points stop 2 m below where the dome meets the drum
+  // (7 m) saw no such drum: something unseen stands between (an onion's
+  // bulb), and no dome is built on it.
+  for (Vec3& q : gap.wall_points) q.z() = 0.5 + 4.0 * (q.z() - 0.5) / 6.0;
+  EXPECT_FALSE(curved_building(gap));
 
   Primitive cylinder;
   cylinder.kind = PrimitiveKind::Cylinder, cylinder.point = Vec3(0, 0, 0), cylinder.axis = Vec3::UnitX(),
@@ -320,6 +325,28 @@ TEST(Primitives, OnionDomeIsASurfaceOfRevolution) {
   const double exact = exact_volume(b->exact);
   EXPECT_NEAR(exact / b->volume, 1, 0.005);
   EXPECT_NEAR(exact / (M_PI * r * r * H + volume), 1, 0.02);
+}
+
+// From the air an onion's bulb shows little plan about its widest ring: at
+// 10 pts/m2 a bulb's lowest profile step could hold too few of its 300-odd
+// points (here seed 11's second onion), the fit gave up, and in the batch
+// (seed 5) a cone took the roof, `ok` with 49 % of its area. Wider steps fit.
+TEST(Primitives, SparseOnionKeepsItsSurfaceOfRevolution) {
+  for (unsigned seed : {5u, 7u, 11u}) {
+    SampleOptions opt;
+    opt.curved = true, opt.parcels = 24, opt.seed = seed, opt.roof_density = 10;
+    const SampleTown t = make_sample_town(opt);
+    const auto points = roof_points_by_parcel(t);
+    for (size_t i = 0; i < t.parcels.size(); ++i) {
+      if (t.truth[i].empty() || t.truth[i].front().params.layout != SampleLayout::OnionDome) continue;
+      SCOPED_TRACE("seed " + std::to_string(seed) + ", parcel " + t.parcels[i].id);
+      Vec2 centre = Vec2::Zero();
+      for (const Vec3& q : points[i]) centre += q.head<2>() / double(points[i].size());
+      const std::optional<RevolvedRoof> fit = fit_revolved_roof(points[i], centre + Vec2(0.2, -0.1), 0.03);
+      ASSERT_TRUE(fit) << points[i].size() << " points";
+      EXPECT_LT(fit->rmse, 0.045);
+    }
+  }
 }
 
 namespace {
@@ -460,6 +487,71 @@ void expect_sparse_town_right(const std::string& sample_args) {
 TEST(Primitives, SparseTownIsOkOnlyWithinTheTargets) {
   for (const std::string walls : {" --wall-density 0", ""})
     expect_sparse_town_right("--curved --parcels 24 --seed 11 --density 10" + walls);
+}
+
+// With every wall scanned, every building of the curved town is `ok` within
+// the targets (roof, ground and volume 2 %, walls 3 %), at 40 and at
+// 10 pts/m2, and the gable is planes only. Two faults this town showed:
+// at 40 pts/m2 RANSAC split a vault's points between two near-identical
+// cylinders and the roof, held by neither alone, stayed `suspect` with its
+// planes; at 10 pts/m2 a gable whose outline cut off a corner left nine
+// points beyond its planes, which then fitted worse than a B-spline over the
+// rounded ridge: `ok` under a free-form roof, its roof 27 % short.
+TEST(Primitives, TownWithEveryWallScannedIsOkWithinTheTargets) {
+  for (const std::string density : {"40", "10"}) {
+    SCOPED_TRACE(density + " pts/m2");
+    const std::string dir = test::temp_dir("primitives_walls_" + density);
+    ASSERT_EQ(test::sample_and_batch(dir, "--curved --parcels 24 --seed 11 --occlusion 0 --density " + density,
+                                     "--formats cityjson"),
+              "");
+    const auto truth = nlohmann::json::parse(std::ifstream(dir + "/town/truth.json"));
+    const auto summary = nlohmann::json::parse(std::ifstream(dir + "/out/summary.json"));
+    ASSERT_EQ(truth["parcels"].size(), summary["parcels"].size());
+    for (size_t i = 0; i < truth["parcels"].size(); ++i) {
+      const std::string layout = truth["parcels"][i]["layout"], status = summary["parcels"][i]["status"];
+      SCOPED_TRACE(layout + " " + std::to_string(i) + ": " + summary["parcels"][i].value("reason", ""));
+      EXPECT_EQ(status, "ok");
+      ASSERT_EQ(summary["parcels"][i]["buildings"].size(), 1u);
+      const auto &model = summary["parcels"][i]["buildings"][0], &exact = truth["parcels"][i]["buildings"][0];
+      if (layout == "gable") {
+        EXPECT_TRUE(model["mesh_refinement"].is_null()) << "planes only";
+        continue;  // the planar model's accuracy is docs/accuracy.md's
+      }
+      EXPECT_TRUE(model["solid_valid"].get<bool>());
+      for (const auto& [figure, target] :
+           {std::pair<const char*, double>{"roof_area_m2", 0.02}, {"ground_area_m2", 0.02}, {"wall_area_m2", 0.03},
+            {"volume_m3", 0.02}})
+        EXPECT_NEAR(model[figure].get<double>() / exact[figure].get<double>(), 1, target) << figure;
+    }
+  }
+}
+
+// Two buildings of the curved town of seed 5 at 10 pts/m2, wall points
+// scanned, that came out `ok` and wrong: an onion whose profile fit gave up
+// on its steep rim, modelled on a cone (its roof 49 % short, its drum up to
+// the cone); a saddle hall whose outline the regulariser ran 2 m past a
+// corner its points cut off (its walls 7.6 % long). Each within the targets.
+TEST(Primitives, SparseOnionAndSaddleWithinTheTargets) {
+  const std::string dir = test::temp_dir("primitives_seed5");
+  ASSERT_EQ(test::sample_and_batch(dir, "--curved --parcels 24 --seed 5 --density 10",
+                                   "--formats cityjson --where \"NIB IN ('10280503000017', '10280503000019')\""),
+            "");
+  const auto truth = nlohmann::json::parse(std::ifstream(dir + "/town/truth.json"));
+  const auto summary = nlohmann::json::parse(std::ifstream(dir + "/out/summary.json"));
+  std::map<std::string, nlohmann::json> exact;
+  for (const auto& p : truth["parcels"]) exact[p["parcel_id"]] = p;
+  ASSERT_EQ(summary["parcels"].size(), 2u);
+  for (const auto& p : summary["parcels"]) {
+    const auto& t = exact.at(p["parcel_id"]);
+    SCOPED_TRACE(t["layout"].get<std::string>() + ": " + p.value("reason", ""));
+    EXPECT_EQ(p["status"], "ok");
+    ASSERT_EQ(p["buildings"].size(), 1u);
+    for (const auto& [figure, target] :
+         {std::pair<const char*, double>{"roof_area_m2", 0.02}, {"ground_area_m2", 0.02}, {"wall_area_m2", 0.03},
+          {"volume_m3", 0.02}})
+      EXPECT_NEAR(p["buildings"][0][figure].get<double>() / t["buildings"][0][figure].get<double>(), 1, target)
+          << figure;
+  }
 }
 
 // The sigma of each curved element against the scatter of its errors: a dome

@@ -182,6 +182,14 @@ MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge) {
   return from_geos(hull.get());
 }
 
+MultiPolygon2 convex_hull(const std::vector<Vec2>& points) {
+  std::vector<Coordinate> coords;
+  coords.reserve(points.size());
+  for (const auto& p : points) coords.emplace_back(p.x(), p.y());
+  std::unique_ptr<geos::geom::MultiPoint> mp(factory().createMultiPoint(coords));
+  return from_geos(mp->convexHull().get());
+}
+
 Polygon2 largest(const MultiPolygon2& mp) {
   if (mp.empty()) return {};
   return *std::max_element(mp.begin(), mp.end(),

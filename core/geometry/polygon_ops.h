@@ -28,6 +28,8 @@ MultiPolygon2 make_valid(const MultiPolygon2& a);
 bool is_valid(const MultiPolygon2& a);
 // GEOS ConcaveHull of points, edges no longer than max_edge (holes not allowed).
 MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge);
+// The convex hull of points (empty for fewer than three not on a line).
+MultiPolygon2 convex_hull(const std::vector<Vec2>& points);
 // The polygon of largest area (an empty polygon for an empty input).
 Polygon2 largest(const MultiPolygon2& mp);
 // Drops polygons (and holes) smaller than min_area.

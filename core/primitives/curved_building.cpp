@@ -30,9 +30,14 @@ struct Outline {
   // The wall points that placed each wall (none: under the roof's edge): a
   // vault's end walls at a and b and its sides (both or neither), a drum.
   int seen_a = 0, seen_b = 0, seen_sides = 0, seen_drum = 0;
+  double drum_top_seen = 0;  // where the drum's wall points stop (seen_drum > 0)
 };
 
 // ---- Revolution: a sphere or cone over a round drum ----
+
+// How far a drum may stand above its wall points' top (their spread's
+// estimate is within a few cm where the scan reached the top).
+constexpr double kUnseenDrumM = 1.0;
 
 // The drum's radius: roof points seen from the air lie evenly over the disc,
 // so rho^2 is uniform on [0, r^2]; from its 95 % quantile (see vault_outline).
@@ -266,18 +271,19 @@ double median_of(std::vector<double> v, size_t least, double* se) {
 void drum_from_walls(const CurvedBuildingInput& in, Outline& o) {
   const Vec2 c = in.roof.point.head<2>();
   const double rim = revolved_z(in.roof, o.half);
-  std::vector<double> rho;
+  std::vector<double> rho, z;
   std::vector<bool> sector(12, false);
   for (const Vec3& q : in.wall_points) {
     const Vec2 d = q.head<2>() - c;
     if (std::abs(d.norm() - o.half) > kWallReachM || q.z() > rim - 0.1 || q.z() < in.ground_z + 0.3) continue;
     rho.push_back(d.norm());
+    z.push_back(q.z());
     sector[size_t(std::fmod(std::atan2(d.y(), d.x()) + 2 * kPi, 2 * kPi) / (2 * kPi) * 12) % 12] = true;
   }
   double se = 0;
   const double r = median_of(rho, kMinWallPoints, &se);
   if (!std::isnan(r) && std::count(sector.begin(), sector.end(), true) >= 3)
-    o.half = r, o.sigma_half = se, o.seen_drum = int(rho.size());
+    o.half = r, o.sigma_half = se, o.seen_drum = int(rho.size()), o.drum_top_seen = spread_top(z);
 }
 
 // A vault's side walls (half-width) and end walls (extent along the axis)
@@ -331,6 +337,14 @@ std::optional<Building> curved_building(const CurvedBuildingInput& given) {
       o.half = std::min(o.half, p.radius);
     }
     if (revolved_z(p, o.half) <= in.ground_z) return std::nullopt;
+    // A wall scan reaches a drum's top: where it stops well below the roof,
+    // something unseen stands between (an onion's bulb over its drum).
+    const double unseen = revolved_z(p, o.half) - o.drum_top_seen;
+    if (o.seen_drum > 0 && unseen > kUnseenDrumM) {
+      log::debug(in.building_id + ": its " + p.describe() + " would stand " + std::to_string(unseen) +
+                 " m above where the drum's wall points stop");
+      return std::nullopt;
+    }
   } else {
     return std::nullopt;
   }

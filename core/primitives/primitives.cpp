@@ -293,6 +293,34 @@ int share_on(const Primitive& p, const std::vector<Vec3>& points, double epsilon
   return int(std::lround(100.0 * double(on) / double(points.size())));
 }
 
+// Whether a and b are one surface: each within `epsilon` (RMS) of the other's
+// inliers. RANSAC gives each point to one shape, so one vault can come back
+// as two cylinders that share its points out between them.
+bool same_surface(const Primitive& a, const Primitive& b, const std::vector<Vec3>& points, double epsilon) {
+  const auto rms = [&](const Primitive& s, const Primitive& on) {
+    return std::sqrt(sum_squares(s, points, on.inliers) / double(on.inliers.size()));
+  };
+  return a.kind == b.kind && rms(a, b) <= epsilon && rms(b, a) <= epsilon;
+}
+
+// Of the kept surfaces that are one (same_surface), the one on the larger
+// share stays; the others go to the rejected with the reason.
+void drop_repeats(PrimitiveFit& fit, const std::vector<Vec3>& points, double epsilon) {
+  std::vector<Primitive> kept;
+  for (Primitive& p : fit.curved) {
+    const auto twin = std::find_if(kept.begin(), kept.end(),
+                                   [&](const Primitive& k) { return same_surface(k, p, points, epsilon); });
+    if (twin == kept.end()) {
+      kept.push_back(std::move(p));
+      continue;
+    }
+    if (p.share > twin->share) std::swap(p, *twin);
+    fit.why_rejected.push_back("the same surface as the " + twin->describe() + ", on more of the points");
+    fit.rejected.push_back(std::move(p));
+  }
+  fit.curved = std::move(kept);
+}
+
 }  // namespace
 
 const char* to_string(PrimitiveKind k) {
@@ -388,7 +416,6 @@ PrimitiveFit find_curved_surfaces(const std::vector<Vec3>& all_points, const Pri
     Primitive p = *s;
     const std::string why = judge(p, points, local, tol);
     p.share = share_on(p, points, tol.epsilon);
-    for (int& i : p.inliers) i = kept[size_t(i)];  // indices into the points given
     if (why.empty()) {
       fit.curved.push_back(std::move(p));
     } else {
@@ -396,6 +423,10 @@ PrimitiveFit find_curved_surfaces(const std::vector<Vec3>& all_points, const Pri
       fit.why_rejected.push_back(why);
     }
   }
+  drop_repeats(fit, points, tol.epsilon);
+  for (std::vector<Primitive>* found : {&fit.curved, &fit.rejected})
+    for (Primitive& p : *found)
+      for (int& i : p.inliers) i = kept[size_t(i)];  // indices into the points given
   return fit;
 }
 

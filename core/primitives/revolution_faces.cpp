@@ -143,6 +143,12 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
+double spread_top(std::vector<double> z) {
+  std::sort(z.begin(), z.end());
+  const double lo = quantile_of_sorted(z, 0.02), hi = quantile_of_sorted(z, 0.98);
+  return hi + (hi - lo) * 0.02 / 0.96;
+}
+
 double revolved_z(const Primitive& p, double rho) {
   if (p.kind == PrimitiveKind::Sphere) return p.point.z() + std::sqrt(std::max(0.0, p.radius * p.radius - rho * rho));
   return p.point.z() - rho / std::tan(p.angle);  // a cone with its apex on top

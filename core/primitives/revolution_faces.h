@@ -90,6 +90,9 @@ void take_surface_areas(const Building& fine, Building& b);
 
 // q-quantile of v (0 <= q <= 1).
 double quantile(std::vector<double> v, double q);
+// The top of heights spread evenly up a wall (a drum's wall points): from
+// their 2 and 98 % quantiles.
+double spread_top(std::vector<double> z);
 // Standard error of a kRimQuantile-quantile of n values spread evenly over
 // a range of 1 (its variance q (1 - q) / n over the density squared).
 double quantile_se(size_t n);

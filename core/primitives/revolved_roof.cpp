@@ -20,6 +20,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kMinPoints = 50;
 constexpr size_t kMinBinPoints = 3;
+constexpr int kMinBins = 8;
 constexpr int kDenseSamples = 256;
 
 double quantile_of(std::vector<double> v, double q) {
@@ -148,8 +149,7 @@ SeenDrum seen_drum(const RevolvedBuildingInput& in) {
     sector[size_t(std::fmod(std::atan2(d.y(), d.x()) + 2 * kPi, 2 * kPi) / (2 * kPi) * 12) % 12] = true;
   }
   if (rho.size() < kMinWallPoints || std::count(sector.begin(), sector.end(), true) < 3) return {};
-  const double lo = quantile_of(z, 0.02), hi = quantile_of(z, 0.98);  // spread evenly up the drum
-  return {quantile_of(rho, 0.5), hi + (hi - lo) * 0.02 / 0.96, int(rho.size())};
+  return {quantile_of(rho, 0.5), spread_top(z), int(rho.size())};
 }
 
 // The building on `profile` (rho, z from the drum's top to the apex).
@@ -222,11 +222,15 @@ std::optional<RevolvedRoof> fit_revolved_roof(const std::vector<Vec3>& points, c
   std::vector<double> z;
   for (const Vec3& q : points) z.push_back(q.z());
   const double pole_z = quantile_of(z, 0.005);
-  const int bins = std::clamp(int(points.size() / 40), 16, 64);
   const double theta0 = quantile_of(polar(points, axis_guess, pole_z).theta, 0.002);
   RevolvedRoof roof;
-  roof.axis = best_axis(points, axis_guess, pole_z, theta0, bins);
-  const std::optional<Bins> b = bin_medians(polar(points, roof.axis, pole_z), theta0, bins);
+  // A steep rim (an onion's bulb about its widest ring) shows little plan
+  // to the air: where its lowest step holds too few points, wider steps.
+  std::optional<Bins> b;
+  for (int bins = std::clamp(int(points.size() / 40), 16, 64); !b && bins >= kMinBins; bins /= 2) {
+    roof.axis = best_axis(points, axis_guess, pole_z, theta0, bins);
+    b = bin_medians(polar(points, roof.axis, pole_z), theta0, bins);
+  }
   if (!b) return std::nullopt;
   // (theta, d) at each step, theta its parameter (OCCT 7.6's y-values
   // variant overruns its knot array: valgrind).

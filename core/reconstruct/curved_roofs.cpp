@@ -22,26 +22,50 @@ namespace c3d {
 
 namespace {
 
-// The building's roof faces, each tagged with its roof element (a plane).
-FaceIndex roof_plane_index(const Building& b) {
+// The building's roof faces, each tagged with its roof element (a plane),
+// and each element's plane (unit normal, offset).
+struct RoofPlanes {
+  FaceIndex faces;
+  std::map<int, std::pair<Vec3, double>> plane;
+};
+
+RoofPlanes roof_planes(const Building& b) {
   std::vector<Face> faces;
-  std::vector<int> plane;
-  for (size_t k = 0; k < b.elements.size(); ++k)
-    if (b.elements[k].type == ElementType::Roof)
-      for (const Face& f : b.elements[k].faces) faces.push_back(f), plane.push_back(int(k));
-  return FaceIndex(faces, plane);
+  std::vector<int> owner;
+  std::map<int, std::pair<Vec3, double>> plane;
+  for (size_t k = 0; k < b.elements.size(); ++k) {
+    const Element& e = b.elements[k];
+    if (e.type != ElementType::Roof || e.faces.empty()) continue;
+    Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
+    size_t n = 0;
+    for (const Face& f : e.faces) {
+      faces.push_back(f), owner.push_back(int(k));
+      normal += newell_normal(f.ring);
+      for (const Vec3& v : f.ring) centre += v, ++n;
+    }
+    if (normal.norm() > 0) plane[int(k)] = {normal.normalized(), normal.normalized().dot(centre / double(n))};
+  }
+  return {FaceIndex(faces, owner), std::move(plane)};
 }
 
 // How the modelled roof planes explain some points: their RMS distance to the
-// nearest roof face, and how many planes take at least 2 % of them.
-PlanarAccount planar_account(const FaceIndex& roof, const std::vector<Vec3>& pts) {
+// nearest roof face, and how many planes take at least 2 % of them. A point
+// beyond the roof's plan (no face above or below it) is measured to the plane
+// of its nearest face: the outline, not the surface, left it out, and an
+// outline's error must not pass for the planes' (a gable whose corner the
+// outline cut off would otherwise look curved).
+PlanarAccount planar_account(const RoofPlanes& roof, const std::vector<Vec3>& pts) {
   PlanarAccount a;
-  if (roof.empty() || pts.empty()) return a;
+  if (roof.faces.empty() || pts.empty()) return a;
   std::map<int, size_t> taken;
   double rss = 0;
   for (const Vec3& q : pts) {
-    const SurfaceHit hit = roof.nearest(q);
-    rss += hit.distance * hit.distance;
+    const SurfaceHit hit = roof.faces.nearest(q);
+    double d = hit.distance;
+    const auto plane = roof.plane.find(hit.owner);
+    if (plane != roof.plane.end() && std::isnan(roof.faces.vertical(q).distance))
+      d = std::min(d, std::abs(plane->second.first.dot(q) - plane->second.second));
+    rss += d * d;
     ++taken[hit.owner];
   }
   a.rmse = std::sqrt(rss / double(pts.size()));
@@ -51,7 +75,7 @@ PlanarAccount planar_account(const FaceIndex& roof, const std::vector<Vec3>& pts
 
 PrimitiveFit curved_surfaces(const Building& b, const std::vector<Vec3>& own) {
   PrimitiveSearch search;
-  const FaceIndex roof = roof_plane_index(b);
+  const RoofPlanes roof = roof_planes(b);
   search.planar_model = [&](const std::vector<Vec3>& pts) { return planar_account(roof, pts); };
   PrimitiveFit fit = find_curved_surfaces(own, search);
   log::debug(b.id + ": " + std::to_string(fit.curved.size() + fit.rejected.size()) + " curved candidates among " +
@@ -316,7 +340,7 @@ RevolutionVerdict judge_revolution(const Building& b, const RevolvedRoof& roof, 
   std::vector<Vec3> inliers;
   for (int i : roof.inliers) inliers.push_back(own[size_t(i)]);
   const double n = double(inliers.size());
-  const PlanarAccount planes = planar_account(roof_plane_index(b), inliers);
+  const PlanarAccount planes = planar_account(roof_planes(b), inliers);
   const double curved = bic(roof.rmse, roof.parameters, n, noise), flat = bic(planes.rmse, 3 * planes.planes, n, noise);
   RevolutionVerdict v;
   v.rival_rmse = rival ? rmse_to(*rival, inliers) : 0;
@@ -362,7 +386,10 @@ bool remodel_revolved(Building& b, const PrimitiveFit& fit, const std::vector<Ve
   const std::optional<Vec2> axis = upright_axis(fit);
   if (!axis) return false;
   std::optional<RevolvedRoof> roof = fit_revolved_roof(own, *axis, fit.noise);
-  if (!roof) return false;
+  if (!roof) {
+    log::debug(b.id + ": no surface of revolution fits its " + std::to_string(own.size()) + " roof points");
+    return false;
+  }
   // Fitted again on the parcel's roof points around its axis (to half a
   // metre past its widest ring): the planar plan's own points may stop short
   // of that ring.
@@ -426,7 +453,7 @@ std::string judge_free_form(const Building& b, const HeightFieldRoof& hf, const 
   std::vector<Vec3> inliers;
   for (int i : hf.inliers) inliers.push_back(own[size_t(i)]);
   const double n = double(inliers.size());
-  const PlanarAccount planes = planar_account(roof_plane_index(b), inliers);
+  const PlanarAccount planes = planar_account(roof_planes(b), inliers);
   const double curved_bic = bic(hf.rmse, hf.parameters, n, noise);
   const double flat = bic(planes.rmse, 3 * planes.planes, n, noise);
   std::vector<int> all(inliers.size());
@@ -489,7 +516,7 @@ struct OneRoof {
   Polygon2 footprint;
   std::vector<Vec3> points;
 };
-constexpr double kOneRoofReachSpacings = 4;
+constexpr double kOneRoofReachSpacings = 4, kOneRoofMarginSpacings = 2;
 OneRoof one_roof(const Building& b, const Polygon2& planar, const HeightFieldRoof& hf,
                  const std::vector<Vec3>& nearby, double noise, double spacing) {
   OneRoof r;
@@ -501,7 +528,11 @@ OneRoof one_roof(const Building& b, const Polygon2& planar, const HeightFieldRoo
       r.points.push_back(q), plan.push_back(q.head<2>());
   OutlineOptions opt;
   opt.spacing = spacing;
-  const Polygon2 edge = roof_outline(plan, opt);
+  // The outline's regulariser can meet two edges far out past a corner the
+  // points cut off (a spike 2 m beyond any of them): the roof stands where
+  // its points do, to kOneRoofMarginSpacings past their convex hull.
+  const MultiPolygon2 held = poly::buffer(poly::convex_hull(plan), kOneRoofMarginSpacings * spacing);
+  const Polygon2 edge = poly::largest(poly::intersect({roof_outline(plan, opt)}, held));
   if (edge.outer.size() < 3) return {};
   r.footprint = edge;
   if (!walls_measured(b)) return r;
@@ -535,7 +566,7 @@ void edge_sigma(const Polygon2& foot, double noise, double density, FreeFormInpu
 bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
                        const PrimitiveFit& fit, double spacing, double storey_height) {
   const double noise = fit.noise;
-  const PlanarAccount planes = planar_account(roof_plane_index(b), own);
+  const PlanarAccount planes = planar_account(roof_planes(b), own);
   if (planes.rmse <= kMaxFitOverNoise * noise && planes.planes < kMinFacets) return false;
   FreeFormInput in;
   in.footprint = hall_outline(b);
