@@ -216,21 +216,31 @@ std::string RevolvedRoof::describe() const {
   return s;
 }
 
+namespace {
+
+// The axis (`axis`, searched from `guess`) and the profile's steps in
+// elevation from the pole at pole_z. A steep rim (an onion's bulb about its
+// widest ring) shows little plan to the air: where the lowest step holds
+// too few points, wider steps.
+std::optional<Bins> axis_and_steps(const std::vector<Vec3>& points, const Vec2& guess, double pole_z, Vec2& axis) {
+  const double theta0 = quantile_of(polar(points, guess, pole_z).theta, 0.002);
+  for (int bins = std::clamp(int(points.size() / 40), 16, 64); bins >= kMinBins; bins /= 2) {
+    axis = best_axis(points, guess, pole_z, theta0, bins);
+    if (std::optional<Bins> b = bin_medians(polar(points, axis, pole_z), theta0, bins)) return b;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<RevolvedRoof> fit_revolved_roof(const std::vector<Vec3>& points, const Vec2& axis_guess,
                                               double noise) {
   if (points.size() < kMinPoints) return std::nullopt;
   std::vector<double> z;
   for (const Vec3& q : points) z.push_back(q.z());
   const double pole_z = quantile_of(z, 0.005);
-  const double theta0 = quantile_of(polar(points, axis_guess, pole_z).theta, 0.002);
   RevolvedRoof roof;
-  // A steep rim (an onion's bulb about its widest ring) shows little plan
-  // to the air: where its lowest step holds too few points, wider steps.
-  std::optional<Bins> b;
-  for (int bins = std::clamp(int(points.size() / 40), 16, 64); !b && bins >= kMinBins; bins /= 2) {
-    roof.axis = best_axis(points, axis_guess, pole_z, theta0, bins);
-    b = bin_medians(polar(points, roof.axis, pole_z), theta0, bins);
-  }
+  const std::optional<Bins> b = axis_and_steps(points, axis_guess, pole_z, roof.axis);
   if (!b) return std::nullopt;
   // (theta, d) at each step, theta its parameter (OCCT 7.6's y-values
   // variant overruns its knot array: valgrind).
