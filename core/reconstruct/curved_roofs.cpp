@@ -389,20 +389,20 @@ constexpr double kPointsPerPole = 16;
 // waves, whose true bend is at most 0.7 /m, fit at up to 1.24 /m.
 constexpr double kMaxBend = 2, kCurvatureStepM = 0.25;
 
-// Whether a free-form surface is b's roof: `why` not ("" when it is). It
-// must bend no tighter than kMaxBend (its largest curvature, `bend`), rest
-// on kPointsPerPole points a pole (as its knots stand 16 points apart: a
-// small roof's few points are no free surface) and, like a curved
-// primitive, hold kWholeRoofShare of the roof points, fit them to the
-// noise, bow away from flat (kMinBowM, and kMinBowOverFit times its fit)
-// and beat the modelled planes by the criterion on its points: its many
-// poles pay log n each.
-std::string judge_free_form(const Building& b, const HeightFieldRoof& hf, const std::vector<Vec3>& own,
+// Whether a free-form surface is the roof whose planes are `roof`: `why` not
+// ("" when it is). It must bend no tighter than kMaxBend (its largest
+// curvature, `bend`), rest on kPointsPerPole points a pole (as its knots
+// stand 16 points apart: a small roof's few points are no free surface) and,
+// like a curved primitive, hold kWholeRoofShare of the roof points, fit them
+// to the noise, bow away from flat (kMinBowM, and kMinBowOverFit times its
+// fit) and beat the planes by the criterion on its points: its many poles
+// pay log n each.
+std::string judge_free_form(const RoofPlanes& roof, const HeightFieldRoof& hf, const std::vector<Vec3>& own,
                             double noise, const std::vector<Primitive>& curved, double bend) {
   std::vector<Vec3> inliers;
   for (int i : hf.inliers) inliers.push_back(own[size_t(i)]);
   const double n = double(inliers.size());
-  const PlanarAccount planes = planar_account(roof_planes(b), inliers);
+  const PlanarAccount planes = planar_account(roof, inliers);
   const double curved_bic = bic(hf.rmse, hf.parameters, n, noise);
   const double flat = bic(planes.rmse, 3 * planes.planes, n, noise);
   std::vector<int> all(inliers.size());
@@ -515,7 +515,8 @@ void edge_sigma(const Polygon2& foot, double noise, double density, FreeFormInpu
 bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const std::vector<Vec3>& nearby,
                        const PrimitiveFit& fit, double spacing, double storey_height) {
   const double noise = fit.noise;
-  const PlanarAccount planes = planar_account(roof_planes(b), own);
+  const RoofPlanes roof = roof_planes(b);
+  const PlanarAccount planes = planar_account(roof, own);
   if (planes.rmse <= kMaxFitOverNoise * noise && planes.planes < kMinFacets) return false;
   FreeFormInput in;
   in.footprint = hall_outline(b);
@@ -526,7 +527,7 @@ bool remodel_free_form(Building& b, const std::vector<Vec3>& own, const std::vec
   Vec2 lo = ring.front(), hi = lo;
   for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
   const double bend = HeightField(hf->surface).max_curvature(lo, hi, kCurvatureStepM);
-  const std::string why = judge_free_form(b, *hf, own, noise, fit.curved, bend);
+  const std::string why = judge_free_form(roof, *hf, own, noise, fit.curved, bend);
   if (!why.empty()) {
     log::debug(b.id + ": not a free-form roof: " + hf->describe() + ": " + why);
     return false;
