@@ -193,7 +193,12 @@ Vec2 HeightField::slope(const Vec2& q) const {
 }
 
 double HeightField::distance(const Vec3& p) const {
-  return (p.z() - z(p.head<2>())) / std::sqrt(1 + slope(p.head<2>()).squaredNorm());
+  const Vec2 uv = surface_->uv(p.head<2>());
+  gp_Pnt on;
+  gp_Vec du, dv;
+  surface_->occ->D1(uv.x(), uv.y(), on, du, dv);  // height and slope in one evaluation
+  const Vec2 slope = du.Z() * surface_->e1 + dv.Z() * surface_->e2;
+  return (p.z() - on.Z()) / std::sqrt(1 + slope.squaredNorm());
 }
 
 double HeightField::max_curvature(const Vec2& lo, const Vec2& hi, double step) const {
