@@ -173,22 +173,23 @@ MultiPolygon2 make_valid(const MultiPolygon2& a) {
 
 bool is_valid(const MultiPolygon2& a) { return to_geos(a)->isValid(); }
 
-MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge) {
+namespace {
+
+std::unique_ptr<geos::geom::MultiPoint> multipoint(const std::vector<Vec2>& points) {
   std::vector<Coordinate> coords;
   coords.reserve(points.size());
   for (const auto& p : points) coords.emplace_back(p.x(), p.y());
-  std::unique_ptr<geos::geom::MultiPoint> mp(factory().createMultiPoint(coords));
-  auto hull = geos::algorithm::hull::ConcaveHull::concaveHullByLength(mp.get(), max_edge);
+  return std::unique_ptr<geos::geom::MultiPoint>(factory().createMultiPoint(coords));
+}
+
+}  // namespace
+
+MultiPolygon2 concave_hull(const std::vector<Vec2>& points, double max_edge) {
+  auto hull = geos::algorithm::hull::ConcaveHull::concaveHullByLength(multipoint(points).get(), max_edge);
   return from_geos(hull.get());
 }
 
-MultiPolygon2 convex_hull(const std::vector<Vec2>& points) {
-  std::vector<Coordinate> coords;
-  coords.reserve(points.size());
-  for (const auto& p : points) coords.emplace_back(p.x(), p.y());
-  std::unique_ptr<geos::geom::MultiPoint> mp(factory().createMultiPoint(coords));
-  return from_geos(mp->convexHull().get());
-}
+MultiPolygon2 convex_hull(const std::vector<Vec2>& points) { return from_geos(multipoint(points)->convexHull().get()); }
 
 Polygon2 largest(const MultiPolygon2& mp) {
   if (mp.empty()) return {};

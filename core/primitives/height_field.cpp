@@ -169,6 +169,15 @@ struct HeightField::Surface {
   Handle(Geom_BSplineSurface) occ;
   Vec2 origin = Vec2::Zero(), e1 = Vec2::UnitX(), e2 = Vec2::UnitY();  // plan point of parameters (0, 0); axes
   Vec2 uv(const Vec2& q) const { return {(q - origin).dot(e1), (q - origin).dot(e2)}; }
+  // The height at plan point q and its slope there (dz/dx, dz/dy), in one evaluation.
+  double height(const Vec2& q, Vec2& slope) const {
+    const Vec2 at = uv(q);
+    gp_Pnt p;
+    gp_Vec du, dv;
+    occ->D1(at.x(), at.y(), p, du, dv);
+    slope = du.Z() * e1 + dv.Z() * e2;
+    return p.Z();
+  }
 };
 
 HeightField::HeightField(const SplineSurface& s) {
@@ -185,20 +194,15 @@ double HeightField::z(const Vec2& q) const {
 }
 
 Vec2 HeightField::slope(const Vec2& q) const {
-  const Vec2 uv = surface_->uv(q);
-  gp_Pnt p;
-  gp_Vec du, dv;
-  surface_->occ->D1(uv.x(), uv.y(), p, du, dv);
-  return du.Z() * surface_->e1 + dv.Z() * surface_->e2;
+  Vec2 slope;
+  surface_->height(q, slope);
+  return slope;
 }
 
 double HeightField::distance(const Vec3& p) const {
-  const Vec2 uv = surface_->uv(p.head<2>());
-  gp_Pnt on;
-  gp_Vec du, dv;
-  surface_->occ->D1(uv.x(), uv.y(), on, du, dv);  // height and slope in one evaluation
-  const Vec2 slope = du.Z() * surface_->e1 + dv.Z() * surface_->e2;
-  return (p.z() - on.Z()) / std::sqrt(1 + slope.squaredNorm());
+  Vec2 slope;
+  const double z = surface_->height(p.head<2>(), slope);
+  return (p.z() - z) / std::sqrt(1 + slope.squaredNorm());
 }
 
 double HeightField::max_curvature(const Vec2& lo, const Vec2& hi, double step) const {
