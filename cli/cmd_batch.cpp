@@ -187,7 +187,7 @@ void register_batch(CLI::App& app, bool parse_only) {
                   "(default OUT/cadastre.gpkg; docs/postgis.md)");
   cmd->add_option("--jobs", opt->settings.jobs, "Parallel parcels (default: all cores; at most 4 per core)")
       ->check(CLI::Range(1, 1 << 20));  // 0 and negatives are errors; many: clamped with a warning
-  cmd->add_option("--formats", opt->formats, "Exports: gml (CityGML 2.0) gml3 (CityGML 3.0) cityjson cityjsonseq ifc obj step")
+  cmd->add_option("--formats", opt->formats, "Exports: gml (CityGML 2.0) gml3 (CityGML 3.0) cityjson cityjsonseq ifc obj step 3dtiles")
       ->delimiter(',')
       ->check(CLI::IsMember(export_format_names()));
   auto* resume = cmd->add_flag("--resume", opt->settings.resume,

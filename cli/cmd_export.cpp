@@ -38,7 +38,7 @@ void register_export(CLI::App& app) {
       ->required()
       ->check(existing_store);
   cmd->add_option("--out", args->out, "Output directory")->required();
-  cmd->add_option("--formats", args->formats, "Comma-separated: gml,gml3,cityjson,cityjsonseq,ifc,obj,step")
+  cmd->add_option("--formats", args->formats, "Comma-separated: gml,gml3,cityjson,cityjsonseq,ifc,obj,step,3dtiles")
       ->check([](const std::string& s) {
         const auto& names = export_format_names();
         for (const auto& f : split(s))

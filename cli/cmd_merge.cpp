@@ -26,7 +26,7 @@ void register_merge(CLI::App& app) {
   cmd->add_option("--store", a->store, "Instead: one store every shard wrote (postgresql://...), nothing to merge")
       ->check(existing_store);
   cmd->add_option("--out", a->out, "Output directory")->required();
-  cmd->add_option("--formats", a->formats, "Exports, a comma list: gml gml3 cityjson cityjsonseq ifc obj step")
+  cmd->add_option("--formats", a->formats, "Exports, a comma list: gml gml3 cityjson cityjsonseq ifc obj step 3dtiles")
       ->delimiter(',')->allow_extra_args(false)->check(CLI::IsMember(export_format_names()));
   cmd->add_flag("--overwrite", a->overwrite, "Replace what an earlier batch or merge wrote into OUT");
   cmd->add_flag("--quiet", a->quiet, "Print nothing but warnings and errors");

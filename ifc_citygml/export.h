@@ -29,6 +29,8 @@
 
 namespace c3d {
 
+struct ParcelValuation;
+
 // A writer fed a page of parcels at a time, so an export of any size needs the
 // memory of one page (docs/exports.md, "Streamed"). Pages come in layer order
 // and share the header's frame and CRS; finish() writes what needs every page
@@ -38,6 +40,9 @@ class ExportWriter {
  public:
   virtual ~ExportWriter() = default;
   virtual void add(const BatchModel& page) = 0;
+  // The next page's valuations, given before add(page) to the writers that
+  // carry values (3D Tiles); the others ignore them.
+  virtual void values(const std::vector<ParcelValuation>&) {}
   virtual std::vector<std::string> finish() = 0;
 };
 // The writer of one format name (see export_formats) into dir; `header` gives
@@ -51,6 +56,9 @@ std::unique_ptr<ExportWriter> citygml_writer(const BatchModel& header, const std
 std::unique_ptr<ExportWriter> cityjson_writer(const BatchModel& header, const std::string& path);
 std::unique_ptr<ExportWriter> cityjson_seq_writer(const BatchModel& header, const std::string& path);
 std::unique_ptr<ExportWriter> ifc_writer(const BatchModel& header, const std::string& path);
+// 3D Tiles 1.1 into the folder dir: tileset.json and tiles/*.glb (tile_content.h).
+// Throws std::runtime_error when the header has no CRS.
+std::unique_ptr<ExportWriter> tileset_writer(const BatchModel& header, const std::string& dir);
 
 // CityGML 2.0 (version 2) or 3.0 (version 3, on GML 3.2): the same content.
 void write_citygml(const BatchModel& model, const std::string& path, int version = 2);
@@ -71,10 +79,10 @@ std::vector<std::string> write_step_per_building(const BatchModel& model, const 
                                                  std::vector<std::string>* skipped = nullptr);
 
 // The format names export_formats() accepts: gml (CityGML 2.0), gml3 (CityGML
-// 3.0), cityjson, cityjsonseq, ifc, obj, step.
+// 3.0), cityjson, cityjsonseq, ifc, obj, step, 3dtiles.
 const std::vector<std::string>& export_format_names();
 // Writes the named formats into dir as buildings.gml, buildings.citygml3.gml,
-// buildings.city.json, buildings.city.jsonl, buildings.ifc, obj/, step/; returns
+// buildings.city.json, buildings.city.jsonl, buildings.ifc, obj/, step/, 3dtiles/; returns
 // the paths.
 // Buildings whose STEP solid fails are listed in `skipped` when given (else it throws).
 // Throws std::invalid_argument on an unknown format name.

@@ -39,14 +39,14 @@ void check_format_name(const std::string& f) {
   const auto& names = export_format_names();
   if (std::find(names.begin(), names.end(), f) == names.end())
     throw std::invalid_argument("unknown export format '" + f +
-                                "' (use gml, gml3, cityjson, cityjsonseq, ifc, obj, step)");
+                                "' (use gml, gml3, cityjson, cityjsonseq, ifc, obj, step, 3dtiles)");
 }
 
 }  // namespace
 
 const std::vector<std::string>& export_format_names() {
   static const std::vector<std::string> names{"gml", "gml3", "cityjson", "cityjsonseq",
-                                                "ifc", "obj", "step"};
+                                                "ifc", "obj", "step", "3dtiles"};
   return names;
 }
 
@@ -61,6 +61,7 @@ std::unique_ptr<ExportWriter> export_writer(const std::string& f, const BatchMod
   if (f == "cityjsonseq") return cityjson_seq_writer(header, path("buildings.city.jsonl"));
   if (f == "ifc") return ifc_writer(header, path("buildings.ifc"));
   if (f == "obj") return std::make_unique<PerFileWriter>(path("obj"), obj_files, nullptr);
+  if (f == "3dtiles") return tileset_writer(header, path("3dtiles"));
   return std::make_unique<PerFileWriter>(path("step"), step_files, skipped);
 }
 

@@ -37,20 +37,20 @@ else
   echo "setup: all Debian packages present"
 fi
 
-# npm tools for independent validation of exports (CityJSON schema, IFC reader, glTF),
+# npm tools for independent validation of exports (CityJSON schema, IFC reader, glTF, 3D Tiles),
 # installed into tests/js/node_modules (the path the tests look in) from the
 # lock file. Without them (no network to the npm registry) those checks skip.
 js_ok() {
   [ -e tests/js/node_modules/.bin/ajv ] && [ -f tests/js/node_modules/ajv-formats/package.json ] &&
     [ -f tests/js/node_modules/web-ifc/package.json ] && [ -f tests/js/node_modules/laz-perf/package.json ] &&
-    [ -f tests/js/node_modules/gltf-validator/package.json ]
+    [ -f tests/js/node_modules/gltf-validator/package.json ] && [ -f tests/js/node_modules/3d-tiles-tools/package.json ]
 }
 if [ -f tests/js/package.json ] && ! js_ok; then
   echo "setup: installing npm packages for the export checks into tests/js/node_modules"
   npm_cmd=install
   [ -f tests/js/package-lock.json ] && npm_cmd=ci
   if ! (cd tests/js && npm "$npm_cmd" --no-audit --no-fund --loglevel=error) || ! js_ok; then
-    echo "setup: warning: npm packages not installed; the CityJSON schema and web-ifc checks will skip" >&2
+    echo "setup: warning: npm packages not installed; the CityJSON schema, web-ifc, glTF and 3D Tiles checks will skip" >&2
   fi
 fi
 echo "setup: done"

@@ -252,8 +252,9 @@ std::vector<std::string> write_staged(const BatchReport& report, const StorePage
     BatchModel page = pages.page(k);
     summary.add(page);
     write_previews(page, previews);
-    for (auto& w : exports) w->add(page);
-    report_pages.add(std::move(page), pages.valuations(k));
+    std::vector<ParcelValuation> values = pages.valuations(k);
+    for (auto& w : exports) w->values(values), w->add(page);
+    report_pages.add(std::move(page), std::move(values));
     if (progress) progress(k + 1, pages.page_count() + 1);
   }
   summary.finish();

@@ -63,10 +63,7 @@ nlohmann::json gltf_json(const TriMesh& mesh, const Vec3& offset, const std::str
 
 }  // namespace
 
-std::vector<unsigned char> glb_bytes(const TriMesh& mesh, const Vec3& offset, const std::string& name) {
-  std::vector<float> lo, hi;
-  std::vector<unsigned char> bin = binary_chunk(mesh, lo, hi);
-  const std::string text = gltf_json(mesh, offset, name, bin.size(), lo, hi).dump();
+std::vector<unsigned char> glb_container(const std::string& text, std::vector<unsigned char> bin) {
   std::vector<unsigned char> json(text.begin(), text.end());
   pad(json, ' ');
   pad(bin, 0);
@@ -77,6 +74,13 @@ std::vector<unsigned char> glb_bytes(const TriMesh& mesh, const Vec3& offset, co
   append(out, uint32_t(bin.size())), append(out, kBinChunk);
   out.insert(out.end(), bin.begin(), bin.end());
   return out;
+}
+
+std::vector<unsigned char> glb_bytes(const TriMesh& mesh, const Vec3& offset, const std::string& name) {
+  std::vector<float> lo, hi;
+  std::vector<unsigned char> bin = binary_chunk(mesh, lo, hi);
+  const std::string text = gltf_json(mesh, offset, name, bin.size(), lo, hi).dump();  // before bin moves
+  return glb_container(text, std::move(bin));
 }
 
 void write_glb(const std::string& path, const TriMesh& mesh, const Vec3& offset, const std::string& name) {

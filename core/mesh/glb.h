@@ -13,6 +13,8 @@
 
 namespace c3d {
 
+// A GLB file of a glTF JSON text and its binary chunk, each padded to 4 bytes.
+std::vector<unsigned char> glb_container(const std::string& json, std::vector<unsigned char> bin);
 // The file's bytes; `name` names the node and the mesh.
 std::vector<unsigned char> glb_bytes(const TriMesh& mesh, const Vec3& offset, const std::string& name);
 // Throws InputError naming the path when it cannot be written.
