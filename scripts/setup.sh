@@ -43,7 +43,8 @@ fi
 js_ok() {
   [ -e tests/js/node_modules/.bin/ajv ] && [ -f tests/js/node_modules/ajv-formats/package.json ] &&
     [ -f tests/js/node_modules/web-ifc/package.json ] && [ -f tests/js/node_modules/laz-perf/package.json ] &&
-    [ -f tests/js/node_modules/gltf-validator/package.json ] && [ -f tests/js/node_modules/3d-tiles-tools/package.json ]
+    [ -f tests/js/node_modules/gltf-validator/package.json ] && [ -f tests/js/node_modules/3d-tiles-tools/package.json ] &&
+    [ -f tests/js/node_modules/cesium/package.json ] && [ -f tests/js/node_modules/puppeteer-core/package.json ]
 }
 if [ -f tests/js/package.json ] && ! js_ok; then
   echo "setup: installing npm packages for the export checks into tests/js/node_modules"

@@ -153,6 +153,28 @@ TEST(Tileset, ContentsStandWhereGdalPutsThem) {
   EXPECT_EQ(seen, m.results.size());
 }
 
+// CesiumJS in headless Chromium draws the tileset: roofs and walls in their
+// colours (the attached houses' party wall stands between them, unseen), no
+// console error.
+TEST(Tileset, CesiumDrawsTheElementsInTheirColours) {
+  C3D_NEED(tools_present() && std::filesystem::exists(kJs + "/node_modules/cesium/package.json") &&
+               std::filesystem::exists(kJs + "/node_modules/puppeteer-core/package.json") &&
+               !test::shell("command -v chromium").empty(),
+           "tests/js/node_modules (cesium, puppeteer-core; scripts/setup.sh) or chromium missing");
+  const std::string dir = test::temp_dir("tileset_view");
+  auto w = tileset_writer(fixture::sample_batch(), dir);
+  w->add(fixture::sample_batch());
+  w->finish();
+  int rc = -1;
+  const std::string out = test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/view.png 2>&1", &rc);
+  ASSERT_EQ(rc, 0) << out;
+  const json v = json::parse(out);
+  EXPECT_EQ(v["title"], "ready");
+  EXPECT_TRUE(v["errors"].empty()) << v["errors"];
+  EXPECT_GT(v["pixels"]["roof"].get<int>(), 1000) << out;
+  EXPECT_GT(v["pixels"]["wall"].get<int>(), 200) << out;
+}
+
 TEST(Tileset, ABatchWithoutACrsSaysSo) {
   BatchModel m = fixture::sample_batch();
   m.crs_wkt.clear();
