@@ -32,6 +32,7 @@ struct TileBuilding {
   std::string building_id, parcel_id, status, lod, currency;
   std::array<double, 6> areas{};  // roof, wall, party wall, ground, outer ceiling (m2), volume (m3)
   double building_value = -1, njop = -1, njop_per_m2 = -1, tax = -1;
+  double height = 0, relief = 0;  // ridge above terrain; ridge above eaves (m)
   std::vector<TileElement> elements;
 };
 

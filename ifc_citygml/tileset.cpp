@@ -1,7 +1,8 @@
 // 3D Tiles 1.1 of a batch (`--formats 3dtiles`, docs/exports.md "3D Tiles"):
 // OUT/3dtiles/tileset.json and one glTF content tile per cell of kCellM
-// metres, under a quadtree of the cells. Pages are spooled per cell as they
-// come, so the writer holds one cell at a time and the cells' bounds.
+// metres, under a quadtree of the cells whose parents hold the largest
+// buildings' LoD 1.2 prisms. Pages are spooled per cell as they come, so the
+// writer holds one tile's buildings at a time and the cells' bounds.
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -10,12 +11,12 @@
 #include <map>
 #include <stdexcept>
 
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
-#include "core/geometry/geometry.h"
 #include "core/io/crs.h"
-#include "ifc_citygml/detail.h"
 #include "ifc_citygml/export.h"
+#include "ifc_citygml/tile_building.h"
 #include "ifc_citygml/tile_content.h"
 #include "valuation/valuation_types.h"
 
@@ -25,7 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using tiles::TileBuilding;
-using tiles::TileElement;
 
 constexpr double kCellM = 250;  // a content tile's side: a few hundred buildings in a town
 
@@ -72,85 +72,37 @@ Georef georef(const std::string& crs, const Vec3& centre, const Bounds& b) {
   return g;
 }
 
-json region_union(const json& a, const json& b) {
-  return json::array({std::min(a[0].get<double>(), b[0].get<double>()), std::min(a[1].get<double>(), b[1].get<double>()),
-                      std::max(a[2].get<double>(), b[2].get<double>()), std::max(a[3].get<double>(), b[3].get<double>()),
-                      std::min(a[4].get<double>(), b[4].get<double>()), std::max(a[5].get<double>(), b[5].get<double>())});
+// The bytes of a spool file, record by record.
+template <typename F>
+void read_spool(const std::string& path, F&& each) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t n = 0;
+  while (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
+    std::vector<std::uint8_t> bytes(n);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(n));
+    each(bytes);
+  }
 }
 
-// A building's record in a cell's spool, and back.
-json record(const TileBuilding& b) {
-  json es = json::array();
-  for (const TileElement& e : b.elements) {
-    json faces = json::array();
-    for (const auto& f : e.faces) {
-      std::vector<double> flat;
-      for (const Vec3& v : f) flat.insert(flat.end(), {v.x(), v.y(), v.z()});
-      faces.push_back(flat);
-    }
-    es.push_back({{"t", int(e.type)}, {"a", e.area}, {"sa", e.sigma_area}, {"pa", e.plan_area}, {"sl", e.slope_deg},
-                  {"r", e.rmse}, {"n", e.support_points}, {"m", e.amount}, {"f", faces}});
-  }
-  return {{"b", b.building_id}, {"p", b.parcel_id}, {"s", b.status}, {"l", b.lod}, {"c", b.currency},
-          {"a", b.areas}, {"v", {b.building_value, b.njop, b.njop_per_m2, b.tax}}, {"e", es}};
+void append_spool(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  const std::uint64_t n = bytes.size();
+  std::ofstream out(path, std::ios::binary | std::ios::app);
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(n));
+  if (!out) throw std::runtime_error(path + ": cannot be written");
 }
 
-TileBuilding from_record(const json& j) {
-  TileBuilding b;
-  b.building_id = j["b"], b.parcel_id = j["p"], b.status = j["s"], b.lod = j["l"], b.currency = j["c"];
-  b.areas = j["a"].get<std::array<double, 6>>();
-  const auto v = j["v"].get<std::array<double, 4>>();
-  b.building_value = v[0], b.njop = v[1], b.njop_per_m2 = v[2], b.tax = v[3];
-  for (const json& je : j["e"]) {
-    TileElement e;
-    e.type = ElementType(je["t"].get<int>());
-    e.area = je["a"], e.sigma_area = je["sa"], e.plan_area = je["pa"], e.slope_deg = je["sl"];
-    e.rmse = je["r"], e.support_points = je["n"], e.amount = je["m"];
-    for (const json& jf : je["f"]) {
-      const auto flat = jf.get<std::vector<double>>();
-      std::vector<Vec3> face;
-      for (size_t i = 0; i + 2 < flat.size(); i += 3) face.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
-      e.faces.push_back(std::move(face));
-    }
-    b.elements.push_back(std::move(e));
-  }
-  return b;
-}
+// A tile of the quadtree being built: its JSON, the world box of its
+// buildings, and the cells under it.
+struct Node {
+  json tile;
+  Bounds bounds;
+  std::vector<CellKey> cells;
+};
 
-// Element i's cost amount in the parcel's valuation (-1 where it has none).
-double element_amount(const ParcelValuation* v, const std::string& building, int i) {
-  if (!v) return -1;
-  for (const CostItem& c : v->items)
-    if (c.building_id == building && c.element_index == i) return c.amount;
-  return -1;
-}
-
-TileBuilding tile_building(const Building& b, const ParcelResult& r, const ParcelValuation* v, const LocalFrame& f) {
-  TileBuilding t;
-  t.building_id = b.id, t.parcel_id = r.parcel_id, t.status = to_string(r.status), t.lod = to_string(b.lod);
-  const BuildingTotals s = totals(b);
-  t.areas = {s.roof, s.wall, s.party_wall, s.ground, s.outer_ceiling, b.volume};
-  if (v) {
-    t.currency = v->currency, t.building_value = v->building_value, t.njop = v->njop, t.tax = v->tax;
-    if (v->land_area > 0) t.njop_per_m2 = v->njop / v->land_area;
-  }
-  for (size_t i = 0; i < b.elements.size(); ++i) {
-    const Element& el = b.elements[i];
-    TileElement e;
-    e.type = el.type, e.area = el.area, e.sigma_area = el.sigma_area, e.plan_area = el.plan_area;
-    e.slope_deg = el.slope_deg, e.rmse = el.rmse, e.support_points = el.support_points;
-    e.amount = element_amount(v, b.id, int(i));
-    for (const Face& face : el.faces) {
-      const exp::Triangles tri = exp::triangulate(face);
-      std::vector<Vec3> soup;
-      for (const auto& k : tri.tris)
-        for (int j : k) soup.push_back(f.to_world(tri.points[size_t(j)]));
-      e.faces.push_back(std::move(soup));
-    }
-    t.elements.push_back(std::move(e));
-  }
-  return t;
-}
+// A parent tile holds the LoD 1.2 prisms of at most this many buildings of
+// its cells, the largest by ground area: a far view draws the big ones.
+constexpr size_t kCoarseBuildings = 2000;
 
 class TilesetWriter : public ExportWriter {
  public:
@@ -166,7 +118,10 @@ class TilesetWriter : public ExportWriter {
       const ParcelValuation* v = nullptr;
       for (const auto& x : values_)
         if (x.parcel_id == r.parcel_id) v = &x;
-      for (const Building& b : r.buildings) spool(tile_building(b, r, v, page.frame));
+      for (const Building& b : r.buildings) {
+        const TileBuilding full = tiles::tile_building(b, r, v, page.frame);
+        spool(full, tiles::coarse_building(b, full, page.frame));
+      }
     }
     values_.clear();
   }
@@ -179,78 +134,111 @@ class TilesetWriter : public ExportWriter {
 
   std::string spool_dir() const { return (fs::path(dir_) / ".spool").string(); }
   static std::string name(const CellKey& k) { return std::to_string(k.first) + "_" + std::to_string(k.second); }
-  std::string spool_of(const CellKey& k) const { return (fs::path(spool_dir()) / (name(k) + ".msgpack")).string(); }
+  std::string spool_of(const CellKey& k, const char* kind) const {
+    return (fs::path(spool_dir()) / (name(k) + kind + ".msgpack")).string();
+  }
 
-  void spool(const TileBuilding& b) {
+  void spool(const TileBuilding& full, const TileBuilding& coarse) {
     Bounds box;
-    for (const auto& e : b.elements)
+    for (const auto& e : full.elements)
       for (const auto& f : e.faces)
         for (const Vec3& p : f) box.add(p);
     if (!(box.lo.x() <= box.hi.x())) return;  // no faces
     const Vec3 mid = (box.lo + box.hi) / 2;
     const CellKey k{long(std::floor(mid.x() / kCellM)), long(std::floor(mid.y() / kCellM))};
     cells_[k].add(box);
-    const std::vector<std::uint8_t> bytes = json::to_msgpack(record(b));
-    const std::uint64_t n = bytes.size();
-    std::ofstream out(spool_of(k), std::ios::binary | std::ios::app);
-    out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(n));
-    if (!out) throw std::runtime_error(spool_of(k) + ": cannot be written");
+    append_spool(spool_of(k, ""), tiles::to_bytes(full));
+    append_spool(spool_of(k, ".coarse"), tiles::to_bytes(coarse));
   }
+  json content(const std::vector<TileBuilding>& buildings, const Bounds& b, const std::string& uri);
   json leaf(const CellKey& k, const Bounds& b);
+  void coarse(Node& parent, const std::string& uri);
 };
 
-json TilesetWriter::leaf(const CellKey& k, const Bounds& b) {
-  std::vector<TileBuilding> buildings;
-  std::ifstream in(spool_of(k), std::ios::binary);
-  std::uint64_t n = 0;
-  while (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
-    std::vector<std::uint8_t> bytes(n);
-    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(n));
-    buildings.push_back(from_record(json::from_msgpack(bytes)));
-  }
+// The tile of `buildings` written as `uri`: its content, transform and region.
+json TilesetWriter::content(const std::vector<TileBuilding>& buildings, const Bounds& b, const std::string& uri) {
   const Vec3 centre((b.lo.x() + b.hi.x()) / 2, (b.lo.y() + b.hi.y()) / 2, b.lo.z());
   const std::vector<unsigned char> glb = tiles::tile_glb(buildings, centre);
-  const std::string uri = "tiles/" + name(k) + ".glb";
   std::ofstream out(fs::path(dir_) / uri, std::ios::binary);
   out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
   if (!out) throw std::runtime_error((fs::path(dir_) / uri).string() + ": cannot be written");
   const Georef g = georef(crs_, centre, b);
-  return {{"boundingVolume", {{"region", g.region}}},
-          {"geometricError", 0},
-          {"transform", g.transform},
-          {"content", {{"uri", uri}}}};
+  return {{"boundingVolume", {{"region", g.region}}}, {"transform", g.transform}, {"content", {{"uri", uri}}}};
+}
+
+json TilesetWriter::leaf(const CellKey& k, const Bounds& b) {
+  std::vector<TileBuilding> buildings;
+  read_spool(spool_of(k, ""), [&](const std::vector<std::uint8_t>& r) { buildings.push_back(tiles::from_bytes(r)); });
+  json tile = content(buildings, b, "tiles/" + name(k) + ".glb");
+  tile["geometricError"] = 0;
+  return tile;
+}
+
+// The parent's own content: the largest buildings' prisms. Its geometric
+// error is what drawing them instead of the children misses: the highest
+// roof relief a prism flattens, or the tallest building left out.
+void TilesetWriter::coarse(Node& parent, const std::string& uri) {
+  std::vector<std::pair<double, std::vector<std::uint8_t>>> kept;  // ground area, record: a heap, smallest on top
+  const auto smaller = [](const auto& a, const auto& b) { return a.first > b.first; };
+  double error = 1, left_out = 0;
+  for (const CellKey& k : parent.cells)
+    read_spool(spool_of(k, ".coarse"), [&](const std::vector<std::uint8_t>& r) {
+      const TileBuilding b = tiles::from_bytes(r);
+      error = std::max(error, b.relief);
+      kept.emplace_back(b.areas[3], r);
+      std::push_heap(kept.begin(), kept.end(), smaller);
+      if (kept.size() <= kCoarseBuildings) return;
+      std::pop_heap(kept.begin(), kept.end(), smaller);
+      left_out = std::max(left_out, tiles::from_bytes(kept.back().second).height);
+      kept.pop_back();
+    });
+  std::vector<TileBuilding> buildings;
+  for (const auto& [area, r] : kept) buildings.push_back(tiles::from_bytes(r));
+  const json children = parent.tile["children"];
+  double below = 0;
+  for (const json& c : children) below = std::max(below, c["geometricError"].get<double>());
+  parent.tile = content(buildings, parent.bounds, uri);
+  parent.tile["children"] = children;
+  parent.tile["geometricError"] = std::max({error, left_out, 2 * below});
+  parent.tile["refine"] = "REPLACE";
+}
+
+// A tile's transform applies to its children too: each tile was given its
+// content's frame on the Earth, which becomes relative to its parent's.
+void nest_transforms(json& tile, const Eigen::Matrix4d& parent) {
+  const std::vector<double> t = tile["transform"].get<std::vector<double>>();
+  const Eigen::Matrix4d own = Eigen::Map<const Eigen::Matrix4d>(t.data());  // column-major, as 3D Tiles
+  const Eigen::Matrix4d relative = parent.inverse() * own;
+  tile["transform"] = std::vector<double>(relative.data(), relative.data() + 16);
+  if (tile.contains("children"))
+    for (json& c : tile["children"]) nest_transforms(c, own);
 }
 
 std::vector<std::string> TilesetWriter::finish() {
   // The tiles of one level of the quadtree, by cell counted from the lowest,
   // so that neighbours meet within as few levels as the extent needs.
-  std::map<CellKey, json> level;
+  std::map<CellKey, Node> level;
   CellKey first{LONG_MAX, LONG_MAX};
   for (const auto& [k, b] : cells_) first = {std::min(first.first, k.first), std::min(first.second, k.second)};
-  for (const auto& [k, b] : cells_) level[{k.first - first.first, k.second - first.second}] = leaf(k, b);
-  fs::remove_all(spool_dir());
-  // Each level up joins 2 x 2 cells; a tile's error is its cell's side,
-  // what is lost when its children are not drawn.
-  double side = kCellM;
-  while (level.size() > 1 || (!level.empty() && level.begin()->second.contains("content"))) {
-    std::map<CellKey, json> up;
-    for (auto& [k, tile] : level) {
-      json& parent = up[{k.first >> 1, k.second >> 1}];
-      const json region = tile["boundingVolume"]["region"];
-      parent["boundingVolume"]["region"] =
-          parent.contains("boundingVolume") ? region_union(parent["boundingVolume"]["region"], region) : region;
-      parent["geometricError"] = 2 * side;
-      parent["refine"] = "ADD";
-      parent["children"].push_back(std::move(tile));
+  for (const auto& [k, b] : cells_) level[{k.first - first.first, k.second - first.second}] = {leaf(k, b), b, {k}};
+  // Each level up joins 2 x 2 cells, up to one root over them all.
+  for (int depth = 1; level.size() > 1 || (depth == 1 && !level.empty()); ++depth) {
+    std::map<CellKey, Node> up;
+    for (auto& [k, node] : level) {
+      Node& parent = up[{k.first >> 1, k.second >> 1}];
+      parent.bounds.add(node.bounds);
+      parent.cells.insert(parent.cells.end(), node.cells.begin(), node.cells.end());
+      parent.tile["children"].push_back(std::move(node.tile));
     }
+    for (auto& [k, node] : up) coarse(node, "tiles/p" + std::to_string(depth) + "_" + name(k) + ".glb");
     level = std::move(up);
-    side *= 2;
   }
+  fs::remove_all(spool_dir());
+  if (!level.empty()) nest_transforms(level.begin()->second.tile, Eigen::Matrix4d::Identity());
   json root = level.empty() ? json{{"boundingVolume", {{"region", {0, 0, 0, 0, 0, 0}}}}, {"geometricError", 0}}
-                            : level.begin()->second;
+                            : level.begin()->second.tile;
   const json tileset{{"asset", {{"version", "1.1"}, {"generator", "cadastre3d"}}},
-                     {"geometricError", root["geometricError"]},
+                     {"geometricError", 2 * root["geometricError"].get<double>()},
                      {"root", root}};
   const std::string path = (fs::path(dir_) / "tileset.json").string();
   std::ofstream out(path);

@@ -3,8 +3,9 @@
 // gltf-validator, and its EXT_structural_metadata property tables are read
 // back with 3d-tiles-tools' own binary metadata reader. Prints one JSON
 // object: tiles, contents, glTF errors and warnings, every child region
-// inside its parent's, and per content its feature counts and property
-// tables' rows (objects of property -> value).
+// inside its parent's, and per content whether it is a leaf, its transform
+// composed from the root, its feature counts, its positions' least corner and
+// its property tables' rows (objects of property -> value).
 // Usage: node tiles_check.js TILESET_DIR
 const fs = require('fs');
 const path = require('path');
@@ -44,6 +45,16 @@ function propertyTables(json, bin) {
   });
 }
 
+// Column-major 4 x 4 product a * b (3D Tiles' transforms).
+function times(a, b) {
+  const m = new Array(16).fill(0);
+  for (let c = 0; c < 4; c++)
+    for (let r = 0; r < 4; r++)
+      for (let k = 0; k < 4; k++) m[c * 4 + r] += a[k * 4 + r] * b[c * 4 + k];
+  return m;
+}
+const identity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
+
 function inside(child, parent) {
   const eps = 1e-9;
   return child[0] >= parent[0] - eps && child[1] >= parent[1] - eps && child[2] <= parent[2] + eps &&
@@ -55,13 +66,14 @@ async function main() {
   const tileset = JSON.parse(fs.readFileSync(path.join(dir, 'tileset.json'), 'utf8'));
   const resolver = tools.ResourceResolvers.createFileResourceResolver(dir);
   const out = { version: tileset.asset.version, tiles: 0, contents: [], glTFErrors: 0, glTFWarnings: 0, regionsNested: true };
-  const parents = new Map();
+  const parents = new Map(), world = new Map();  // a tile's parent; its transform composed down from the root
   const traverser = new tools.TilesetTraverser(dir, resolver, { depthFirst: true, traverseExternalTilesets: true });
   await traverser.traverse(tileset, async (traversed) => {
     out.tiles++;
     const tile = traversed.asRawTile();
     for (const child of tile.children || []) parents.set(child, tile);
     const parent = parents.get(tile);
+    world.set(tile, times(parent ? world.get(parent) : identity, tile.transform || identity));
     if (parent && !inside(tile.boundingVolume.region, parent.boundingVolume.region)) out.regionsNested = false;
     for (const content of traversed.getFinalContents()) {
       const bytes = Buffer.from(await resolver.resolveData(content.uri));
@@ -71,7 +83,8 @@ async function main() {
       const { json, bin } = glbChunks(bytes);
       const prim = json.meshes[0].primitives[0];
       const ids = prim.extensions.EXT_mesh_features.featureIds.map((f) => f.featureCount);
-      out.contents.push({ uri: content.uri, transform: tile.transform || null, featureCounts: ids,
+      out.contents.push({ uri: content.uri, leaf: !(tile.children && tile.children.length),
+                          transform: world.get(tile), featureCounts: ids,
                           positionMin: json.accessors[prim.attributes.POSITION].min,
                           vertices: report.info.totalVertexCount, tables: propertyTables(json, bin) });
     }
