@@ -100,8 +100,8 @@ struct Node {
   std::vector<CellKey> cells;
 };
 
-// A parent tile holds the LoD 1.2 prisms of at most this many buildings of
-// its cells, the largest by ground area: a far view draws the big ones.
+// A parent tile holds the LoD 1.2 prisms of at most about this many
+// buildings of its cells, the largest by ground area.
 constexpr size_t kCoarseBuildings = 2000;
 
 class TilesetWriter : public ExportWriter {
@@ -174,26 +174,29 @@ json TilesetWriter::leaf(const CellKey& k, const Bounds& b) {
   return tile;
 }
 
-// The parent's own content: the largest buildings' prisms. Its geometric
-// error is what drawing them instead of the children misses: the highest
-// roof relief a prism flattens, or the tallest building left out.
+// The parent's own content: the prisms of each cell's largest buildings, the
+// same number from every cell, so a far view covers the whole extent. Its
+// geometric error is what drawing them instead of the children misses: the
+// highest roof relief a prism flattens, or the tallest building left out.
 void TilesetWriter::coarse(Node& parent, const std::string& uri) {
-  std::vector<std::pair<double, std::vector<std::uint8_t>>> kept;  // ground area, record: a heap, smallest on top
-  const auto smaller = [](const auto& a, const auto& b) { return a.first > b.first; };
+  const size_t quota = std::max<size_t>(1, kCoarseBuildings / parent.cells.size());
+  const auto larger = [](const auto& a, const auto& b) { return a.first > b.first; };  // heap: smallest on top
+  std::vector<TileBuilding> buildings;
   double error = 1, left_out = 0;
-  for (const CellKey& k : parent.cells)
+  for (const CellKey& k : parent.cells) {
+    std::vector<std::pair<double, std::vector<std::uint8_t>>> kept;  // ground area, record
     read_spool(spool_of(k, ".coarse"), [&](const std::vector<std::uint8_t>& r) {
       const TileBuilding b = tiles::from_bytes(r);
       error = std::max(error, b.relief);
       kept.emplace_back(b.areas[3], r);
-      std::push_heap(kept.begin(), kept.end(), smaller);
-      if (kept.size() <= kCoarseBuildings) return;
-      std::pop_heap(kept.begin(), kept.end(), smaller);
+      std::push_heap(kept.begin(), kept.end(), larger);
+      if (kept.size() <= quota) return;
+      std::pop_heap(kept.begin(), kept.end(), larger);
       left_out = std::max(left_out, tiles::from_bytes(kept.back().second).height);
       kept.pop_back();
     });
-  std::vector<TileBuilding> buildings;
-  for (const auto& [area, r] : kept) buildings.push_back(tiles::from_bytes(r));
+    for (const auto& [area, r] : kept) buildings.push_back(tiles::from_bytes(r));
+  }
   const json children = parent.tile["children"];
   double below = 0;
   for (const json& c : children) below = std::max(below, c["geometricError"].get<double>());
