@@ -40,8 +40,9 @@ class ExportWriter {
  public:
   virtual ~ExportWriter() = default;
   virtual void add(const BatchModel& page) = 0;
-  // The next page's valuations, given before add(page) to the writers that
-  // carry values (3D Tiles); the others ignore them.
+  // Whether the writer carries the parcels' values (3D Tiles); those are given
+  // the next page's valuations before add(page).
+  virtual bool carries_values() const { return false; }
   virtual void values(const std::vector<ParcelValuation>&) {}
   virtual std::vector<std::string> finish() = 0;
 };

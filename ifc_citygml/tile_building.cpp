@@ -1,6 +1,7 @@
 #include "ifc_citygml/tile_building.h"
 
 #include <map>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -97,7 +98,6 @@ TileBuilding tile_building(const Building& b, const ParcelResult& r, const Parce
   return t;
 }
 
-
 TileBuilding coarse_building(const Building& b, const TileBuilding& full, const LocalFrame& f) {
   const LodShell* prism = nullptr;
   for (const LodShell& s : b.lower_lods)
@@ -105,19 +105,24 @@ TileBuilding coarse_building(const Building& b, const TileBuilding& full, const 
   if (!prism) return full;
   TileBuilding t = full;
   t.elements.clear();
+  const BuildingTotals s = totals(b);
+  const std::map<ElementType, std::pair<double, double>> total{  // area, sigma
+      {ElementType::Roof, {s.roof, s.sigma_roof}},
+      {ElementType::Wall, {s.wall, s.sigma_wall}},
+      {ElementType::PartyWall, {s.party_wall, s.sigma_party_wall}},
+      {ElementType::Ground, {s.ground, s.sigma_ground}},
+      {ElementType::OuterCeiling, {s.outer_ceiling, s.sigma_outer_ceiling}}};
   std::map<ElementType, TileElement> by_type;
   for (const TileElement& e : full.elements) {
     TileElement& sum = by_type[e.type];
     sum.type = e.type;
-    sum.area += e.area, sum.plan_area += e.plan_area, sum.support_points += e.support_points;
+    sum.plan_area += e.plan_area, sum.support_points += e.support_points;
     sum.amount = e.amount < 0 ? sum.amount : std::max(0.0, sum.amount) + e.amount;
   }
-  const BuildingTotals s = totals(b);
-  const std::map<ElementType, double> sigma{{ElementType::Roof, s.sigma_roof}, {ElementType::Wall, s.sigma_wall},
-                                            {ElementType::PartyWall, s.sigma_party_wall},
-                                            {ElementType::Ground, s.sigma_ground},
-                                            {ElementType::OuterCeiling, s.sigma_outer_ceiling}};
-  for (auto& [type, e] : by_type) e.sigma_area = sigma.at(type), e.slope_deg = -1, e.rmse = -1;
+  for (auto& [type, e] : by_type) {
+    std::tie(e.area, e.sigma_area) = total.at(type);
+    e.slope_deg = -1, e.rmse = -1;
+  }
   for (size_t i = 0; i < prism->faces.size(); ++i) {
     TileElement& e = by_type[prism->face_types[i]];
     e.type = prism->face_types[i];

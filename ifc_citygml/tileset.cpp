@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <stdexcept>
 
@@ -31,11 +32,7 @@ constexpr double kCellM = 250;  // a content tile's side: a few hundred building
 
 using CellKey = std::pair<long, long>;
 
-struct Bounds {
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-  void add(const Vec3& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); }
-  void add(const Bounds& b) { add(b.lo), add(b.hi); }
-};
+using Bounds = Eigen::AlignedBox3d;  // world coordinates; empty until extended
 
 // A tile's place on the Earth: the transform of its content (metres of the
 // CRS east, north and up from `centre`) to Earth-centred, Earth-fixed
@@ -60,15 +57,16 @@ Georef georef(const std::string& crs, const Vec3& centre, const Bounds& b) {
   constexpr int kSteps = 8;
   for (int k = 0; k <= kSteps; ++k) {
     const double t = double(k) / kSteps;
-    const double x = b.lo.x() + t * (b.hi.x() - b.lo.x()), y = b.lo.y() + t * (b.hi.y() - b.lo.y());
-    rim.insert(rim.end(), {Vec3(x, b.lo.y(), 0), Vec3(x, b.hi.y(), 0), Vec3(b.lo.x(), y, 0), Vec3(b.hi.x(), y, 0)});
+    const Vec3 at = b.min() + t * (b.max() - b.min());
+    rim.insert(rim.end(), {Vec3(at.x(), b.min().y(), 0), Vec3(at.x(), b.max().y(), 0), Vec3(b.min().x(), at.y(), 0),
+                           Vec3(b.max().x(), at.y(), 0)});
   }
   reproject_points(rim, crs, wkt_from_epsg(4979), "3dtiles");
   Bounds ll;
-  for (const Vec3& p : rim) ll.add(p * (M_PI / 180));
+  for (const Vec3& p : rim) ll.extend(p * (M_PI / 180));
   constexpr double kMarginRad = 1e-8;  // 6 cm: the samples between the corners
-  g.region = {ll.lo.x() - kMarginRad, ll.lo.y() - kMarginRad, ll.hi.x() + kMarginRad, ll.hi.y() + kMarginRad,
-              b.lo.z(), b.hi.z()};
+  g.region = {ll.min().x() - kMarginRad, ll.min().y() - kMarginRad, ll.max().x() + kMarginRad,
+              ll.max().y() + kMarginRad, b.min().z(), b.max().z()};
   return g;
 }
 
@@ -112,12 +110,14 @@ class TilesetWriter : public ExportWriter {
     fs::create_directories(fs::path(dir) / "tiles");
     fs::create_directories(spool_dir());
   }
+  bool carries_values() const override { return true; }
   void values(const std::vector<ParcelValuation>& v) override { values_ = v; }
   void add(const BatchModel& page) override {
+    std::map<std::string, const ParcelValuation*> by_parcel;
+    for (const auto& x : values_) by_parcel[x.parcel_id] = &x;
     for (const ParcelResult& r : page.results) {
-      const ParcelValuation* v = nullptr;
-      for (const auto& x : values_)
-        if (x.parcel_id == r.parcel_id) v = &x;
+      const auto it = by_parcel.find(r.parcel_id);
+      const ParcelValuation* v = it == by_parcel.end() ? nullptr : it->second;
       for (const Building& b : r.buildings) {
         const TileBuilding full = tiles::tile_building(b, r, v, page.frame);
         spool(full, tiles::coarse_building(b, full, page.frame));
@@ -142,11 +142,11 @@ class TilesetWriter : public ExportWriter {
     Bounds box;
     for (const auto& e : full.elements)
       for (const auto& f : e.faces)
-        for (const Vec3& p : f) box.add(p);
-    if (!(box.lo.x() <= box.hi.x())) return;  // no faces
-    const Vec3 mid = (box.lo + box.hi) / 2;
+        for (const Vec3& p : f) box.extend(p);
+    if (box.isEmpty()) return;  // no faces
+    const Vec3 mid = box.center();
     const CellKey k{long(std::floor(mid.x() / kCellM)), long(std::floor(mid.y() / kCellM))};
-    cells_[k].add(box);
+    cells_[k].extend(box);
     append_spool(spool_of(k, ""), tiles::to_bytes(full));
     append_spool(spool_of(k, ".coarse"), tiles::to_bytes(coarse));
   }
@@ -157,7 +157,7 @@ class TilesetWriter : public ExportWriter {
 
 // The tile of `buildings` written as `uri`: its content, transform and region.
 json TilesetWriter::content(const std::vector<TileBuilding>& buildings, const Bounds& b, const std::string& uri) {
-  const Vec3 centre((b.lo.x() + b.hi.x()) / 2, (b.lo.y() + b.hi.y()) / 2, b.lo.z());
+  const Vec3 centre(b.center().x(), b.center().y(), b.min().z());
   const std::vector<unsigned char> glb = tiles::tile_glb(buildings, centre);
   std::ofstream out(fs::path(dir_) / uri, std::ios::binary);
   out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
@@ -180,22 +180,22 @@ json TilesetWriter::leaf(const CellKey& k, const Bounds& b) {
 // highest roof relief a prism flattens, or the tallest building left out.
 void TilesetWriter::coarse(Node& parent, const std::string& uri) {
   const size_t quota = std::max<size_t>(1, kCoarseBuildings / parent.cells.size());
-  const auto larger = [](const auto& a, const auto& b) { return a.first > b.first; };  // heap: smallest on top
+  // Each cell's largest buildings by ground area: a heap with the smallest on top.
+  const auto larger = [](const TileBuilding& a, const TileBuilding& b) { return a.areas[3] > b.areas[3]; };
   std::vector<TileBuilding> buildings;
   double error = 1, left_out = 0;
   for (const CellKey& k : parent.cells) {
-    std::vector<std::pair<double, std::vector<std::uint8_t>>> kept;  // ground area, record
+    std::vector<TileBuilding> kept;
     read_spool(spool_of(k, ".coarse"), [&](const std::vector<std::uint8_t>& r) {
-      const TileBuilding b = tiles::from_bytes(r);
-      error = std::max(error, b.relief);
-      kept.emplace_back(b.areas[3], r);
+      kept.push_back(tiles::from_bytes(r));
+      error = std::max(error, kept.back().relief);
       std::push_heap(kept.begin(), kept.end(), larger);
       if (kept.size() <= quota) return;
       std::pop_heap(kept.begin(), kept.end(), larger);
-      left_out = std::max(left_out, tiles::from_bytes(kept.back().second).height);
+      left_out = std::max(left_out, kept.back().height);
       kept.pop_back();
     });
-    for (const auto& [area, r] : kept) buildings.push_back(tiles::from_bytes(r));
+    std::move(kept.begin(), kept.end(), std::back_inserter(buildings));
   }
   const json children = parent.tile["children"];
   double below = 0;
@@ -229,7 +229,7 @@ std::vector<std::string> TilesetWriter::finish() {
     std::map<CellKey, Node> up;
     for (auto& [k, node] : level) {
       Node& parent = up[{k.first >> 1, k.second >> 1}];
-      parent.bounds.add(node.bounds);
+      parent.bounds.extend(node.bounds);
       parent.cells.insert(parent.cells.end(), node.cells.begin(), node.cells.end());
       parent.tile["children"].push_back(std::move(node.tile));
     }

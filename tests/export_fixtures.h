@@ -198,13 +198,14 @@ inline BatchModel sample_batch() {
   return m;
 }
 
-// n gable houses on a grid, one per parcel (benchmark input).
-inline BatchModel grid_batch(int n) {
+// Houses [first, first + count) of a grid of gable houses 40 wide, one per
+// parcel (benchmark input; a page of them at a time).
+inline BatchModel grid_houses(int first, int count) {
   BatchModel m;
   m.frame.origin = Vec3(789012.0, 9237654.0, 700.0);
   m.epsg = 32748;
   const int cols = 40;
-  for (int i = 0; i < n; ++i) {
+  for (int i = first; i < first + count; ++i) {
     double x = (i % cols) * 20.0, y = (i / cols) * 20.0;
     Parcel p = parcel(i, "G-" + std::to_string(i), m.frame.origin, x - 3, x + 15, y - 3, y + 15);
     Building b = gable_house(p.id + "_b1");
@@ -214,6 +215,9 @@ inline BatchModel grid_batch(int n) {
   }
   return m;
 }
+
+// n gable houses on the grid.
+inline BatchModel grid_batch(int n) { return grid_houses(0, n); }
 
 }  // namespace c3d::fixture
 

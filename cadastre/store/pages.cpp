@@ -46,12 +46,15 @@ std::vector<PagesExport> export_pages(const StorePages& pages, const std::string
   if (buildings) *buildings = 0;
   for (size_t k = 0; k < pages.page_count(); ++k) {
     const BatchModel page = pages.page(k);
-    const std::vector<ParcelValuation> values = pages.valuations(k);  // 3D Tiles carry them
     if (buildings)
       for (const auto& r : page.results) *buildings += r.buildings.size();
+    std::vector<ParcelValuation> values;  // read only for a writer that carries them
     for (size_t f = 0; f < formats.size(); ++f) {
       const auto t0 = clock::now();
-      writers[f]->values(values);
+      if (writers[f]->carries_values()) {
+        if (values.empty()) values = pages.valuations(k);
+        writers[f]->values(values);
+      }
       writers[f]->add(page);
       out[f].seconds += std::chrono::duration<double>(clock::now() - t0).count();
     }

@@ -17,19 +17,10 @@
 #include "ifc_citygml/validate.h"
 #include "tests/export_fixtures.h"
 
-// Houses [first, first + count) of grid_batch's grid, as one page.
+// Houses [first, first + count) of grid_batch's grid, as one page with a CRS.
 c3d::BatchModel grid_page(int first, int count) {
-  c3d::BatchModel m;
-  m.frame.origin = c3d::Vec3(789012.0, 9237654.0, 700.0);
+  c3d::BatchModel m = c3d::fixture::grid_houses(first, count);
   m.crs_wkt = "EPSG:32748";
-  for (int i = first; i < first + count; ++i) {
-    const double x = (i % 40) * 20.0, y = (i / 40) * 20.0;
-    c3d::Parcel p = c3d::fixture::parcel(i, "G-" + std::to_string(i), m.frame.origin, x - 3, x + 15, y - 3, y + 15);
-    c3d::Building b = c3d::fixture::gable_house(p.id + "_b1");
-    c3d::fixture::translate(b, {x, y, 0});
-    m.parcels.push_back(p);
-    m.results.push_back(c3d::fixture::result(p, {b}));
-  }
   return m;
 }
 
