@@ -37,6 +37,14 @@ else
   echo "setup: all Debian packages present"
 fi
 
+# The report's 3D view is bundled at build time from npm's three.js (esbuild):
+# the build needs these, so a failure here stops the set-up.
+if [ ! -f cadastre/report/viewer/node_modules/three/package.json ] ||
+   [ ! -e cadastre/report/viewer/node_modules/.bin/esbuild ]; then
+  echo "setup: installing the report viewer's npm packages into cadastre/report/viewer/node_modules"
+  (cd cadastre/report/viewer && npm ci --no-audit --no-fund --loglevel=error)
+fi
+
 # npm tools for independent validation of exports (CityJSON schema, IFC reader, glTF, 3D Tiles),
 # installed into tests/js/node_modules (the path the tests look in) from the
 # lock file. Without them (no network to the npm registry) those checks skip.

@@ -1,6 +1,7 @@
 // The report of a sample town batch, read as files: every link resolves, the
 // totals equal the store, the pages stay small, and headless Chromium renders
-// the summary and prints a parcel's page on one A4 sheet.
+// the summary and prints a parcel's page on one A4 sheet, draws the 3D views
+// and shows the store's area of an element clicked in one.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
@@ -12,6 +13,8 @@
 #include <fstream>
 #include <regex>
 #include <set>
+
+#include <nlohmann/json.hpp>
 
 #include "tests/report_checks.h"
 #include "tests/test_support.h"
@@ -55,6 +58,35 @@ const Town& town() {
     return t;
   }();
   return t;
+}
+
+// The parcel page of the most table rows.
+std::string page_of_most_rows(const Town& t) {
+  std::string page;
+  size_t most = 0;
+  for (const auto& e : fs::directory_iterator(t.out + "/report/parcel")) {
+    const std::string html = read(e.path());
+    size_t rows = 0;
+    for (size_t at = html.find("<tr>"); at != std::string::npos; at = html.find("<tr>", at + 1)) ++rows;
+    if (rows > most) most = rows, page = e.path().string();
+  }
+  return page;
+}
+
+const std::string kJs = std::string(C3D_SOURCE_DIR) + "/tests/js";
+
+bool browser_tools() {
+  return fs::exists(kJs + "/node_modules/puppeteer-core/package.json") && !chromium().empty() &&
+         !shell("command -v node").empty();
+}
+
+// tests/js/report_view.js's account of `page` in headless Chromium.
+nlohmann::json viewed(const std::string& page, const std::string& png, const std::string& options) {
+  int rc = -1;
+  const std::string out = shell("CHROMIUM=" + chromium() + " timeout 300 node " + kJs + "/report_view.js " + page +
+                                " " + png + " " + options + " 2>&1", &rc);
+  EXPECT_EQ(rc, 0) << out;
+  return rc == 0 ? nlohmann::json::parse(out) : nlohmann::json::object();
 }
 
 }  // namespace
@@ -119,14 +151,7 @@ TEST(ReportTown, ChromiumRendersTheSummaryAndPrintsAParcelOnOneA4Page) {
   ASSERT_TRUE(fs::exists(png));
   EXPECT_GT(fs::file_size(png), 80000u);  // a blank page is a few kB
   // The parcel page of the most table rows: on one A4 sheet.
-  std::string page;
-  size_t most = 0;
-  for (const auto& e : fs::directory_iterator(t.out + "/report/parcel")) {
-    const std::string html = read(e.path());
-    size_t rows = 0;
-    for (size_t at = html.find("<tr>"); at != std::string::npos; at = html.find("<tr>", at + 1)) ++rows;
-    if (rows > most) most = rows, page = e.path().string();
-  }
+  const std::string page = page_of_most_rows(t);
   ASSERT_FALSE(page.empty()) << "no parcel page";
   std::system(("timeout 120 " + browser + flags + " --no-pdf-header-footer --print-to-pdf=" + pdf + " file://" +
                page + " >/dev/null 2>&1").c_str());
@@ -140,4 +165,56 @@ TEST(ReportTown, ChromiumRendersTheSummaryAndPrintsAParcelOnOneA4Page) {
   ASSERT_EQ(std::sscanf(bytes.c_str() + box, "/MediaBox [0 0 %lf %lf", &w, &h), 2);
   EXPECT_NEAR(w, 595.3, 1.0);
   EXPECT_NEAR(h, 841.9, 1.0);
+}
+
+// The parcel page's 3D view: the elements drawn in the legend's colours, and a
+// click where its largest roof is drawn shows that roof, with the store's area.
+TEST(ReportTown, ParcelViewShowsTheStoresAreaOfAClickedElement) {
+  const Town& t = town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  C3D_NEED(browser_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
+  const std::string page = page_of_most_rows(t);
+  const auto view = viewed(page, t.dir + "/parcel_view.png", "--unlit --click largest 0 --colours '#a0522d,#d8d8d8'");
+  ASSERT_EQ(view.value("state", ""), "ready") << view.dump();
+  EXPECT_TRUE(view["errors"].empty()) << view["errors"].dump();
+  EXPECT_GT(view["pixels"][0].get<int>(), 500) << "roof pixels";
+  EXPECT_GT(view["pixels"][1].get<int>(), 500) << "wall pixels";
+  const auto& pick = view["pick"];
+  ASSERT_TRUE(pick["building"].is_string()) << view.dump();
+  EXPECT_EQ(pick["element"], view["clicked"]["element"]) << pick.dump();
+  const std::string db = t.out + "/cadastre.gpkg";
+  const std::string where = " FROM building_element e JOIN building b ON b.fid = e.building_fid WHERE b.building_id = '" +
+                            pick["building"].get<std::string>() + "' AND e.element_index = " +
+                            std::to_string(pick["element"].get<int>());
+  EXPECT_EQ(sql_number(db, "SELECT e.element_type = 'roof'" + where), 1) << pick.dump();
+  const double area = sql_number(db, "SELECT e.area" + where);
+  EXPECT_DOUBLE_EQ(pick["area"].get<double>(), area);
+  EXPECT_NEAR(std::stod(pick["shown"].get<std::string>()), area, 0.0051) << pick["text"];
+}
+
+// The summary's 3D view: every cell of a small town loaded, the buildings in
+// the overview map's value colours; without WebGL it says so and the page
+// keeps its pictures.
+TEST(ReportTown, SummaryViewDrawsTheParcelsByValue) {
+  const Town& t = town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  C3D_NEED(browser_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
+  std::string index = read(t.out + "/report/3d/index.js");
+  index = index.substr(index.find(',') + 1);
+  const auto classes = nlohmann::json::parse(index.substr(0, index.rfind(')')));
+  std::string colours;
+  for (const auto& c : classes["colours"]) colours += (colours.empty() ? "" : ",") + c.get<std::string>();
+  const auto view = viewed(t.out + "/report.html", t.dir + "/summary_view.png", "--unlit --colours '" + colours + "'");
+  ASSERT_EQ(view.value("state", ""), "ready") << view.dump();
+  EXPECT_TRUE(view["errors"].empty()) << view["errors"].dump();
+  EXPECT_EQ(view["cells"].size(), classes["cells"].size());
+  for (const auto& c : view["cells"]) EXPECT_TRUE(c["far"].get<bool>()) << c.dump();
+  int drawn = 0, classes_seen = 0;
+  for (const auto& n : view["pixels"]) drawn += n.get<int>(), classes_seen += n.get<int>() > 100;
+  EXPECT_GT(drawn, 5000);
+  EXPECT_GE(classes_seen, 2) << view["pixels"].dump();
+  const auto blind = viewed(page_of_most_rows(t), t.dir + "/no_webgl.png", "--no-webgl");
+  EXPECT_EQ(blind.value("state", ""), "unavailable") << blind.dump();
+  EXPECT_NE(blind.value("note", "").find("pictures"), std::string::npos);
+  EXPECT_GE(blind.value("pictures", 0), 2);
 }

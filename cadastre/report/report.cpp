@@ -107,23 +107,9 @@ std::map<ElementType, TypeTotal> type_totals(const ParcelResult& r) {
 
 void write_report(const std::string& out_dir, const BatchModel& model,
                   const std::vector<ParcelValuation>& valuations, const ReportInfo& info) {
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  auto write = [&](const std::string& name, const std::string& text) {
-    std::string path = (std::filesystem::path(out_dir) / name).string();
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    if (!out) throw InputError(path, "cannot write report");
-  };
-  // Detail pages of an earlier report (more parcels, other ids) must not stay behind.
-  const std::filesystem::path pages = std::filesystem::path(out_dir) / "report";
-  for (const char* sub : {"", "parcel"})
-    for (const auto& e : std::filesystem::directory_iterator(pages / sub, ec))
-      if (e.is_regular_file() && e.path().extension() == ".html") std::filesystem::remove(e.path(), ec);
-  for (const ReportFile& f : report_files(model, valuations, info)) {
-    std::filesystem::create_directories((std::filesystem::path(out_dir) / f.path).parent_path(), ec);
-    write(f.path, f.text);
-  }
+  ReportWriter report(out_dir, model.parcels.size(), model, info);
+  report.add(model, valuations);
+  report.finish();
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "cadastre/report/report_3d.h"
 #include "cadastre/store/pages.h"
 #include "core/config/config.h"
 #include "core/mesh/tri_mesh.h"
@@ -31,7 +32,8 @@ struct ReportFile {
 };
 
 // Valuations are matched to parcels by parcel id (any order; missing -> blank).
-// Every file of the report, the summary page first.
+// Every page and the CSV of the report, the summary page first (the 3D
+// view's data files are written by write_report and ReportWriter only).
 std::vector<ReportFile> report_files(const BatchModel& model,
                                      const std::vector<ParcelValuation>& valuations,
                                      const ReportInfo& info = {});
@@ -76,6 +78,7 @@ class ReportWriter {
   std::vector<ParcelValuation> vals_;  // cost items only of parcels whose pages wait
   std::unordered_map<std::string, size_t> val_of_;  // a parcel id's latest valuation in vals_
   size_t written_ = 0;  // parcels whose detail pages (and CSV rows) are written
+  report_detail::SummaryCells cells_;  // the summary's 3D view
   std::string csv_path_;
   std::ofstream csv_;
 };

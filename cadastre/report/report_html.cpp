@@ -6,6 +6,7 @@
 #include <map>
 
 #include "cadastre/report/report.h"
+#include "cadastre/report/report_3d.h"
 #include "cadastre/report/report_parts.h"
 #include "core/io/crs.h"
 
@@ -157,6 +158,7 @@ std::string report_html(const BatchModel& m, const std::vector<ParcelValuation>&
   s += "Areas in m&#178; in " + html_escape(areas_crs_text(m.crs_wkt)) + ", values in " +
        html_escape(vals.empty() ? "" : vals.front().currency) + ".</p>";
   s += "<h2>Summary</h2>" + status_cards(m, vals) + totals_table(m, vals);
+  s += "<h2>3D view</h2>" + summary_view();
   s += "<h2>Overview map</h2>" + overview_map(m, vals, "report/");
   s += "<h2>Charts</h2><div class=\"charts\"><div><h3>Area by element type (all parcels)</h3>" +
        area_chart(m) + "</div><div><h3>Value per parcel (NJOP)</h3>" + value_chart(m, vals) +

@@ -160,21 +160,29 @@ std::string report_detail::north_arrow(double x, double y) {
              x, y);
 }
 
+ValueClasses report_detail::map_classes(const BatchModel& m, const std::vector<ParcelValuation>& vals) {
+  auto vmap = by_parcel(vals);
+  std::vector<double> coloured;  // failed and suspect parcels are drawn apart, not by class
+  for (size_t i = 0; i < m.parcels.size(); ++i) {
+    const ParcelStatus st = m.results[i].status;
+    if (st == ParcelStatus::Ok || st == ParcelStatus::Empty)
+      coloured.push_back(njop_per_m2(find_valuation(vmap, m.parcels[i].id)));
+  }
+  return value_classes(coloured);
+}
+
 std::string report_detail::overview_map(const BatchModel& m, const std::vector<ParcelValuation>& vals,
                                         const std::string& link_prefix) {
   auto vmap = by_parcel(vals);
   std::vector<double> values;
   Vec2 lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
-  std::vector<double> coloured;  // failed and suspect parcels are drawn apart, not by class
   for (size_t i = 0; i < m.parcels.size(); ++i) {
     values.push_back(njop_per_m2(find_valuation(vmap, m.parcels[i].id)));
-    const ParcelStatus st = m.results[i].status;
-    if (st == ParcelStatus::Ok || st == ParcelStatus::Empty) coloured.push_back(values.back());
     for (const Polygon2& poly : m.parcels[i].shape)
       for (const Vec2& q : poly.outer) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
   }
   if (!std::isfinite(lo.x())) return "<p>No parcel geometry.</p>";
-  const ValueClasses vc = value_classes(coloured);
+  const ValueClasses vc = map_classes(m, vals);
   const Vec2 origin = m.frame.origin.head<2>(), ext = (hi - lo).cwiseMax(Vec2(1, 1));
   const double scale = std::min((kMapWidth - 2 * kFrame) / ext.x(), (kMapMaxHeight - 2 * kFrame) / ext.y());
   const double height = std::max(kMapMinHeight, ext.y() * scale + 2 * kFrame);  // of the parcels' box

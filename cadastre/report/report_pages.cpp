@@ -6,6 +6,7 @@
 #include <map>
 
 #include "cadastre/report/report.h"
+#include "cadastre/report/report_3d.h"
 #include "cadastre/report/report_parts.h"
 #include "core/io/crs.h"
 
@@ -36,6 +37,9 @@ svg.pic{border:1px solid #ddd;background:#fbfbf8;flex:none}.pics{display:flex;ga
 nav{background:#f3ede8;padding:6px 10px;margin-bottom:10px;font-size:13px}nav a{margin-right:14px}
 .print-only{display:none}
 @page{size:A4;margin:12mm}
+.view3d{border:1px solid #999;margin:8px 0;background:#f4f4ef}.view3d-canvas{width:100%;height:460px}
+.view3d-pick,.view3d-legend,.view3d-note{font-size:13px;padding:4px 8px;margin:0}.view3d-legend label,.view3d-legend .entry{margin-right:12px;white-space:nowrap}
+.view3d .swatch{display:inline-block;width:12px;height:12px;margin:0 4px;border:1px solid #555;vertical-align:middle}
 @media print{nav,.noprint,.screen-only{display:none}.print-only{display:block}body{margin:0;max-width:none;font-size:10px}
 h1{font-size:16px}h2{font-size:13px;break-after:avoid}.parcel{break-inside:avoid}
 table{font-size:8px}th,td{padding:1px 3px}tr{break-inside:avoid}.meta{font-size:8px}
@@ -262,6 +266,7 @@ std::string report_detail::parcel_html(const BatchModel& m, const ParcelValuatio
     s += link(parcel_page(m.parcels[i + 1]).substr(prefix.size()), "Next parcel &rarr;");
   s += "</nav><h1>Parcel " + status_heading(p, r) + "</h1>" + page_meta(m, info) + location(p);
   if (!info.run_note.empty()) s += "<p class=\"meta\">" + html_escape(info.run_note) + ".</p>";
+  if (!r.buildings.empty()) s += parcel_view(p, r, v, m.frame, "../");
   s += "<div class=\"pics\">" + plan_svg(p, r, m.frame, 340, 250) + parcel_svg(p, r, m.frame, 340, 250) +
        "</div>" + legend_svg();
   return s + parcel_detail(p, r, v, true) + "</body></html>\n";

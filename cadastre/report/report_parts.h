@@ -63,6 +63,8 @@ struct ValueClasses {
 };
 ValueClasses value_classes(std::vector<double> values);
 double njop_per_m2(const ParcelValuation* v);  // NaN when not valued or no land area
+// The overview map's classes: of the modelled and empty parcels' values.
+ValueClasses map_classes(const BatchModel& m, const std::vector<ParcelValuation>& vals);
 // The parcels in the layer's CRS coloured by value class, status drawn apart,
 // each linking to link_prefix + parcel_page(p); legend, scale bar, north arrow.
 std::string overview_map(const BatchModel& m, const std::vector<ParcelValuation>& vals,

@@ -36,7 +36,7 @@ void keep_summary_row(Parcel& p, ParcelResult& r) {
 
 ReportWriter::ReportWriter(const std::string& out_dir, size_t parcel_count, const BatchModel& header,
                            ReportInfo info)
-    : out_dir_(out_dir), total_(parcel_count), info_(std::move(info)) {
+    : out_dir_(out_dir), total_(parcel_count), info_(std::move(info)), cells_(out_dir) {
   rows_.frame = header.frame, rows_.epsg = header.epsg, rows_.crs_wkt = header.crs_wkt;
   std::error_code ec;
   fs::create_directories(out_dir, ec);
@@ -98,6 +98,7 @@ void ReportWriter::write_ready(bool all) {
       const ParcelValuation* v = find_valuation(vmap, p.id);
       write("report/" + parcel_page(p), parcel_html(rows_, v, info_, i, total_));
       csv_ << csv_rows(p, rows_.results[i], v);
+      cells_.add(p, rows_.results[i], v, rows_.frame);
       keep_summary_row(rows_.parcels[i], rows_.results[i]);
     }
     if (!csv_) throw InputError(csv_path_, "cannot write report");
@@ -114,6 +115,7 @@ void ReportWriter::finish() {
   }
   write_ready(true);
   write("report.html", report_html(rows_, vals_, info_));
+  cells_.finish(map_classes(rows_, vals_), vals_.empty() ? "" : vals_.front().currency);
   csv_.close();
   if (!csv_) throw InputError(csv_path_, "cannot write report");
 }

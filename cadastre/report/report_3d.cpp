@@ -1,0 +1,253 @@
+// The report's 3D view: the parcel page's scene and the summary's cells (report_3d.h).
+#include "cadastre/report/report_3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cadastre/report/report_parts.h"
+#include "core/error.h"
+#include "ifc_citygml/detail.h"
+
+namespace fs = std::filesystem;
+
+namespace c3d::report_detail {
+
+using nlohmann::json;
+
+namespace {
+
+double mm(double v) { return std::round(v * 1000) / 1000; }
+
+// A face's triangles, vertex after vertex, less `centre`, to the mm.
+void add_triangles(const Face& face, const Vec3& centre, std::vector<double>& out) {
+  const exp::Triangles t = exp::triangulate(face);
+  for (const auto& tri : t.tris)
+    for (int k : tri)
+      for (int d = 0; d < 3; ++d) out.push_back(mm(t.points[size_t(k)][d] - centre[d]));
+}
+
+// A parcel's polygons as rings of x, y (local, less `centre`), outer first.
+json rings(const Parcel& p, const LocalFrame& frame, const Vec2& centre) {
+  json polys = json::array();
+  for (const Polygon2& poly : p.shape) {
+    json rs = json::array();
+    auto ring = [&](const std::vector<Vec2>& pts) {
+      std::vector<double> flat;
+      for (const Vec2& q : pts) {
+        const Vec2 l = frame.to_local(q) - centre;
+        flat.insert(flat.end(), {mm(l.x()), mm(l.y())});
+      }
+      rs.push_back(flat);
+    };
+    ring(poly.outer);
+    for (const auto& hole : poly.holes) ring(hole);
+    polys.push_back(rs);
+  }
+  return polys;
+}
+
+// The ground under a parcel: its lowest building's floor, NaN without one.
+double ground_of(const ParcelResult& r) {
+  double z = kNaN;
+  for (const Building& b : r.buildings) z = std::isnan(z) ? b.terrain_z : std::min(z, b.terrain_z);
+  return z;
+}
+
+// Element i of building b's cost amount in v (-1 where it has none).
+double amount(const ParcelValuation* v, const std::string& building, size_t i) {
+  if (v)
+    for (const CostItem& c : v->items)
+      if (c.building_id == building && c.element_index == int(i)) return c.amount;
+  return -1;
+}
+
+json element_types() {
+  json types = json::array();
+  for (ElementType t : kTypes) types[size_t(t)] = {{"name", label(t)}, {"colour", colour(t)}};
+  return types;
+}
+
+// JSON inside a <script>: "</" would end the script.
+std::string script_safe(std::string s) {
+  for (size_t at = 0; (at = s.find("</", at)) != std::string::npos; at += 3) s.replace(at, 2, "<\\/");
+  return s;
+}
+
+std::string data_script(const std::string& name, const json& value) {
+  return "C3DViewer.data(" + json(name).dump() + "," + script_safe(value.dump()) + ");\n";
+}
+
+void write_file(const fs::path& path, std::string_view text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw InputError(path.string(), "cannot write report");
+}
+
+std::string cell_name(std::pair<long, long> c) { return "cell_" + std::to_string(c.first) + "_" + std::to_string(c.second); }
+
+// The building's far stand-in: its LoD 1.2 prism, or its own faces where it has none.
+const std::vector<Face>* prism_faces(const Building& b) {
+  for (const LodShell& s : b.lower_lods)
+    if (s.lod == Lod::Lod12) return &s.faces;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string parcel_view(const Parcel& p, const ParcelResult& r, const ParcelValuation* v,
+                        const LocalFrame& frame, const std::string& to_report) {
+  Vec2 mid(0, 0);
+  size_t n = 0;
+  for (const Polygon2& poly : p.shape)
+    for (const Vec2& q : poly.outer) mid += frame.to_local(q), ++n;
+  if (n) mid /= double(n);
+  const double ground = std::isnan(ground_of(r)) ? 0 : ground_of(r);
+  const Vec3 centre(mid.x(), mid.y(), ground);
+  json buildings = json::array();
+  for (const Building& b : r.buildings) {
+    json elements = json::array();
+    for (size_t i = 0; i < b.elements.size(); ++i) {
+      const Element& e = b.elements[i];
+      std::vector<double> tri;
+      for (const Face& f : e.faces) add_triangles(f, centre, tri);
+      const bool wall = e.type == ElementType::Wall || e.type == ElementType::PartyWall;
+      elements.push_back({{"t", int(e.type)}, {"a", e.area}, {"s", e.sigma_area}, {"pa", e.plan_area},
+                          {"sl", e.slope_deg}, {"n", e.support_points}, {"r", e.rmse},
+                          {"ev", wall ? to_string(e.evidence) : ""}, {"m", amount(v, b.id, i)}, {"tri", tri}});
+    }
+    buildings.push_back({{"id", b.id}, {"lod", to_string(b.lod)}, {"elements", elements}});
+  }
+  const json scene = {{"types", element_types()}, {"currency", v ? v->currency : ""},
+                      {"parcel", rings(p, frame, mid)}, {"ground", 0.0}, {"buildings", buildings}};
+  return "<div class=\"view3d screen-only\" id=\"view3d\"></div><script src=\"" + to_report +
+         "lib/c3d-viewer.js\"></script><script>C3DViewer.parcel(document.getElementById('view3d')," +
+         script_safe(scene.dump()) + ");</script>";
+}
+
+std::string summary_view() {
+  return std::string("<div class=\"view3d screen-only\" id=\"view3d\"></div><script src=\"") + kViewerScript +
+         "\"></script><script>C3DViewer.summary(document.getElementById('view3d'),'" + kSummaryData +
+         "');</script>";
+}
+
+SummaryCells::SummaryCells(const std::string& out_dir)
+    : out_(out_dir), dir_((fs::path(out_dir) / "report" / "3d").string()) {
+  std::error_code ec;
+  fs::remove_all(dir_, ec);  // an earlier report's cells
+  fs::create_directories(fs::path(dir_) / "spool", ec);
+}
+
+// A parcel's record in its cell's spool: its figures, ground and rings, and
+// its buildings' triangles near (by element) and far (the prism).
+void SummaryCells::add(const Parcel& p, const ParcelResult& r, const ParcelValuation* v, const LocalFrame& frame) {
+  Vec2 mid(0, 0);
+  size_t n = 0;
+  for (const Polygon2& poly : p.shape)
+    for (const Vec2& q : poly.outer) mid += frame.to_local(q), ++n;
+  if (!n) return;  // no shape: nothing to draw
+  mid /= double(n);
+  const std::pair<long, long> cell{long(std::floor(mid.x() / kCellM)), long(std::floor(mid.y() / kCellM))};
+  const double z = ground_of(r);
+  if (!std::isnan(z)) ground_z_.push_back(z);
+  json buildings = json::array();
+  std::vector<double>& box = boxes_[cell];
+  if (box.empty()) box = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  auto grow = [&](const std::vector<double>& tri) {
+    for (size_t i = 0; i + 2 < tri.size(); i += 3)
+      for (int d = 0; d < 3; ++d) box[size_t(d)] = std::min(box[size_t(d)], tri[i + size_t(d)]),
+                                  box[size_t(d) + 3] = std::max(box[size_t(d) + 3], tri[i + size_t(d)]);
+  };
+  for (const Building& b : r.buildings) {
+    std::vector<double> near, far;
+    for (const Element& e : b.elements)
+      for (const Face& f : e.faces) add_triangles(f, Vec3::Zero(), near);
+    if (const auto* prism = prism_faces(b))
+      for (const Face& f : *prism) add_triangles(f, Vec3::Zero(), far);
+    else
+      far = near;
+    grow(near);
+    buildings.push_back({{"id", b.id}, {"near", near}, {"far", far}});
+  }
+  const json ring_list = rings(p, frame, Vec2::Zero());
+  for (const auto& poly : ring_list)
+    for (const auto& ring : poly)
+      for (size_t i = 0; i + 1 < ring.size(); i += 2) {
+        box[0] = std::min(box[0], ring[i].get<double>()), box[3] = std::max(box[3], ring[i].get<double>());
+        box[1] = std::min(box[1], ring[i + 1].get<double>()), box[4] = std::max(box[4], ring[i + 1].get<double>());
+      }
+  const json record = {{"id", p.id}, {"page", parcel_page(p)}, {"status", to_string(r.status)},
+                       {"v", std::isfinite(njop_per_m2(v)) ? njop_per_m2(v) : -1.0},
+                       {"z", std::isnan(z) ? json(nullptr) : json(mm(z))}, {"rings", ring_list},
+                       {"buildings", buildings}};
+  const std::vector<std::uint8_t> bytes = json::to_msgpack(record);
+  const fs::path spool = fs::path(dir_) / "spool" / cell_name(cell);
+  std::ofstream out(spool, std::ios::binary | std::ios::app);
+  const std::uint32_t size = std::uint32_t(bytes.size());
+  out.write(reinterpret_cast<const char*>(&size), sizeof size);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (!out) throw InputError(spool.string(), "cannot write report");
+}
+
+void SummaryCells::finish(const ValueClasses& classes, const std::string& currency) {
+  // Colours: the value classes, then failed, suspect and not valued (as the map draws them).
+  json colours = json::array(), labels = json::array();
+  for (size_t k = 0; k < classes.count(); ++k) colours.push_back(classes.colour(k)), labels.push_back(classes.label(k));
+  const size_t failed = classes.count(), suspect = failed + 1, unvalued = failed + 2;
+  colours.insert(colours.end(), {"#e57373", "#ffb74d", "#ffffff"});
+  labels.insert(labels.end(), {"failed, land only", "suspect, land only", "not valued"});
+  std::sort(ground_z_.begin(), ground_z_.end());
+  const double batch_ground = ground_z_.empty() ? 0 : ground_z_[ground_z_.size() / 2];
+  json cells = json::array();
+  for (auto& [cell, box] : boxes_) {
+    const fs::path spool = fs::path(dir_) / "spool" / cell_name(cell);
+    std::ifstream in(spool, std::ios::binary);
+    json parcels_far = json::array(), parcels_near = json::array(), buildings = json::array();
+    std::vector<double> far, near;
+    std::vector<size_t> far_counts, near_counts;
+    std::uint32_t size = 0;
+    while (in.read(reinterpret_cast<char*>(&size), sizeof size)) {
+      std::vector<std::uint8_t> bytes(size);
+      if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) throw InputError(spool.string(), "spool cut short");
+      json p = json::from_msgpack(bytes);
+      const std::string status = p["status"];
+      const double v = p["v"];
+      const size_t c = status == "failed" ? failed : status == "suspect" ? suspect : v < 0 ? unvalued : classes.of(v);
+      const double z = p["z"].is_null() ? batch_ground : p["z"].get<double>();
+      box[2] = std::min(box[2], z), box[5] = std::max(box[5], z);
+      json figures = {{"id", p["id"]}, {"page", p["page"]}, {"status", status}, {"v", v}, {"c", c}};
+      parcels_near.push_back(figures);
+      figures["z"] = z, figures["rings"] = p["rings"];
+      parcels_far.push_back(figures);
+      for (const json& b : p["buildings"]) {
+        buildings.push_back({{"id", b["id"]}, {"p", parcels_near.size() - 1}});
+        const auto n = b["near"].get<std::vector<double>>(), f = b["far"].get<std::vector<double>>();
+        near.insert(near.end(), n.begin(), n.end()), near_counts.push_back(n.size() / 9);
+        far.insert(far.end(), f.begin(), f.end()), far_counts.push_back(f.size() / 9);
+      }
+    }
+    const std::string name = cell_name(cell);
+    write_file(fs::path(dir_) / (name + "-far.js"),
+               data_script(name + "-far", {{"parcels", parcels_far}, {"buildings", buildings},
+                                           {"prisms", {{"pos", far}, {"counts", far_counts}}}}));
+    write_file(fs::path(dir_) / (name + ".js"),
+               data_script(name, {{"parcels", parcels_near}, {"buildings", buildings},
+                                  {"elements", {{"pos", near}, {"counts", near_counts}}}}));
+    cells.push_back({{"name", name}, {"box", box}});
+  }
+  std::error_code ec;
+  fs::remove_all(fs::path(dir_) / "spool", ec);
+  // Near: by element within 300 m of the camera (a street's length), prisms beyond.
+  write_file(fs::path(dir_) / "index.js",
+             data_script("index", {{"cells", cells}, {"colours", colours}, {"labels", labels},
+                                   {"currency", currency}, {"pages", "report/"}, {"near_m", 300}}));
+  const fs::path lib = fs::path(out_) / kViewerScript;
+  fs::create_directories(lib.parent_path(), ec);
+  write_file(lib, viewer_script());
+}
+
+}  // namespace c3d::report_detail

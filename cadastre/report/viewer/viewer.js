@@ -1,0 +1,409 @@
+// The report's 3D view (docs/report.md, "3D view"). esbuild bundles this file
+// with three.js into report/lib/c3d-viewer.js, one classic script: a page
+// opened from file:// may load classic scripts but neither ES modules nor
+// fetch(), so the data come as scripts too, each calling C3DViewer.data().
+//
+//   C3DViewer.parcel(div, scene)  a parcel's buildings by element, picking
+//   C3DViewer.summary(div, base)  every parcel by value, cells loaded on demand
+//
+// Where WebGL is absent the div says so and the page's pictures stay the view.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+
+// Drawn unlit (each pixel its element's colour), for tests that count colours.
+const unlit = () => /(^|[#&])unlit\b/.test(location.hash);
+
+function webglAvailable() {
+  try {
+    const c = document.createElement('canvas');
+    return !!(c.getContext('webgl2') || c.getContext('webgl'));
+  } catch (e) {
+    return false;
+  }
+}
+
+function say(div, text) {
+  const p = document.createElement('p');
+  p.className = 'view3d-note';
+  p.textContent = text;
+  div.appendChild(p);
+  div.dataset.state = 'unavailable';
+}
+
+// Data scripts: each calls C3DViewer.data(name, value) once it has run.
+const waiting = new Map();
+export function data(name, value) {
+  const w = waiting.get(name);
+  if (w) waiting.delete(name), w.ok(value);
+}
+function load(url, name) {
+  return new Promise((ok, fail) => {
+    waiting.set(name, { ok });
+    const s = document.createElement('script');
+    s.src = url;
+    s.onerror = () => { waiting.delete(name); fail(new Error('cannot load ' + url)); };
+    s.onload = () => s.remove();
+    document.head.appendChild(s);
+  });
+}
+
+function material(colour, vertexColours) {
+  const options = { side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 };
+  if (vertexColours) options.vertexColors = true;
+  else options.color = new THREE.Color(colour);
+  return unlit() ? new THREE.MeshBasicMaterial(options) : new THREE.MeshLambertMaterial(options);
+}
+
+// The canvas, camera (z up, as the model), lights and orbit controls; the
+// scene is drawn when something changes, not in a loop.
+function makeView(div) {
+  const holder = document.createElement('div');
+  holder.className = 'view3d-canvas';
+  div.appendChild(holder);
+  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  holder.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color('#f4f4ef');
+  const camera = new THREE.PerspectiveCamera(35, 1, 0.5, 50000);
+  camera.up.set(0, 0, 1);
+  scene.add(new THREE.HemisphereLight('#ffffff', '#8a8678', 2.0));
+  const sun = new THREE.DirectionalLight('#ffffff', 1.6);
+  sun.position.set(-0.5, -0.8, 1.2);  // from the south-west, high
+  scene.add(sun);
+  const controls = new OrbitControls(camera, renderer.domElement);
+  controls.screenSpacePanning = false;  // pan over the ground
+  controls.maxPolarAngle = Math.PI * 0.495;  // stay above it
+  const view = { div, renderer, scene, camera, controls, listeners: [] };
+  let queued = false;
+  view.render = () => {
+    if (queued) return;
+    queued = true;
+    requestAnimationFrame(() => {
+      queued = false;
+      renderer.render(scene, camera);
+      for (const f of view.listeners) f();
+    });
+  };
+  const resize = () => {
+    const w = holder.clientWidth || 600, h = holder.clientHeight || 420;
+    renderer.setSize(w, h);
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+    view.render();
+  };
+  new ResizeObserver(resize).observe(holder);
+  resize();
+  controls.addEventListener('change', view.render);
+  return view;
+}
+
+// Looks at box from the south-west, 35 degrees up, as close as keeps each of
+// its corners in view.
+function frame(view, box) {
+  const centre = box.getCenter(new THREE.Vector3());
+  const up = THREE.MathUtils.degToRad(35), az = THREE.MathUtils.degToRad(225);
+  const back = new THREE.Vector3(Math.cos(up) * Math.sin(az), Math.cos(up) * Math.cos(az), Math.sin(up));
+  const right = new THREE.Vector3(0, 0, 1).cross(back).normalize(), top = back.clone().cross(right);
+  const tanV = Math.tan(THREE.MathUtils.degToRad(view.camera.fov) / 2), tanH = tanV * view.camera.aspect;
+  let d = 5;
+  for (let k = 0; k < 8; ++k) {
+    const c = new THREE.Vector3(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y,
+                                k & 4 ? box.max.z : box.min.z).sub(centre);
+    const z = c.dot(back);
+    d = Math.max(d, z + Math.abs(c.dot(right)) / tanH * 1.05, z + Math.abs(c.dot(top)) / tanV * 1.05);
+  }
+  view.camera.position.copy(centre).addScaledVector(back, d);
+  view.camera.near = Math.max(0.1, d / 1000);
+  view.camera.far = d * 20;
+  view.camera.updateProjectionMatrix();
+  view.controls.target.copy(centre);
+  view.controls.update();
+  view.render();
+}
+
+// Calls pick(hit) for a click (not a drag) on one of objects, hit null off them.
+function onClick(view, objects, pick) {
+  const canvas = view.renderer.domElement;
+  let down = null;
+  canvas.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+  canvas.addEventListener('pointerup', (e) => {
+    if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+    const r = canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(ndc, view.camera);
+    const hits = ray.intersectObjects(objects(), false);
+    pick(hits.length ? hits[0] : null);
+  });
+}
+
+// Where a point of the scene is drawn, in page pixels (tests click there).
+function onScreen(view, p) {
+  const v = p.clone().project(view.camera);
+  const r = view.renderer.domElement.getBoundingClientRect();
+  return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height, depth: v.z };
+}
+
+function triangles(flat) {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(flat, 3));
+  g.computeVertexNormals();  // not indexed: each triangle its own normal
+  g.computeBoundingBox();
+  return g;
+}
+
+// A polygon's rings (flat x,y lists, outer first) as ground triangles at z.
+function groundShape(rings, z) {
+  const pts = rings.map((r) => { const a = []; for (let i = 0; i + 1 < r.length; i += 2) a.push(new THREE.Vector2(r[i], r[i + 1])); return a; });
+  const tris = THREE.ShapeUtils.triangulateShape(pts[0], pts.slice(1));
+  const all = pts.flat(), pos = [];
+  for (const t of tris) for (const k of t) pos.push(all[k].x, all[k].y, z);
+  return pos;
+}
+
+function outline(rings, z, colour) {
+  const pos = [];
+  for (const r of rings)
+    for (let i = 0; i + 1 < r.length; i += 2) {
+      const j = (i + 2) % r.length;
+      pos.push(r[i], r[i + 1], z, r[j], r[j + 1], z);
+    }
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+  return new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: colour }));
+}
+
+function panel(div) {
+  const p = document.createElement('div');
+  p.className = 'view3d-pick';
+  p.textContent = 'Click an element for its figures. Drag to turn, right-drag to pan, wheel to zoom.';
+  div.appendChild(p);
+  return p;
+}
+
+const num = (v, d) => (v == null || v < 0 || !isFinite(v) ? '\u2014' : v.toLocaleString('en-US', { minimumFractionDigits: d, maximumFractionDigits: d }));
+
+// ---------------------------------------------------------------- parcel page
+
+function elementText(scene, b, e, ei) {
+  const type = scene.types[e.t];
+  const lines = [
+    `<b>${type.name}</b> of building ${b.id}, element ${ei + 1} (LoD ${b.lod})`,
+    `Area <span class="area">${num(e.a, 2)}</span> &plusmn; ${num(e.s, 2)} m&#178; &middot; plan ${num(e.pa, 2)} m&#178; &middot; slope ${num(e.sl, 1)}&deg;`,
+    `Points ${e.n} &middot; RMSE ${e.n > 0 ? num(e.r, 3) + ' m' : '\u2014'}` + (e.ev ? ` &middot; evidence: ${e.ev}` : ''),
+  ];
+  if (e.m >= 0) lines.push(`Cost amount ${scene.currency} ${num(e.m, 0)}`);
+  return lines.join('<br>');
+}
+
+function legend(div, scene, groups, render) {
+  const l = document.createElement('div');
+  l.className = 'view3d-legend';
+  scene.types.forEach((t, k) => {
+    if (!groups[k].children.length) return;
+    const label = document.createElement('label');
+    const box = document.createElement('input');
+    box.type = 'checkbox';
+    box.checked = true;
+    box.onchange = () => { groups[k].visible = box.checked; render(); };
+    const sw = document.createElement('span');
+    sw.className = 'swatch';
+    sw.style.background = t.colour;
+    label.append(box, sw, t.name);
+    l.appendChild(label);
+  });
+  div.appendChild(l);
+}
+
+export function parcel(div, scene) {
+  if (!webglAvailable()) return say(div, 'No WebGL in this browser: the pictures below show the parcel.');
+  const view = makeView(div);
+  const box = new THREE.Box3();
+  for (const rings of scene.parcel) {
+    const ground = new THREE.Mesh(triangles(groundShape(rings, scene.ground - 0.05)), material('#e4e1d6'));
+    view.scene.add(ground, outline(rings, scene.ground - 0.04, '#444444'));
+    box.expandByObject(ground);
+  }
+  const groups = scene.types.map(() => new THREE.Group());
+  groups.forEach((g) => view.scene.add(g));
+  const pickable = [];
+  scene.buildings.forEach((b, bi) => b.elements.forEach((e, ei) => {
+    const mesh = new THREE.Mesh(triangles(e.tri), material(scene.types[e.t].colour));
+    mesh.userData = { b, e, bi, ei };
+    const edges = new THREE.LineSegments(new THREE.EdgesGeometry(mesh.geometry, 10),
+                                         new THREE.LineBasicMaterial({ color: '#333333' }));
+    groups[e.t].add(mesh, edges);
+    pickable.push(mesh);
+    box.expandByObject(mesh);
+  }));
+  legend(div, scene, groups, view.render);
+  const info = panel(div);
+  let picked = null;
+  onClick(view, () => pickable.filter((m) => m.parent.visible), (hit) => {
+    if (picked) picked.material.emissive?.set('#000000'), picked.material.color.set(scene.types[picked.userData.e.t].colour);
+    picked = hit ? hit.object : null;
+    if (!picked) return view.render();
+    picked.material.emissive?.set('#3a3a00');
+    if (!picked.material.emissive) picked.material.color.offsetHSL(0, 0, 0.15);
+    const { b, e, ei } = picked.userData;
+    info.innerHTML = elementText(scene, b, e, ei);
+    info.dataset.building = b.id;
+    info.dataset.element = String(ei);
+    info.dataset.area = String(e.a);
+    view.render();
+  });
+  frame(view, box);
+  // For tests: where element ei of building bi is drawn, at its largest triangle's centre.
+  div.c3d = {
+    view,
+    // The building and element of the largest area of type t.
+    largest(t) {
+      let best = null;
+      scene.buildings.forEach((b, bi) => b.elements.forEach((e, ei) => {
+        if (e.t === t && (!best || e.a > best.a)) best = { a: e.a, bi, ei };
+      }));
+      return best && [best.bi, best.ei];
+    },
+    elementOnScreen(bi, ei) {
+      const t = scene.buildings[bi].elements[ei].tri;
+      let best = -1, at = 0;
+      for (let i = 0; i + 8 < t.length; i += 9) {
+        const a = new THREE.Vector3(t[i], t[i + 1], t[i + 2]), b = new THREE.Vector3(t[i + 3], t[i + 4], t[i + 5]);
+        const c = new THREE.Vector3(t[i + 6], t[i + 7], t[i + 8]);
+        const s = b.clone().sub(a).cross(c.clone().sub(a)).length();
+        if (s > best) best = s, at = i;
+      }
+      const c = new THREE.Vector3();
+      for (let k = 0; k < 3; ++k) c.add(new THREE.Vector3(t[at + 3 * k], t[at + 3 * k + 1], t[at + 3 * k + 2]));
+      return onScreen(view, c.multiplyScalar(1 / 3));
+    },
+  };
+  div.dataset.state = 'ready';
+}
+
+// --------------------------------------------------------------- summary page
+
+// A cell's buildings as one mesh (part: triangles, and how many of them each
+// building has, in the cell's order): vertex colours by the parcel's class.
+function cellMesh(index, cell, part) {
+  const g = triangles(part.pos);
+  const colours = new Float32Array(part.pos.length);
+  const first = [];  // first triangle of each building
+  let tri = 0;
+  const c = new THREE.Color();
+  part.counts.forEach((n, k) => {
+    first.push(tri);
+    c.set(index.colours[cell.parcels[cell.buildings[k].p].c]);
+    for (let v = 3 * tri; v < 3 * (tri + n); ++v) colours.set([c.r, c.g, c.b], 3 * v);
+    tri += n;
+  });
+  g.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+  const mesh = new THREE.Mesh(g, material(null, true));
+  mesh.userData = { cell, part, first };
+  return mesh;
+}
+
+function parcelsMesh(index, cell) {
+  const pos = [], col = [], lines = [];
+  const c = new THREE.Color();
+  for (const p of cell.parcels) {
+    c.set(index.colours[p.c]).lerp(new THREE.Color('#ffffff'), 0.45);
+    for (const rings of p.rings) {
+      const tri = groundShape(rings, p.z - 0.1);
+      pos.push(...tri);
+      for (let i = 0; i < tri.length / 3; ++i) col.push(c.r, c.g, c.b);
+      lines.push(outline(rings, p.z - 0.08, '#555555'));
+    }
+  }
+  const g = triangles(pos);
+  g.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
+  const group = new THREE.Group();
+  group.add(new THREE.Mesh(g, material(null, true)), ...lines);
+  return group;
+}
+
+function valueLegend(div, index) {
+  const l = document.createElement('div');
+  l.className = 'view3d-legend';
+  l.innerHTML = `NJOP per m&#178; of land (${index.currency}/m&#178;): ` + index.colours.map((c, k) =>
+    `<span class="entry"><span class="swatch" style="background:${c}"></span>${index.labels[k]}</span>`).join('');
+  div.appendChild(l);
+}
+
+function parcelText(index, cell, b) {
+  const p = cell.parcels[b.p];
+  return `<b>Parcel <a href="${index.pages}${p.page}">${p.id}</a></b> (${p.status}) &middot; building ${b.id}` +
+         `<br>NJOP per m&#178; of land: ${p.v >= 0 ? index.currency + ' ' + num(p.v, 0) : 'not valued'}` +
+         ` &middot; class: ${index.labels[p.c]}`;
+}
+
+export function summary(div, base) {
+  if (!webglAvailable()) return say(div, 'No WebGL in this browser: the overview map below shows the parcels.');
+  const view = makeView(div);
+  const info = panel(div);
+  info.textContent = 'Click a building for its parcel. Drag to turn, right-drag to pan, wheel to zoom.';
+  const t0 = performance.now();
+  load(base + 'index.js', 'index').then((index) => {
+    valueLegend(div, index);
+    div.insertBefore(div.lastChild, info);
+    const cells = index.cells.map((c) => ({ ...c, box: new THREE.Box3(new THREE.Vector3(...c.box.slice(0, 3)), new THREE.Vector3(...c.box.slice(3))), far: null, near: null, loading: false }));
+    const all = new THREE.Box3();
+    cells.forEach((c) => all.union(c.box));
+    let busy = 0;
+    // Cells in view: far ones as prisms with their parcels, near ones by element.
+    const update = () => {
+      const m = new THREE.Matrix4().multiplyMatrices(view.camera.projectionMatrix, view.camera.matrixWorldInverse);
+      const frustum = new THREE.Frustum().setFromProjectionMatrix(m);
+      const want = [];
+      for (const c of cells) {
+        const d = c.box.distanceToPoint(view.camera.position);
+        const near = d < index.near_m;
+        if (c.near && !near && d > 2 * index.near_m) { view.scene.remove(c.near); c.near.geometry.dispose(); c.near = null; }
+        if (c.near && c.far) c.far.userData.prisms.visible = false;
+        else if (c.far) c.far.userData.prisms.visible = true;
+        if (!frustum.intersectsBox(c.box)) continue;
+        if (!c.far) want.push([d, c, 'far']);
+        else if (near && !c.near) want.push([d, c, 'near']);
+      }
+      want.sort((a, b) => a[0] - b[0]);
+      div.dataset.pending = String(want.length + busy);
+      if (!want.length && !busy) {
+        if (div.dataset.state !== 'ready') div.dataset.loadMs = String(Math.round(performance.now() - t0));
+        div.dataset.state = 'ready';
+      } else div.dataset.state = 'loading';
+      while (busy < 2 && want.length) {
+        const [, c, part] = want.shift();
+        if (c.loading) continue;
+        c.loading = true, ++busy;
+        const name = c.name + (part === 'far' ? '-far' : '');
+        load(base + name + '.js', name).then((d) => {
+          if (part === 'far') {
+            c.far = new THREE.Group();
+            c.far.add(parcelsMesh(index, d));
+            c.far.userData.prisms = cellMesh(index, d, d.prisms);
+            c.far.add(c.far.userData.prisms);
+            view.scene.add(c.far);
+          } else {
+            c.near = cellMesh(index, d, d.elements);
+            view.scene.add(c.near);
+          }
+        }).catch((e) => { console.error(String(e)); c.failed = true; })
+          .finally(() => { c.loading = false, --busy; view.render(); });
+      }
+    };
+    view.listeners.push(update);
+    frame(view, all);
+    const pickable = () => cells.flatMap((c) => [c.near, c.far && c.far.userData.prisms.visible ? c.far.userData.prisms : null]).filter(Boolean);
+    onClick(view, pickable, (hit) => {
+      if (!hit) return;
+      const { cell, part, first } = hit.object.userData;
+      let k = first.length - 1;
+      while (k > 0 && first[k] > hit.faceIndex) --k;
+      const b = cell.buildings[k];
+      info.innerHTML = parcelText(index, cell, b);
+      info.dataset.parcel = cell.parcels[b.p].id;
+    });
+    div.c3d = { view, cells };
+  }).catch((e) => { console.error(String(e)); say(div, 'The 3D data of this report are missing: ' + e.message); });
+}
