@@ -14,6 +14,7 @@
 #include "cadastre/batch/building_meshes.h"
 #include "core/geometry/geometry.h"
 #include "tests/batch_e2e_support.h"
+#include "tests/report_checks.h"
 #include "tests/test_support.h"
 
 namespace c3d {
@@ -145,6 +146,36 @@ TEST(BatchMesh, EveryBuildingHasFourLevelsWithTheirFilesAndFigures) {
   for (size_t at = judged.find(": 0 errors,"); at != std::string::npos; at = judged.find(": 0 errors,", at + 1))
     ++clean;
   EXPECT_EQ(double(clean), 4 * buildings) << judged;
+}
+
+// The parcel page's 3D view offers the element model and the four levels;
+// a level chosen is drawn, and a click on it names the level.
+TEST(BatchMesh, TheParcelViewSwitchesToTheMeshLevels) {
+  const std::string dir = test::temp_dir("batch_mesh_view");
+  const std::string town = dir + "/town", out = dir + "/out";
+  e2e::make_town(town, 3, 3);
+  std::string log;
+  const int rc = test::run_cli(e2e::batch_args(town, out) + " --mesh --quiet", &log);
+  ASSERT_TRUE(rc == 0 || rc == 3) << log;
+  C3D_NEED(test::view_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
+  e2e::Sqlite db(out + "/cadastre.gpkg");
+  ASSERT_TRUE(db.ok()) << db.error();
+  std::vector<e2e::Row> parcels;
+  ASSERT_TRUE(db.query("SELECT DISTINCT u.parcel_id FROM building b JOIN la_spatialunit u ON u.fid = b.spatialunit_id "
+                       "ORDER BY u.parcel_id LIMIT 1", &parcels)) << db.error();
+  ASSERT_EQ(parcels.size(), 1u);
+  const std::string page = out + "/report/parcel/" + parcels[0][0].s + ".html";
+  for (const char* level : {"1", "3"}) {
+    const auto view = test::viewed(page, dir + "/level" + level + ".png",
+                                   std::string("--unlit --level ") + level + " --click largest 0 --colours '#8fb8a8,#a0522d'");
+    ASSERT_EQ(view.value("state", ""), "ready") << view.dump();
+    EXPECT_TRUE(view["errors"].empty()) << view["errors"].dump();
+    EXPECT_EQ(view["levels"], nlohmann::json({"0", "1", "2", "3", "4"}));
+    EXPECT_GT(view["pixels"][0].get<int>(), 2000) << "the mesh drawn";
+    EXPECT_EQ(view["pixels"][1].get<int>(), 0) << "the roofs hidden";
+    EXPECT_EQ(view["pick"]["text"].get<std::string>().rfind(std::string("Mesh level ") + level + " of building", 0), 0u)
+        << view["pick"].dump();
+  }
 }
 
 TEST(BatchMesh, MergedShardsKeepTheirMeshFiles) {

@@ -1,13 +1,36 @@
 #pragma once
 // Readers of the report's HTML for the report tests: links, the totals row,
-// the overview map's parcels and legend, the histogram's bins.
+// the overview map's parcels and legend, the histogram's bins; and the 3D
+// view as headless Chromium shows it (tests/js/report_view.js).
 #include <filesystem>
 #include <map>
 #include <regex>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "tests/test_support.h"
+
 namespace c3d::test {
+
+inline const std::string kJsChecks = std::string(C3D_SOURCE_DIR) + "/tests/js";
+
+// node, puppeteer-core (tests/js/node_modules) and Chromium, for report_view.js.
+inline bool view_tools() {
+  return std::filesystem::exists(kJsChecks + "/node_modules/puppeteer-core/package.json") && !chromium().empty() &&
+         !shell("command -v node").empty();
+}
+
+// tests/js/report_view.js's account of `page` in headless Chromium (its usage
+// gives the options); {} when it failed, which fails the test.
+inline nlohmann::json viewed(const std::string& page, const std::string& png, const std::string& options) {
+  int rc = -1;
+  const std::string out = shell("CHROMIUM=" + chromium() + " timeout 300 node " + kJsChecks + "/report_view.js " +
+                                page + " " + png + " " + options + " 2>&1", &rc);
+  EXPECT_EQ(rc, 0) << out;
+  return rc == 0 ? nlohmann::json::parse(out) : nlohmann::json::object();
+}
 
 inline std::vector<std::string> hrefs(const std::string& html) {
   std::vector<std::string> out;

@@ -14,8 +14,6 @@
 #include <regex>
 #include <set>
 
-#include <nlohmann/json.hpp>
-
 #include "tests/report_checks.h"
 #include "tests/test_support.h"
 
@@ -71,22 +69,6 @@ std::string page_of_most_rows(const Town& t) {
     if (rows > most) most = rows, page = e.path().string();
   }
   return page;
-}
-
-const std::string kJs = std::string(C3D_SOURCE_DIR) + "/tests/js";
-
-bool browser_tools() {
-  return fs::exists(kJs + "/node_modules/puppeteer-core/package.json") && !chromium().empty() &&
-         !shell("command -v node").empty();
-}
-
-// tests/js/report_view.js's account of `page` in headless Chromium.
-nlohmann::json viewed(const std::string& page, const std::string& png, const std::string& options) {
-  int rc = -1;
-  const std::string out = shell("CHROMIUM=" + chromium() + " timeout 300 node " + kJs + "/report_view.js " + page +
-                                " " + png + " " + options + " 2>&1", &rc);
-  EXPECT_EQ(rc, 0) << out;
-  return rc == 0 ? nlohmann::json::parse(out) : nlohmann::json::object();
 }
 
 }  // namespace
@@ -172,7 +154,7 @@ TEST(ReportTown, ChromiumRendersTheSummaryAndPrintsAParcelOnOneA4Page) {
 TEST(ReportTown, ParcelViewShowsTheStoresAreaOfAClickedElement) {
   const Town& t = town();
   ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
-  C3D_NEED(browser_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
+  C3D_NEED(view_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
   const std::string page = page_of_most_rows(t);
   const auto view = viewed(page, t.dir + "/parcel_view.png", "--unlit --click largest 0 --colours '#a0522d,#d8d8d8'");
   ASSERT_EQ(view.value("state", ""), "ready") << view.dump();
@@ -198,7 +180,7 @@ TEST(ReportTown, ParcelViewShowsTheStoresAreaOfAClickedElement) {
 TEST(ReportTown, SummaryViewDrawsTheParcelsByValue) {
   const Town& t = town();
   ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
-  C3D_NEED(browser_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
+  C3D_NEED(view_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
   std::string index = read(t.out + "/report/3d/index.js");
   index = index.substr(index.find(',') + 1);
   const auto classes = nlohmann::json::parse(index.substr(0, index.rfind(')')));

@@ -139,6 +139,9 @@ std::string inputs_note(const std::vector<InputFile>& inputs) {
 ReportInfo store_report_info(const std::string& store_loc, const Config& cfg, bool revalue, bool own_run) {
   ReportInfo info;
   info.source = store_loc;
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(store_loc, ec))  // a GeoPackage in the batch's output folder
+    info.files_root = std::filesystem::path(store_loc).parent_path().string();
   auto runs = load_runs(store_loc);
   if (!runs.empty()) {
     const RunRecord& r = runs.back();

@@ -23,6 +23,9 @@ struct ReportInfo {
   std::string title = "Cadastre3D parcel batch";
   std::string source;    // store or input the figures come from
   std::string run_note;  // e.g. tool version, run start/end
+  // The batch's output folder, where its per-building files (mesh/) are, for
+  // the 3D view's mesh levels; "" where there is none (a PostGIS store).
+  std::string files_root;
 };
 
 // One file of the report: its path relative to the output folder, its text.

@@ -11,6 +11,7 @@
 
 #include "cadastre/report/report_parts.h"
 #include "core/error.h"
+#include "core/mesh/mesh_files.h"
 #include "ifc_citygml/detail.h"
 
 namespace fs = std::filesystem;
@@ -97,17 +98,58 @@ const std::vector<Face>* prism_faces(const Building& b) {
   return nullptr;
 }
 
-}  // namespace
-
-std::string parcel_view(const Parcel& p, const ParcelResult& r, const ParcelValuation* v,
-                        const LocalFrame& frame, const std::string& to_report) {
+// Where a parcel page's scene has its origin: the parcel's centre (mean of
+// its outline's vertices) on the ground of its lowest building.
+Vec3 scene_centre(const Parcel& p, const ParcelResult& r, const LocalFrame& frame) {
   Vec2 mid(0, 0);
   size_t n = 0;
   for (const Polygon2& poly : p.shape)
     for (const Vec2& q : poly.outer) mid += frame.to_local(q), ++n;
   if (n) mid /= double(n);
-  const double ground = std::isnan(ground_of(r)) ? 0 : ground_of(r);
-  const Vec3 centre(mid.x(), mid.y(), ground);
+  const double z = ground_of(r);
+  return {mid.x(), mid.y(), std::isnan(z) ? 0.0 : z};
+}
+
+std::string level_name(const MeshLevelRecord& l) { return fs::path(l.ply).stem().string(); }
+
+// The mesh levels a parcel page offers: those with faces.
+json mesh_levels(const ParcelResult& r, const std::string& to_report) {
+  json levels = json::array();
+  for (size_t bi = 0; bi < r.buildings.size(); ++bi)
+    for (const MeshLevelRecord& l : r.buildings[bi].mesh.levels)
+      if (!l.glb.empty())
+        levels.push_back({{"b", bi}, {"level", l.level}, {"faces", l.faces}, {"mean", l.mean_m}, {"p95", l.p95_m},
+                          {"closed", l.closed}, {"name", level_name(l)},
+                          {"file", to_report + "3d/mesh/" + level_name(l) + ".js"}});
+  return levels;
+}
+
+}  // namespace
+
+void write_mesh_levels(const ParcelResult& r, const Parcel& p, const LocalFrame& frame,
+                       const std::string& files_root, const std::string& out_dir) {
+  if (files_root.empty()) return;
+  const Vec3 centre = frame.to_world(scene_centre(p, r, frame));
+  const fs::path dir = fs::path(out_dir) / "report" / "3d" / "mesh";
+  for (const Building& b : r.buildings)
+    for (const MeshLevelRecord& l : b.mesh.levels) {
+      std::error_code ec;
+      const fs::path ply = fs::path(files_root) / l.ply;
+      if (l.glb.empty() || !fs::is_regular_file(ply, ec)) continue;
+      const TriMesh mesh = read_local_ply(ply.string());
+      std::vector<double> pos;
+      std::vector<int> idx;
+      for (const Vec3& v : mesh.vertices)
+        for (int d = 0; d < 3; ++d) pos.push_back(mm(v[d] - centre[d]));
+      for (const auto& t : mesh.triangles) idx.insert(idx.end(), t.begin(), t.end());
+      fs::create_directories(dir, ec);
+      write_file(dir / (level_name(l) + ".js"), data_script(level_name(l), {{"pos", pos}, {"idx", idx}}));
+    }
+}
+
+std::string parcel_view(const Parcel& p, const ParcelResult& r, const ParcelValuation* v,
+                        const LocalFrame& frame, const std::string& to_report) {
+  const Vec3 centre = scene_centre(p, r, frame);
   json buildings = json::array();
   for (const Building& b : r.buildings) {
     json elements = json::array();
@@ -123,7 +165,8 @@ std::string parcel_view(const Parcel& p, const ParcelResult& r, const ParcelValu
     buildings.push_back({{"id", b.id}, {"lod", to_string(b.lod)}, {"elements", elements}});
   }
   const json scene = {{"types", element_types()}, {"currency", v ? v->currency : ""},
-                      {"parcel", rings(p, frame, mid)}, {"ground", 0.0}, {"buildings", buildings}};
+                      {"parcel", rings(p, frame, centre.head<2>())}, {"ground", 0.0}, {"buildings", buildings},
+                      {"meshes", mesh_levels(r, to_report)}};
   return "<div class=\"view3d screen-only\" id=\"view3d\"></div><script src=\"" + to_report +
          "lib/c3d-viewer.js\"></script><script>C3DViewer.parcel(document.getElementById('view3d')," +
          script_safe(scene.dump()) + ");</script>";

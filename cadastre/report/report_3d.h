@@ -34,6 +34,12 @@ inline constexpr double kCellM = 250;  // side of the summary's cells (m)
 // to_report: the page's path back to OUT/report/ ("../").
 std::string parcel_view(const Parcel& p, const ParcelResult& r, const ParcelValuation* v,
                         const LocalFrame& frame, const std::string& to_report);
+// The parcel's buildings' mesh levels (batch --mesh) that parcel_view offers,
+// as the viewer's data files OUT/report/3d/mesh/<level file>.js, read from
+// each level's PLY under files_root; levels whose PLY is not there are left
+// out (the view then says so).
+void write_mesh_levels(const ParcelResult& r, const Parcel& p, const LocalFrame& frame,
+                       const std::string& files_root, const std::string& out_dir);
 // The summary page's view, loading report/3d/ on demand.
 std::string summary_view();
 

@@ -99,6 +99,7 @@ void ReportWriter::write_ready(bool all) {
       write("report/" + parcel_page(p), parcel_html(rows_, v, info_, i, total_));
       csv_ << csv_rows(p, rows_.results[i], v);
       cells_.add(p, rows_.results[i], v, rows_.frame);
+      write_mesh_levels(rows_.results[i], p, rows_.frame, info_.files_root, out_dir_);
       keep_summary_row(rows_.parcels[i], rows_.results[i]);
     }
     if (!csv_) throw InputError(csv_path_, "cannot write report");

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/mesh/glb.h"
+#include "core/optimizer/mesh_dense.h"
 #include "core/io/point_io.h"
 
 namespace c3d {
@@ -45,6 +46,17 @@ nlohmann::json level_json(const MeshLevel& l) {
 }
 
 }  // namespace
+
+TriMesh read_local_ply(const std::string& path) {
+  TriMesh mesh = read_mesh(path);
+  std::ifstream in(path, std::ios::binary);
+  Vec3 offset = Vec3::Zero();
+  for (std::string line; std::getline(in, line) && line != "end_header";)
+    if (std::sscanf(line.c_str(), "comment world = local + (%lf, %lf, %lf)", &offset.x(), &offset.y(), &offset.z()) == 3)
+      break;
+  for (Vec3& v : mesh.vertices) v += offset;
+  return mesh;
+}
 
 void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& offset) {
   std::ofstream out(path, std::ios::binary);

@@ -14,6 +14,9 @@ namespace c3d {
 // spans metres: float keeps them to a micrometre), int32 triangles, and the
 // comment "world = local + (x, y, z)" as the OBJ files carry it.
 void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& offset);
+// That PLY read back in world coordinates: its vertices plus the offset its
+// header's comment gives (read_mesh alone gives them local).
+TriMesh read_local_ply(const std::string& path);
 
 // The ladder's figures: spacing, method, level 4's trimmed faces, and per level
 // faces, vertices, seconds, cloud-to-mesh mean / std / p95 / max,

@@ -7,7 +7,8 @@
 // per colour, pick (building, element, area, text) and the cells loaded.
 // Usage: node report_view.js PAGE.html OUT.png [--unlit] [--no-webgl]
 //          [--click BUILDING ELEMENT | --click largest TYPE] [--colours '#rrggbb,...']
-//          [--size WxH]
+//          [--size WxH] [--level K]
+// (--level: show mesh level K of the parcel page's switch before the rest.)
 // (TYPE: 0 roof, 1 wall, 2 party wall, 3 ground, 4 outer ceiling.)
 const path = require('path');
 const puppeteer = require('puppeteer-core');
@@ -16,7 +17,7 @@ const args = process.argv.slice(2);
 const [page, png] = args;
 const opt = (name) => { const i = args.indexOf(name); return i < 0 ? null : args.slice(i + 1); };
 const unlit = args.includes('--unlit'), noWebgl = args.includes('--no-webgl');
-const click = opt('--click'), colours = opt('--colours'), size = opt('--size');
+const click = opt('--click'), colours = opt('--colours'), size = opt('--size'), level = opt('--level');
 const [width, height] = size ? size[0].split('x').map(Number) : [1200, 900];
 
 const hex = (h) => [1, 3, 5].map((i) => parseInt(h.slice(i, i + 2), 16));
@@ -46,6 +47,12 @@ async function main() {
   out.pictures = await tab.$$eval('svg', (s) => s.length);
   if (out.state === 'ready') {
     out.cells = await tab.$eval('#view3d', (v) => (v.c3d.cells || []).map((c) => ({ name: c.name, far: !!c.far, near: !!c.near })));
+    if (level) {
+      out.levels = await tab.$$eval('#view3d .view3d-levels option', (o) => o.map((x) => x.value));
+      await tab.select('#view3d .view3d-levels', level[0]);
+      await tab.waitForFunction(() => document.getElementById('view3d').dataset.state === 'ready', { timeout: 120000 });
+      await new Promise((r) => setTimeout(r, 300));
+    }
     if (click) {
       const [b, e] = click[0] === 'largest' ? await tab.$eval('#view3d', (v, t) => v.c3d.largest(t), Number(click[1]))
                                             : [Number(click[0]), Number(click[1])];

@@ -216,6 +216,59 @@ function legend(div, scene, groups, render) {
   div.appendChild(l);
 }
 
+function meshText(scene, m) {
+  return `<b>Mesh level ${m.level}</b> of building ${scene.buildings[m.b].id}: ${m.faces.toLocaleString('en-US')} faces` +
+         `${m.closed ? ', closed' : ''}<br>Its points to the mesh: mean ${num(m.mean, 3)} m, 95th percentile ${num(m.p95, 3)} m`;
+}
+
+// A choice between the element model and each mesh level of the buildings'
+// ladders (batch --mesh): a level's meshes are loaded when first chosen.
+function meshSwitch(div, scene, view, model, info) {
+  const levels = [...new Set(scene.meshes.map((m) => m.level))].sort();
+  const bar = document.createElement('div');
+  bar.className = 'view3d-legend';
+  const select = document.createElement('select');
+  select.className = 'view3d-levels';
+  select.add(new Option('Element model', '0'));
+  for (const k of levels) select.add(new Option(`Mesh level ${k}` + (k === 1 ? ' (closed hull)' : k === 4 ? ' (dense)' : ''), String(k)));
+  bar.append('Show: ', select);
+  div.insertBefore(bar, info);
+  const shown = new Map();  // level -> group
+  const meshes = [];
+  select.onchange = async () => {
+    const k = Number(select.value);
+    model.visible = k === 0;
+    shown.forEach((g, level) => { g.visible = level === k; });
+    if (k && !shown.has(k)) {
+      const group = new THREE.Group();
+      shown.set(k, group);
+      view.scene.add(group);
+      div.dataset.state = 'loading';
+      for (const m of scene.meshes.filter((m) => m.level === k)) {
+        try {
+          const d = await load(m.file, m.name);
+          const g = new THREE.BufferGeometry();
+          g.setAttribute('position', new THREE.Float32BufferAttribute(d.pos, 3));
+          g.setIndex(d.idx);
+          g.computeVertexNormals();
+          const mat = material('#8fb8a8');  // no legend colour: a mesh has no elements
+          mat.flatShading = true;
+          const mesh = new THREE.Mesh(g, mat);
+          mesh.userData = { mesh: m };
+          group.add(mesh);
+          meshes.push(mesh);
+        } catch (e) {
+          info.textContent = `Level ${k} of building ${scene.buildings[m.b].id} is not in this report: ` +
+                             'the report was written away from the batch\'s mesh/ folder.';
+        }
+      }
+      div.dataset.state = 'ready';
+    }
+    view.render();
+  };
+  return () => meshes.filter((m) => m.parent.visible);
+}
+
 export function parcel(div, scene) {
   if (!webglAvailable()) return say(div, 'No WebGL in this browser: the pictures below show the parcel.');
   const view = makeView(div);
@@ -226,7 +279,9 @@ export function parcel(div, scene) {
     box.expandByObject(ground);
   }
   const groups = scene.types.map(() => new THREE.Group());
-  groups.forEach((g) => view.scene.add(g));
+  const model = new THREE.Group();  // the element model, hidden while a mesh level shows
+  groups.forEach((g) => model.add(g));
+  view.scene.add(model);
   const pickable = [];
   scene.buildings.forEach((b, bi) => b.elements.forEach((e, ei) => {
     const mesh = new THREE.Mesh(triangles(e.tri), material(scene.types[e.t].colour));
@@ -239,10 +294,12 @@ export function parcel(div, scene) {
   }));
   legend(div, scene, groups, view.render);
   const info = panel(div);
+  const levelMeshes = scene.meshes && scene.meshes.length ? meshSwitch(div, scene, view, model, info) : () => [];
   let picked = null;
-  onClick(view, () => pickable.filter((m) => m.parent.visible), (hit) => {
+  onClick(view, () => (model.visible ? pickable.filter((m) => m.parent.visible) : []).concat(levelMeshes()), (hit) => {
     if (picked) picked.material.emissive?.set('#000000'), picked.material.color.set(scene.types[picked.userData.e.t].colour);
-    picked = hit ? hit.object : null;
+    picked = hit && hit.object.userData.e ? hit.object : null;
+    if (hit && hit.object.userData.mesh) info.innerHTML = meshText(scene, hit.object.userData.mesh);
     if (!picked) return view.render();
     picked.material.emissive?.set('#3a3a00');
     if (!picked.material.emissive) picked.material.color.offsetHSL(0, 0, 0.15);
