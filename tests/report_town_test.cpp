@@ -175,8 +175,8 @@ TEST(ReportTown, ParcelViewShowsTheStoresAreaOfAClickedElement) {
 }
 
 // The summary's 3D view: every cell of a small town loaded, the buildings in
-// the overview map's value colours; without WebGL it says so and the page
-// keeps its pictures.
+// the overview map's value colours, a click naming a building's parcel and
+// value; without WebGL it says so and the page keeps its pictures.
 TEST(ReportTown, SummaryViewDrawsTheParcelsByValue) {
   const Town& t = town();
   ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
@@ -186,7 +186,8 @@ TEST(ReportTown, SummaryViewDrawsTheParcelsByValue) {
   const auto classes = nlohmann::json::parse(index.substr(0, index.rfind(')')));
   std::string colours;
   for (const auto& c : classes["colours"]) colours += (colours.empty() ? "" : ",") + c.get<std::string>();
-  const auto view = viewed(t.out + "/report.html", t.dir + "/summary_view.png", "--unlit --colours '" + colours + "'");
+  const auto view = viewed(t.out + "/report.html", t.dir + "/summary_view.png",
+                          "--unlit --click top --colours '" + colours + "'");
   ASSERT_EQ(view.value("state", ""), "ready") << view.dump();
   EXPECT_TRUE(view["errors"].empty()) << view["errors"].dump();
   EXPECT_EQ(view["cells"].size(), classes["cells"].size());
@@ -195,6 +196,13 @@ TEST(ReportTown, SummaryViewDrawsTheParcelsByValue) {
   for (const auto& n : view["pixels"]) drawn += n.get<int>(), classes_seen += n.get<int>() > 100;
   EXPECT_GT(drawn, 5000);
   EXPECT_GE(classes_seen, 2) << view["pixels"].dump();
+  // A click on a building names its parcel, with the store's NJOP per m2 of land.
+  const auto& pick = view["pick"];
+  ASSERT_TRUE(pick["parcel"].is_string()) << view.dump();
+  EXPECT_NEAR(pick["value"].get<double>(),
+              sql_number(t.out + "/cadastre.gpkg", "SELECT v.njop / u.land_area FROM vm_valuation v JOIN "
+                         "vm_valuationunit u ON u.fid = v.valuationunit_id WHERE u.parcel_id = '" +
+                         pick["parcel"].get<std::string>() + "'"), 0.01) << pick.dump();
   const auto blind = viewed(page_of_most_rows(t), t.dir + "/no_webgl.png", "--no-webgl");
   EXPECT_EQ(blind.value("state", ""), "unavailable") << blind.dump();
   EXPECT_NE(blind.value("note", "").find("pictures"), std::string::npos);

@@ -6,10 +6,11 @@
 // Prints one JSON object: state, load_ms, errors (console and page), pixels
 // per colour, pick (building, element, area, text) and the cells loaded.
 // Usage: node report_view.js PAGE.html OUT.png [--unlit] [--no-webgl]
-//          [--click BUILDING ELEMENT | --click largest TYPE] [--colours '#rrggbb,...']
+//          [--click BUILDING ELEMENT | --click largest TYPE | --click top] [--colours '#rrggbb,...']
 //          [--size WxH] [--level K]
 // (--level: show mesh level K of the parcel page's switch before the rest.)
-// (TYPE: 0 roof, 1 wall, 2 party wall, 3 ground, 4 outer ceiling.)
+// (TYPE: 0 roof, 1 wall, 2 party wall, 3 ground, 4 outer ceiling; top: on the
+// summary, the highest roof drawn.)
 const path = require('path');
 const puppeteer = require('puppeteer-core');
 
@@ -54,6 +55,13 @@ async function main() {
       await new Promise((r) => setTimeout(r, 300));
     }
     if (click) {
+      if (click[0] === 'top') {  // the summary: the highest roof drawn
+        const at = await tab.$eval('#view3d', (v) => v.c3d.topOnScreen());
+        await tab.mouse.click(at.x, at.y);
+        await new Promise((r) => setTimeout(r, 300));
+        out.pick = await tab.$eval('#view3d .view3d-pick', (p) => ({ parcel: p.dataset.parcel || null,
+          value: p.dataset.value === undefined ? null : Number(p.dataset.value), text: p.textContent }));
+      } else {
       const [b, e] = click[0] === 'largest' ? await tab.$eval('#view3d', (v, t) => v.c3d.largest(t), Number(click[1]))
                                             : [Number(click[0]), Number(click[1])];
       out.clicked = { building: b, element: e };
@@ -64,6 +72,7 @@ async function main() {
         building: p.dataset.building, element: p.dataset.element === undefined ? null : Number(p.dataset.element),
         area: p.dataset.area === undefined ? null : Number(p.dataset.area),
         shown: (p.querySelector('.area') || {}).textContent || null, text: p.textContent }));
+      }
     }
     if (colours) {
       const want = colours[0].split(',').map(hex);

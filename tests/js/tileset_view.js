@@ -26,8 +26,10 @@ const page = `<!doctype html><html><head><meta charset="utf-8"><title>loading</t
 const viewer = new Cesium.Viewer('v', {baseLayer: false, baseLayerPicker: false, geocoder: false, timeline: false,
   animation: false, homeButton: false, sceneModePicker: false, navigationHelpButton: false, fullscreenButton: false,
   infoBox: false, selectionIndicator: false, skyBox: false, skyAtmosphere: false,
+  // No globe (the buildings on white) and frames only when something changes:
+  // the globe's own tiles and a render loop cost seconds in software rendering.
+  globe: false, requestRenderMode: true,
   contextOptions: {webgl: {preserveDrawingBuffer: true}}});
-viewer.scene.globe.baseColor = Cesium.Color.WHITE;
 viewer.scene.backgroundColor = Cesium.Color.WHITE;
 Cesium.Cesium3DTileset.fromUrl('tiles/tileset.json').then((ts) => {
   if (!${lit}) ts.customShader = new Cesium.CustomShader({lightingModel: Cesium.LightingModel.UNLIT});

@@ -460,7 +460,25 @@ export function summary(div, base) {
       const b = cell.buildings[k];
       info.innerHTML = parcelText(index, cell, b);
       info.dataset.parcel = cell.parcels[b.p].id;
+      info.dataset.value = String(cell.parcels[b.p].v);
     });
-    div.c3d = { view, cells };
+    div.c3d = {
+      view, cells,
+      // Where the highest triangle of the buildings drawn is (tests click there).
+      topOnScreen() {
+        let best = null;
+        for (const m of pickable()) {
+          const p = m.geometry.getAttribute('position');
+          for (let i = 0; i < p.count; i += 3) {
+            const z = (p.getZ(i) + p.getZ(i + 1) + p.getZ(i + 2)) / 3;
+            if (!best || z > best.z) best = { z, i, p };
+          }
+        }
+        if (!best) return null;
+        const c = new THREE.Vector3();
+        for (let k = 0; k < 3; ++k) c.add(new THREE.Vector3().fromBufferAttribute(best.p, best.i + k));
+        return onScreen(view, c.multiplyScalar(1 / 3));
+      },
+    };
   }).catch((e) => { console.error(String(e)); say(div, 'The 3D data of this report are missing: ' + e.message); });
 }
