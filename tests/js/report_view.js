@@ -7,8 +7,10 @@
 // per colour, pick (building, element, area, text) and the cells loaded.
 // Usage: node report_view.js PAGE.html OUT.png [--unlit] [--no-webgl]
 //          [--click BUILDING ELEMENT | --click largest TYPE | --click top] [--colours '#rrggbb,...']
-//          [--size WxH] [--level K]
-// (--level: show mesh level K of the parcel page's switch before the rest.)
+//          [--size WxH] [--level K] [--zoom F]
+// (--level: show mesh level K of the parcel page's switch before the rest;
+// --zoom: bring the camera F times closer to what it looks at, and wait for
+// the cells that brings into view.)
 // (TYPE: 0 roof, 1 wall, 2 party wall, 3 ground, 4 outer ceiling; top: on the
 // summary, the highest roof drawn.)
 const path = require('path');
@@ -19,6 +21,7 @@ const [page, png] = args;
 const opt = (name) => { const i = args.indexOf(name); return i < 0 ? null : args.slice(i + 1); };
 const unlit = args.includes('--unlit'), noWebgl = args.includes('--no-webgl');
 const click = opt('--click'), colours = opt('--colours'), size = opt('--size'), level = opt('--level');
+const zoom = opt('--zoom');
 const [width, height] = size ? size[0].split('x').map(Number) : [1200, 900];
 
 const hex = (h) => [1, 3, 5].map((i) => parseInt(h.slice(i, i + 2), 16));
@@ -48,6 +51,19 @@ async function main() {
   out.pictures = await tab.$$eval('svg', (s) => s.length);
   if (out.state === 'ready') {
     out.cells = await tab.$eval('#view3d', (v) => (v.c3d.cells || []).map((c) => ({ name: c.name, far: !!c.far, near: !!c.near })));
+    if (zoom) {
+      const t1 = Date.now();
+      await tab.$eval('#view3d', (v, f) => {
+        const { camera, controls } = v.c3d.view;
+        camera.position.lerp(controls.target, 1 - 1 / f);
+        controls.update();
+        controls.dispatchEvent({ type: 'change' });
+      }, Number(zoom[0]));
+      await new Promise((r) => setTimeout(r, 200));
+      await tab.waitForFunction(() => document.getElementById('view3d').dataset.state === 'ready', { timeout: 120000 });
+      out.zoom_ms = Date.now() - t1;
+      out.cells = await tab.$eval('#view3d', (v) => v.c3d.cells.map((c) => ({ name: c.name, far: !!c.far, near: !!c.near })));
+    }
     if (level) {
       out.levels = await tab.$$eval('#view3d .view3d-levels option', (o) => o.map((x) => x.value));
       await tab.select('#view3d .view3d-levels', level[0]);
