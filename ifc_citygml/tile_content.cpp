@@ -25,7 +25,7 @@ std::array<float, 3> element_colour(ElementType t) {
 
 namespace {
 
-constexpr int kFloat = 5126, kArrayBuffer = 34962, kTriangles = 4;
+using namespace gltf;
 
 // The binary chunk and its buffer views. Views start on 8 bytes, as
 // EXT_structural_metadata asks of property values.

@@ -253,7 +253,10 @@ std::vector<std::string> write_staged(const BatchReport& report, const StorePage
     summary.add(page);
     write_previews(page, previews);
     std::vector<ParcelValuation> values = pages.valuations(k);
-    for (auto& w : exports) w->values(values), w->add(page);
+    for (auto& w : exports) {
+      if (w->carries_values()) w->values(values);
+      w->add(page);
+    }
     report_pages.add(std::move(page), std::move(values));
     if (progress) progress(k + 1, pages.page_count() + 1);
   }

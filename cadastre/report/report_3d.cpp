@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "cadastre/report/report_parts.h"
@@ -126,6 +127,11 @@ json mesh_levels(const ParcelResult& r, const std::string& to_report) {
 
 }  // namespace
 
+size_t SummaryCells::Colouring::of(const std::string& status, double value) const {
+  const size_t failed = classes->count();  // then suspect, then not valued
+  return status == "failed" ? failed : status == "suspect" ? failed + 1 : value < 0 ? failed + 2 : classes->of(value);
+}
+
 void write_mesh_levels(const ParcelResult& r, const Parcel& p, const LocalFrame& frame,
                        const std::string& files_root, const std::string& out_dir) {
   if (files_root.empty()) return;
@@ -188,23 +194,12 @@ SummaryCells::SummaryCells(const std::string& out_dir)
 // A parcel's record in its cell's spool: its figures, ground and rings, and
 // its buildings' triangles near (by element) and far (the prism).
 void SummaryCells::add(const Parcel& p, const ParcelResult& r, const ParcelValuation* v, const LocalFrame& frame) {
-  Vec2 mid(0, 0);
-  size_t n = 0;
-  for (const Polygon2& poly : p.shape)
-    for (const Vec2& q : poly.outer) mid += frame.to_local(q), ++n;
-  if (!n) return;  // no shape: nothing to draw
-  mid /= double(n);
-  const std::pair<long, long> cell{long(std::floor(mid.x() / kCellM)), long(std::floor(mid.y() / kCellM))};
+  const Vec3 centre = scene_centre(p, r, frame);
+  const std::pair<long, long> cell{long(std::floor(centre.x() / kCellM)), long(std::floor(centre.y() / kCellM))};
   const double z = ground_of(r);
   if (!std::isnan(z)) ground_z_.push_back(z);
+  Eigen::AlignedBox3d& box = boxes_[cell];
   json buildings = json::array();
-  std::vector<double>& box = boxes_[cell];
-  if (box.empty()) box = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  auto grow = [&](const std::vector<double>& tri) {
-    for (size_t i = 0; i + 2 < tri.size(); i += 3)
-      for (int d = 0; d < 3; ++d) box[size_t(d)] = std::min(box[size_t(d)], tri[i + size_t(d)]),
-                                  box[size_t(d) + 3] = std::max(box[size_t(d) + 3], tri[i + size_t(d)]);
-  };
   for (const Building& b : r.buildings) {
     std::vector<double> near, far;
     for (const Element& e : b.elements)
@@ -213,19 +208,12 @@ void SummaryCells::add(const Parcel& p, const ParcelResult& r, const ParcelValua
       for (const Face& f : *prism) add_triangles(f, Vec3::Zero(), far);
     else
       far = near;
-    grow(near);
+    for (size_t i = 0; i + 2 < near.size(); i += 3) box.extend(Vec3(near[i], near[i + 1], near[i + 2]));
     buildings.push_back({{"id", b.id}, {"near", near}, {"far", far}});
   }
-  const json ring_list = rings(p, frame, Vec2::Zero());
-  for (const auto& poly : ring_list)
-    for (const auto& ring : poly)
-      for (size_t i = 0; i + 1 < ring.size(); i += 2) {
-        box[0] = std::min(box[0], ring[i].get<double>()), box[3] = std::max(box[3], ring[i].get<double>());
-        box[1] = std::min(box[1], ring[i + 1].get<double>()), box[4] = std::max(box[4], ring[i + 1].get<double>());
-      }
   const json record = {{"id", p.id}, {"page", parcel_page(p)}, {"status", to_string(r.status)},
                        {"v", std::isfinite(njop_per_m2(v)) ? njop_per_m2(v) : -1.0},
-                       {"z", std::isnan(z) ? json(nullptr) : json(mm(z))}, {"rings", ring_list},
+                       {"z", std::isnan(z) ? json(nullptr) : json(mm(z))}, {"rings", rings(p, frame, Vec2::Zero())},
                        {"buildings", buildings}};
   const std::vector<std::uint8_t> bytes = json::to_msgpack(record);
   const fs::path spool = fs::path(dir_) / "spool" / cell_name(cell);
@@ -236,51 +224,61 @@ void SummaryCells::add(const Parcel& p, const ParcelResult& r, const ParcelValua
   if (!out) throw InputError(spool.string(), "cannot write report");
 }
 
+// The parcels of a cell's spool, one record after another.
+template <class Each>
+void read_spool(const fs::path& spool, Each each) {
+  std::ifstream in(spool, std::ios::binary);
+  std::uint32_t size = 0;
+  while (in.read(reinterpret_cast<char*>(&size), sizeof size)) {
+    std::vector<std::uint8_t> bytes(size);
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) throw InputError(spool.string(), "spool cut short");
+    each(json::from_msgpack(bytes));
+  }
+}
+
+void SummaryCells::write_cell(std::pair<long, long> cell, Eigen::AlignedBox3d& box, const Colouring& colouring) const {
+  json parcels_far = json::array(), parcels_near = json::array(), buildings = json::array();
+  std::vector<double> far, near;
+  std::vector<size_t> far_counts, near_counts;
+  read_spool(fs::path(dir_) / "spool" / cell_name(cell), [&](const json& p) {
+    const double z = p["z"].is_null() ? colouring.ground : p["z"].get<double>();
+    for (const auto& poly : p["rings"])
+      for (const auto& ring : poly)
+        for (size_t i = 0; i + 1 < ring.size(); i += 2) box.extend(Vec3(ring[i], ring[i + 1], z));
+    json figures = {{"id", p["id"]}, {"page", p["page"]}, {"status", p["status"]}, {"v", p["v"]},
+                    {"c", colouring.of(p["status"], p["v"])}};
+    parcels_near.push_back(figures);
+    figures["z"] = z, figures["rings"] = p["rings"];
+    parcels_far.push_back(figures);
+    for (const json& b : p["buildings"]) {
+      buildings.push_back({{"id", b["id"]}, {"p", parcels_near.size() - 1}});
+      const auto n = b["near"].get<std::vector<double>>(), f = b["far"].get<std::vector<double>>();
+      near.insert(near.end(), n.begin(), n.end()), near_counts.push_back(n.size() / 9);
+      far.insert(far.end(), f.begin(), f.end()), far_counts.push_back(f.size() / 9);
+    }
+  });
+  const std::string name = cell_name(cell);
+  write_file(fs::path(dir_) / (name + "-far.js"),
+             data_script(name + "-far", {{"parcels", parcels_far}, {"buildings", buildings},
+                                         {"prisms", {{"pos", far}, {"counts", far_counts}}}}));
+  write_file(fs::path(dir_) / (name + ".js"),
+             data_script(name, {{"parcels", parcels_near}, {"buildings", buildings},
+                                {"elements", {{"pos", near}, {"counts", near_counts}}}}));
+}
+
 void SummaryCells::finish(const ValueClasses& classes, const std::string& currency) {
   // Colours: the value classes, then failed, suspect and not valued (as the map draws them).
   json colours = json::array(), labels = json::array();
   for (size_t k = 0; k < classes.count(); ++k) colours.push_back(classes.colour(k)), labels.push_back(classes.label(k));
-  const size_t failed = classes.count(), suspect = failed + 1, unvalued = failed + 2;
   colours.insert(colours.end(), {"#e57373", "#ffb74d", "#ffffff"});
   labels.insert(labels.end(), {"failed, land only", "suspect, land only", "not valued"});
   std::sort(ground_z_.begin(), ground_z_.end());
-  const double batch_ground = ground_z_.empty() ? 0 : ground_z_[ground_z_.size() / 2];
+  const Colouring colouring{&classes, ground_z_.empty() ? 0 : ground_z_[ground_z_.size() / 2]};
   json cells = json::array();
   for (auto& [cell, box] : boxes_) {
-    const fs::path spool = fs::path(dir_) / "spool" / cell_name(cell);
-    std::ifstream in(spool, std::ios::binary);
-    json parcels_far = json::array(), parcels_near = json::array(), buildings = json::array();
-    std::vector<double> far, near;
-    std::vector<size_t> far_counts, near_counts;
-    std::uint32_t size = 0;
-    while (in.read(reinterpret_cast<char*>(&size), sizeof size)) {
-      std::vector<std::uint8_t> bytes(size);
-      if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) throw InputError(spool.string(), "spool cut short");
-      json p = json::from_msgpack(bytes);
-      const std::string status = p["status"];
-      const double v = p["v"];
-      const size_t c = status == "failed" ? failed : status == "suspect" ? suspect : v < 0 ? unvalued : classes.of(v);
-      const double z = p["z"].is_null() ? batch_ground : p["z"].get<double>();
-      box[2] = std::min(box[2], z), box[5] = std::max(box[5], z);
-      json figures = {{"id", p["id"]}, {"page", p["page"]}, {"status", status}, {"v", v}, {"c", c}};
-      parcels_near.push_back(figures);
-      figures["z"] = z, figures["rings"] = p["rings"];
-      parcels_far.push_back(figures);
-      for (const json& b : p["buildings"]) {
-        buildings.push_back({{"id", b["id"]}, {"p", parcels_near.size() - 1}});
-        const auto n = b["near"].get<std::vector<double>>(), f = b["far"].get<std::vector<double>>();
-        near.insert(near.end(), n.begin(), n.end()), near_counts.push_back(n.size() / 9);
-        far.insert(far.end(), f.begin(), f.end()), far_counts.push_back(f.size() / 9);
-      }
-    }
-    const std::string name = cell_name(cell);
-    write_file(fs::path(dir_) / (name + "-far.js"),
-               data_script(name + "-far", {{"parcels", parcels_far}, {"buildings", buildings},
-                                           {"prisms", {{"pos", far}, {"counts", far_counts}}}}));
-    write_file(fs::path(dir_) / (name + ".js"),
-               data_script(name, {{"parcels", parcels_near}, {"buildings", buildings},
-                                  {"elements", {{"pos", near}, {"counts", near_counts}}}}));
-    cells.push_back({{"name", name}, {"box", box}});
+    write_cell(cell, box, colouring);
+    cells.push_back({{"name", cell_name(cell)}, {"box", {box.min().x(), box.min().y(), box.min().z(), box.max().x(),
+                                                         box.max().y(), box.max().z()}}});
   }
   std::error_code ec;
   fs::remove_all(fs::path(dir_) / "spool", ec);

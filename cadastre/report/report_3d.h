@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "core/types.h"
 #include "valuation/valuation_types.h"
 
@@ -53,8 +55,18 @@ class SummaryCells {
   void finish(const ValueClasses& classes, const std::string& currency);
 
  private:
-  std::string out_, dir_;                                // OUT, OUT/report/3d
-  std::map<std::pair<long, long>, std::vector<double>> boxes_;  // cell -> min xyz, max xyz
+  // A parcel's colour in the viewer's list (index.js): its value class, or
+  // failed, suspect, not valued after the classes; `ground`: where parcels
+  // without a building lie, the batch's median ground.
+  struct Colouring {
+    const ValueClasses* classes;
+    double ground;
+    size_t of(const std::string& status, double value) const;
+  };
+  void write_cell(std::pair<long, long> cell, Eigen::AlignedBox3d& box, const Colouring& colouring) const;
+
+  std::string out_, dir_;                                      // OUT, OUT/report/3d
+  std::map<std::pair<long, long>, Eigen::AlignedBox3d> boxes_;  // each cell's buildings and parcels
   std::vector<double> ground_z_;  // parcels' ground heights, for parcels without a building
 };
 

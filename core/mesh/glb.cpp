@@ -13,7 +13,7 @@ namespace c3d {
 namespace {
 
 constexpr uint32_t kMagic = 0x46546C67, kVersion = 2, kJsonChunk = 0x4E4F534A, kBinChunk = 0x004E4942;
-constexpr int kFloat = 5126, kUnsignedInt = 5125, kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
+using namespace gltf;
 
 template <typename T>
 void append(std::vector<unsigned char>& out, T v) {

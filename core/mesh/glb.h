@@ -13,6 +13,14 @@
 
 namespace c3d {
 
+// glTF's codes for what the writers use: accessor component types, buffer
+// view targets, the triangle primitive mode.
+namespace gltf {
+inline constexpr int kFloat = 5126, kUnsignedInt = 5125;
+inline constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+inline constexpr int kTriangles = 4;
+}  // namespace gltf
+
 // A GLB file of a glTF JSON text and its binary chunk, each padded to 4 bytes.
 std::vector<unsigned char> glb_container(const std::string& json, std::vector<unsigned char> bin);
 // The file's bytes; `name` names the node and the mesh.

@@ -407,9 +407,16 @@ export function summary(div, base) {
     const cells = index.cells.map((c) => ({ ...c, box: new THREE.Box3(new THREE.Vector3(...c.box.slice(0, 3)), new THREE.Vector3(...c.box.slice(3))), far: null, near: null, loading: false }));
     const all = new THREE.Box3();
     cells.forEach((c) => all.union(c.box));
-    let busy = 0;
-    // Cells in view: far ones as prisms with their parcels, near ones by element.
-    const update = () => {
+    let busy = 0, drawn = 0;
+    // After a cell came in: the next ones, and a frame now and then (a frame
+    // of a whole town costs more than a cell in software rendering).
+    const loaded = () => {
+      update(false);
+      if (!busy || performance.now() - drawn > 1000) drawn = performance.now(), view.render();
+    };
+    // Cells in view: far ones as prisms with their parcels, near ones by
+    // element. Ready once a frame is drawn with nothing left to load.
+    const update = (afterFrame) => {
       const m = new THREE.Matrix4().multiplyMatrices(view.camera.projectionMatrix, view.camera.matrixWorldInverse);
       const frustum = new THREE.Frustum().setFromProjectionMatrix(m);
       const want = [];
@@ -419,17 +426,18 @@ export function summary(div, base) {
         if (c.near && !near && d > 2 * index.near_m) { view.scene.remove(c.near); c.near.geometry.dispose(); c.near = null; }
         if (c.near && c.far) c.far.userData.prisms.visible = false;
         else if (c.far) c.far.userData.prisms.visible = true;
-        if (!frustum.intersectsBox(c.box)) continue;
+        if (c.failed || !frustum.intersectsBox(c.box)) continue;
         if (!c.far) want.push([d, c, 'far']);
         else if (near && !c.near) want.push([d, c, 'near']);
       }
       want.sort((a, b) => a[0] - b[0]);
       div.dataset.pending = String(want.length + busy);
       if (!want.length && !busy) {
+        if (!afterFrame) return;
         if (div.dataset.state !== 'ready') div.dataset.loadMs = String(Math.round(performance.now() - t0));
         div.dataset.state = 'ready';
       } else div.dataset.state = 'loading';
-      while (busy < 2 && want.length) {
+      while (busy < 4 && want.length) {
         const [, c, part] = want.shift();
         if (c.loading) continue;
         c.loading = true, ++busy;
@@ -446,10 +454,10 @@ export function summary(div, base) {
             view.scene.add(c.near);
           }
         }).catch((e) => { console.error(String(e)); c.failed = true; })
-          .finally(() => { c.loading = false, --busy; view.render(); });
+          .finally(() => { c.loading = false, --busy; loaded(); });
       }
     };
-    view.listeners.push(update);
+    view.listeners.push(() => update(true));
     frame(view, all);
     const pickable = () => cells.flatMap((c) => [c.near, c.far && c.far.userData.prisms.visible ? c.far.userData.prisms : null]).filter(Boolean);
     onClick(view, pickable, (hit) => {
