@@ -336,6 +336,14 @@ TEST(MeshLadder, FilesAreWrittenAndTheGltfIsValid) {
   EXPECT_EQ(json["accessors"][0]["count"], l.level(3).mesh.vertices.size());
   EXPECT_EQ(json["accessors"][1]["count"], 3 * l.level(3).mesh.triangles.size());
   EXPECT_EQ(json["scenes"][0]["extras"]["world_offset"][1], 9240000.0);
+  // The PLY read back (the report's 3D view does): the same triangles, in
+  // world coordinates to the float's precision of the local frame.
+  const TriMesh& level3 = l.level(3).mesh;
+  const TriMesh back = read_local_ply(dir + "/box_level3.ply");
+  ASSERT_EQ(back.vertices.size(), level3.vertices.size());
+  EXPECT_EQ(back.triangles, level3.triangles);
+  for (size_t i = 0; i < back.vertices.size(); ++i)
+    EXPECT_LT((back.vertices[i] - offset - level3.vertices[i]).norm(), 1e-5) << i;
   const auto summary = nlohmann::json::parse(std::ifstream(dir + "/box_ladder.json"));
   EXPECT_EQ(summary["levels"][2]["faces"], l.level(3).metrics.faces);
   const std::string js = std::string(C3D_SOURCE_DIR) + "/tests/js";

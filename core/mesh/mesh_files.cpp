@@ -1,5 +1,6 @@
 #include "core/mesh/mesh_files.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,7 +8,6 @@
 
 #include "core/error.h"
 #include "core/mesh/glb.h"
-#include "core/optimizer/mesh_dense.h"
 #include "core/io/point_io.h"
 
 namespace c3d {
@@ -47,14 +47,38 @@ nlohmann::json level_json(const MeshLevel& l) {
 
 }  // namespace
 
+template <typename T>
+T take(std::ifstream& in) {
+  T v{};
+  in.read(reinterpret_cast<char*>(&v), sizeof v);  // little-endian, as written
+  return v;
+}
+
 TriMesh read_local_ply(const std::string& path) {
-  TriMesh mesh = read_mesh(path);
   std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open");
   Vec3 offset = Vec3::Zero();
-  for (std::string line; std::getline(in, line) && line != "end_header";)
-    if (std::sscanf(line.c_str(), "comment world = local + (%lf, %lf, %lf)", &offset.x(), &offset.y(), &offset.z()) == 3)
-      break;
-  for (Vec3& v : mesh.vertices) v += offset;
+  size_t vertices = 0, faces = 0;
+  std::string line;
+  while (std::getline(in, line) && line != "end_header") {
+    std::sscanf(line.c_str(), "comment world = local + (%lf, %lf, %lf)", &offset.x(), &offset.y(), &offset.z());
+    std::sscanf(line.c_str(), "element vertex %zu", &vertices);
+    std::sscanf(line.c_str(), "element face %zu", &faces);
+  }
+  TriMesh mesh;
+  for (size_t i = 0; i < vertices && in; ++i) {
+    const float x = take<float>(in), y = take<float>(in), z = take<float>(in);
+    mesh.vertices.push_back(Vec3(x, y, z) + offset);
+  }
+  for (size_t i = 0; i < faces && in; ++i) {
+    if (take<uint8_t>(in) != 3) throw InputError(path, "a face that is not a triangle: not a Cadastre3D mesh PLY");
+    std::array<int, 3> t{};
+    for (int& k : t) k = take<int32_t>(in);
+    for (int k : t)
+      if (k < 0 || size_t(k) >= vertices) throw InputError(path, "a face names a vertex it does not have");
+    mesh.triangles.push_back(t);
+  }
+  if (!in) throw InputError(path, "cut short");
   return mesh;
 }
 

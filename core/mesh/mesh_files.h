@@ -15,7 +15,7 @@ namespace c3d {
 // comment "world = local + (x, y, z)" as the OBJ files carry it.
 void write_local_ply(const std::string& path, const TriMesh& mesh, const Vec3& offset);
 // That PLY read back in world coordinates: its vertices plus the offset its
-// header's comment gives (read_mesh alone gives them local).
+// header's comment gives (read_mesh, for any PLY, gives them local).
 TriMesh read_local_ply(const std::string& path);
 
 // The ladder's figures: spacing, method, level 4's trimmed faces, and per level
