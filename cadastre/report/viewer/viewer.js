@@ -74,7 +74,7 @@ function makeView(div) {
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.screenSpacePanning = false;  // pan over the ground
   controls.maxPolarAngle = Math.PI * 0.495;  // stay above it
-  const view = { div, renderer, scene, camera, controls, listeners: [] };
+  const view = { div, renderer, scene, camera, controls, listeners: [], drawn: [] };
   let queued = false;
   view.render = () => {
     if (queued) return;
@@ -83,8 +83,11 @@ function makeView(div) {
       queued = false;
       renderer.render(scene, camera);
       for (const f of view.listeners) f();
+      for (const f of view.drawn.splice(0)) f();
     });
   };
+  // Resolves once what the scene holds now is on the canvas.
+  view.frame = () => new Promise((ok) => { view.drawn.push(ok); view.render(); });
   const resize = () => {
     const w = holder.clientWidth || 600, h = holder.clientHeight || 420;
     renderer.setSize(w, h);
@@ -237,13 +240,13 @@ function meshSwitch(div, scene, view, model, info) {
   const meshes = [];
   select.onchange = async () => {
     const k = Number(select.value);
+    div.dataset.state = 'loading';
     model.visible = k === 0;
     shown.forEach((g, level) => { g.visible = level === k; });
     if (k && !shown.has(k)) {
       const group = new THREE.Group();
       shown.set(k, group);
       view.scene.add(group);
-      div.dataset.state = 'loading';
       for (const m of scene.meshes.filter((m) => m.level === k)) {
         try {
           const d = await load(m.file, m.name);
@@ -262,9 +265,9 @@ function meshSwitch(div, scene, view, model, info) {
                              'the report was written away from the batch\'s mesh/ folder.';
         }
       }
-      div.dataset.state = 'ready';
     }
-    view.render();
+    await view.frame();
+    div.dataset.state = 'ready';
   };
   return () => meshes.filter((m) => m.parent.visible);
 }
@@ -336,7 +339,7 @@ export function parcel(div, scene) {
       return onScreen(view, c.multiplyScalar(1 / 3));
     },
   };
-  div.dataset.state = 'ready';
+  view.frame().then(() => { div.dataset.state = 'ready'; });
 }
 
 // --------------------------------------------------------------- summary page
