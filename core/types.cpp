@@ -28,6 +28,12 @@ const char* to_string(WallEvidence e) {
   return "?";
 }
 
+const LodShell* lower_lod(const Building& b, Lod lod) {
+  for (const LodShell& s : b.lower_lods)
+    if (s.lod == lod) return &s;
+  return nullptr;
+}
+
 const char* to_string(Lod l) {
   switch (l) {
     case Lod::Lod12: return "1.2";

@@ -317,6 +317,9 @@ struct Building {
   BuildingMesh mesh;  // batch --mesh only
 };
 
+// b's valid lower LoD `lod` (1.2, 1.3), or null where it has none.
+const LodShell* lower_lod(const Building& b, Lod lod);
+
 struct Timing {
   std::string stage;
   double seconds = 0;

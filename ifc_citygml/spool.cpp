@@ -40,4 +40,12 @@ void Spool::copy_to(std::ostream& to, std::uint64_t from, std::uint64_t count) {
   out_.seekp(0, std::ios::end);
 }
 
+void append_record(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  const std::uint64_t n = bytes.size();
+  std::ofstream out(path, std::ios::binary | std::ios::app);
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(n));
+  if (!out) throw std::runtime_error(path + ": cannot be written");
+}
+
 }  // namespace c3d::exp

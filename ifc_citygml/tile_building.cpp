@@ -66,14 +66,6 @@ TileBuilding from_record(const json& j) {
   return b;
 }
 
-// Element i's cost amount in the parcel's valuation (-1 where it has none).
-double element_amount(const ParcelValuation* v, const std::string& building, int i) {
-  if (!v) return -1;
-  for (const CostItem& c : v->items)
-    if (c.building_id == building && c.element_index == i) return c.amount;
-  return -1;
-}
-
 }  // namespace
 
 TileBuilding tile_building(const Building& b, const ParcelResult& r, const ParcelValuation* v, const LocalFrame& f) {
@@ -99,9 +91,7 @@ TileBuilding tile_building(const Building& b, const ParcelResult& r, const Parce
 }
 
 TileBuilding coarse_building(const Building& b, const TileBuilding& full, const LocalFrame& f) {
-  const LodShell* prism = nullptr;
-  for (const LodShell& s : b.lower_lods)
-    if (s.lod == Lod::Lod12) prism = &s;
+  const LodShell* prism = lower_lod(b, Lod::Lod12);
   if (!prism) return full;
   TileBuilding t = full;
   t.elements.clear();

@@ -17,6 +17,7 @@
 
 #include "core/io/crs.h"
 #include "ifc_citygml/export.h"
+#include "ifc_citygml/spool.h"
 #include "ifc_citygml/tile_building.h"
 #include "ifc_citygml/tile_content.h"
 #include "valuation/valuation_types.h"
@@ -68,26 +69,6 @@ Georef georef(const std::string& crs, const Vec3& centre, const Bounds& b) {
   g.region = {ll.min().x() - kMarginRad, ll.min().y() - kMarginRad, ll.max().x() + kMarginRad,
               ll.max().y() + kMarginRad, b.min().z(), b.max().z()};
   return g;
-}
-
-// The bytes of a spool file, record by record.
-template <typename F>
-void read_spool(const std::string& path, F&& each) {
-  std::ifstream in(path, std::ios::binary);
-  std::uint64_t n = 0;
-  while (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
-    std::vector<std::uint8_t> bytes(n);
-    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(n));
-    each(bytes);
-  }
-}
-
-void append_spool(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-  const std::uint64_t n = bytes.size();
-  std::ofstream out(path, std::ios::binary | std::ios::app);
-  out.write(reinterpret_cast<const char*>(&n), sizeof n);
-  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(n));
-  if (!out) throw std::runtime_error(path + ": cannot be written");
 }
 
 // A tile of the quadtree being built: its JSON, the world box of its
@@ -147,8 +128,8 @@ class TilesetWriter : public ExportWriter {
     const Vec3 mid = box.center();
     const CellKey k{long(std::floor(mid.x() / kCellM)), long(std::floor(mid.y() / kCellM))};
     cells_[k].extend(box);
-    append_spool(spool_of(k, ""), tiles::to_bytes(full));
-    append_spool(spool_of(k, ".coarse"), tiles::to_bytes(coarse));
+    exp::append_record(spool_of(k, ""), tiles::to_bytes(full));
+    exp::append_record(spool_of(k, ".coarse"), tiles::to_bytes(coarse));
   }
   json content(const std::vector<TileBuilding>& buildings, const Bounds& b, const std::string& uri);
   json leaf(const CellKey& k, const Bounds& b);
@@ -168,7 +149,7 @@ json TilesetWriter::content(const std::vector<TileBuilding>& buildings, const Bo
 
 json TilesetWriter::leaf(const CellKey& k, const Bounds& b) {
   std::vector<TileBuilding> buildings;
-  read_spool(spool_of(k, ""), [&](const std::vector<std::uint8_t>& r) { buildings.push_back(tiles::from_bytes(r)); });
+  exp::read_records(spool_of(k, ""), [&](const std::vector<std::uint8_t>& r) { buildings.push_back(tiles::from_bytes(r)); });
   json tile = content(buildings, b, "tiles/" + name(k) + ".glb");
   tile["geometricError"] = 0;
   return tile;
@@ -186,7 +167,7 @@ void TilesetWriter::coarse(Node& parent, const std::string& uri) {
   double error = 1, left_out = 0;
   for (const CellKey& k : parent.cells) {
     std::vector<TileBuilding> kept;
-    read_spool(spool_of(k, ".coarse"), [&](const std::vector<std::uint8_t>& r) {
+    exp::read_records(spool_of(k, ".coarse"), [&](const std::vector<std::uint8_t>& r) {
       kept.push_back(tiles::from_bytes(r));
       error = std::max(error, kept.back().relief);
       std::push_heap(kept.begin(), kept.end(), larger);

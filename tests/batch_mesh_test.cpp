@@ -76,13 +76,28 @@ void expect_files_as_stored(e2e::Sqlite& db, const std::string& out, std::string
   }
 }
 
+// A six-parcel sample town through batch --mesh, once for the tests that read it.
+struct MeshedTown {
+  std::string dir, out, log;
+  int rc = -1;
+};
+
+const MeshedTown& meshed_town() {
+  static const MeshedTown t = [] {
+    MeshedTown t;
+    t.dir = test::temp_dir("batch_mesh");
+    t.out = t.dir + "/out";
+    e2e::make_town(t.dir + "/town", 6, 3);
+    t.rc = test::run_cli(e2e::batch_args(t.dir + "/town", t.out) + " --mesh --formats cityjson", &t.log);
+    return t;
+  }();
+  return t;
+}
+
 TEST(BatchMesh, EveryBuildingHasFourLevelsWithTheirFilesAndFigures) {
-  const std::string dir = test::temp_dir("batch_mesh");
-  const std::string town = dir + "/town", out = dir + "/out";
-  e2e::make_town(town, 6, 3);
-  std::string log;
-  const int rc = test::run_cli(e2e::batch_args(town, out) + " --mesh --formats cityjson", &log);
-  ASSERT_TRUE(rc == 0 || rc == 3) << log;
+  const MeshedTown& t = meshed_town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  const std::string& out = t.out;
   e2e::Sqlite db(out + "/cadastre.gpkg");
   ASSERT_TRUE(db.ok()) << db.error();
   const double buildings = db.number("SELECT count(*) FROM building");
@@ -151,12 +166,9 @@ TEST(BatchMesh, EveryBuildingHasFourLevelsWithTheirFilesAndFigures) {
 // The parcel page's 3D view offers the element model and the four levels;
 // a level chosen is drawn, and a click on it names the level.
 TEST(BatchMesh, TheParcelViewSwitchesToTheMeshLevels) {
-  const std::string dir = test::temp_dir("batch_mesh_view");
-  const std::string town = dir + "/town", out = dir + "/out";
-  e2e::make_town(town, 3, 3);
-  std::string log;
-  const int rc = test::run_cli(e2e::batch_args(town, out) + " --mesh --quiet", &log);
-  ASSERT_TRUE(rc == 0 || rc == 3) << log;
+  const MeshedTown& t = meshed_town();
+  ASSERT_TRUE(t.rc == 0 || t.rc == 3) << t.log;
+  const std::string &dir = t.dir, &out = t.out;
   C3D_NEED(test::view_tools(), "node, tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
   e2e::Sqlite db(out + "/cadastre.gpkg");
   ASSERT_TRUE(db.ok()) << db.error();

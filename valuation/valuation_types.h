@@ -50,4 +50,13 @@ struct ParcelValuation {
   std::vector<CostItem> items;  // building items (element and gross floor)
 };
 
+// The amount of element `element` of `building` in v's cost items; -1 where
+// v is null or holds no item for it.
+inline double element_amount(const ParcelValuation* v, const std::string& building, int element) {
+  if (v)
+    for (const CostItem& c : v->items)
+      if (c.building_id == building && c.element_index == element) return c.amount;
+  return -1;
+}
+
 }  // namespace c3d

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/mesh/mesh_files.h"
 #include "ifc_citygml/detail.h"
+#include "ifc_citygml/spool.h"
 
 namespace fs = std::filesystem;
 
@@ -60,14 +61,6 @@ double ground_of(const ParcelResult& r) {
   return z;
 }
 
-// Element i of building b's cost amount in v (-1 where it has none).
-double amount(const ParcelValuation* v, const std::string& building, size_t i) {
-  if (v)
-    for (const CostItem& c : v->items)
-      if (c.building_id == building && c.element_index == int(i)) return c.amount;
-  return -1;
-}
-
 json element_types() {
   json types = json::array();
   for (ElementType t : kTypes) types[size_t(t)] = {{"name", label(t)}, {"colour", colour(t)}};
@@ -91,13 +84,6 @@ void write_file(const fs::path& path, std::string_view text) {
 }
 
 std::string cell_name(std::pair<long, long> c) { return "cell_" + std::to_string(c.first) + "_" + std::to_string(c.second); }
-
-// The building's far stand-in: its LoD 1.2 prism, or its own faces where it has none.
-const std::vector<Face>* prism_faces(const Building& b) {
-  for (const LodShell& s : b.lower_lods)
-    if (s.lod == Lod::Lod12) return &s.faces;
-  return nullptr;
-}
 
 // Where a parcel page's scene has its origin: the parcel's centre (mean of
 // its outline's vertices) on the ground of its lowest building.
@@ -166,7 +152,7 @@ std::string parcel_view(const Parcel& p, const ParcelResult& r, const ParcelValu
       const bool wall = e.type == ElementType::Wall || e.type == ElementType::PartyWall;
       elements.push_back({{"t", int(e.type)}, {"a", e.area}, {"s", e.sigma_area}, {"pa", e.plan_area},
                           {"sl", e.slope_deg}, {"n", e.support_points}, {"r", e.rmse},
-                          {"ev", wall ? to_string(e.evidence) : ""}, {"m", amount(v, b.id, i)}, {"tri", tri}});
+                          {"ev", wall ? to_string(e.evidence) : ""}, {"m", element_amount(v, b.id, int(i))}, {"tri", tri}});
     }
     buildings.push_back({{"id", b.id}, {"lod", to_string(b.lod)}, {"elements", elements}});
   }
@@ -204,8 +190,8 @@ void SummaryCells::add(const Parcel& p, const ParcelResult& r, const ParcelValua
     std::vector<double> near, far;
     for (const Element& e : b.elements)
       for (const Face& f : e.faces) add_triangles(f, Vec3::Zero(), near);
-    if (const auto* prism = prism_faces(b))
-      for (const Face& f : *prism) add_triangles(f, Vec3::Zero(), far);
+    if (const LodShell* prism = lower_lod(b, Lod::Lod12))  // the far stand-in, else its own faces
+      for (const Face& f : prism->faces) add_triangles(f, Vec3::Zero(), far);
     else
       far = near;
     for (size_t i = 0; i + 2 < near.size(); i += 3) box.extend(Vec3(near[i], near[i + 1], near[i + 2]));
@@ -215,32 +201,15 @@ void SummaryCells::add(const Parcel& p, const ParcelResult& r, const ParcelValua
                        {"v", std::isfinite(njop_per_m2(v)) ? njop_per_m2(v) : -1.0},
                        {"z", std::isnan(z) ? json(nullptr) : json(mm(z))}, {"rings", rings(p, frame, Vec2::Zero())},
                        {"buildings", buildings}};
-  const std::vector<std::uint8_t> bytes = json::to_msgpack(record);
-  const fs::path spool = fs::path(dir_) / "spool" / cell_name(cell);
-  std::ofstream out(spool, std::ios::binary | std::ios::app);
-  const std::uint32_t size = std::uint32_t(bytes.size());
-  out.write(reinterpret_cast<const char*>(&size), sizeof size);
-  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-  if (!out) throw InputError(spool.string(), "cannot write report");
-}
-
-// The parcels of a cell's spool, one record after another.
-template <class Each>
-void read_spool(const fs::path& spool, Each each) {
-  std::ifstream in(spool, std::ios::binary);
-  std::uint32_t size = 0;
-  while (in.read(reinterpret_cast<char*>(&size), sizeof size)) {
-    std::vector<std::uint8_t> bytes(size);
-    if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) throw InputError(spool.string(), "spool cut short");
-    each(json::from_msgpack(bytes));
-  }
+  exp::append_record((fs::path(dir_) / "spool" / cell_name(cell)).string(), json::to_msgpack(record));
 }
 
 void SummaryCells::write_cell(std::pair<long, long> cell, Eigen::AlignedBox3d& box, const Colouring& colouring) const {
   json parcels_far = json::array(), parcels_near = json::array(), buildings = json::array();
   std::vector<double> far, near;
   std::vector<size_t> far_counts, near_counts;
-  read_spool(fs::path(dir_) / "spool" / cell_name(cell), [&](const json& p) {
+  exp::read_records((fs::path(dir_) / "spool" / cell_name(cell)).string(), [&](const std::vector<std::uint8_t>& bytes) {
+    const json p = json::from_msgpack(bytes);
     const double z = p["z"].is_null() ? colouring.ground : p["z"].get<double>();
     for (const auto& poly : p["rings"])
       for (const auto& ring : poly)
