@@ -35,7 +35,11 @@ Cesium.Cesium3DTileset.fromUrl('tiles/tileset.json').then((ts) => {
   if (!${lit}) ts.customShader = new Cesium.CustomShader({lightingModel: Cesium.LightingModel.UNLIT});
   viewer.scene.primitives.add(ts);
   viewer.zoomTo(ts, new Cesium.HeadingPitchRange(0.5, -0.7, 0));
-  ts.allTilesLoaded.addEventListener(() => { document.title = 'ready'; });
+  // Frames are drawn on request: ready once one is drawn with every tile in.
+  ts.allTilesLoaded.addEventListener(() => {
+    const stop = viewer.scene.postRender.addEventListener(() => { stop(); document.title = 'ready'; });
+    viewer.scene.requestRender();
+  });
 }).catch((e) => { document.title = 'error ' + e; });
 </script></body></html>`;
 
