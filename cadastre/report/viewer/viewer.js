@@ -165,13 +165,17 @@ function groundShape(rings, z) {
   return pos;
 }
 
-function outline(rings, z, colour) {
-  const pos = [];
+// Rings' edges at height z as line segments, appended to pos.
+function edges(rings, z, pos) {
   for (const r of rings)
     for (let i = 0; i + 1 < r.length; i += 2) {
       const j = (i + 2) % r.length;
       pos.push(r[i], r[i + 1], z, r[j], r[j + 1], z);
     }
+  return pos;
+}
+
+function lines(pos, colour) {
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
   return new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: colour }));
@@ -278,7 +282,7 @@ export function parcel(div, scene) {
   const box = new THREE.Box3();
   for (const rings of scene.parcel) {
     const ground = new THREE.Mesh(triangles(groundShape(rings, scene.ground - 0.05)), material('#e4e1d6'));
-    view.scene.add(ground, outline(rings, scene.ground - 0.04, '#444444'));
+    view.scene.add(ground, lines(edges(rings, scene.ground - 0.04, []), '#444444'));
     box.expandByObject(ground);
   }
   const groups = scene.types.map(() => new THREE.Group());
@@ -365,7 +369,7 @@ function cellMesh(index, cell, part) {
 }
 
 function parcelsMesh(index, cell) {
-  const pos = [], col = [], lines = [];
+  const pos = [], col = [], outlines = [];  // the cell's outlines in one draw
   const c = new THREE.Color();
   for (const p of cell.parcels) {
     c.set(index.colours[p.c]).lerp(new THREE.Color('#ffffff'), 0.45);
@@ -373,13 +377,13 @@ function parcelsMesh(index, cell) {
       const tri = groundShape(rings, p.z - 0.1);
       pos.push(...tri);
       for (let i = 0; i < tri.length / 3; ++i) col.push(c.r, c.g, c.b);
-      lines.push(outline(rings, p.z - 0.08, '#555555'));
+      edges(rings, p.z - 0.08, outlines);
     }
   }
   const g = triangles(pos);
   g.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
   const group = new THREE.Group();
-  group.add(new THREE.Mesh(g, material(null, true)), ...lines);
+  group.add(new THREE.Mesh(g, material(null, true)), lines(outlines, '#555555'));
   return group;
 }
 
