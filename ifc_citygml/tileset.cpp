@@ -20,6 +20,7 @@
 #include "ifc_citygml/spool.h"
 #include "ifc_citygml/tile_building.h"
 #include "ifc_citygml/tile_content.h"
+#include "ifc_citygml/tileset_viewer.h"
 #include "valuation/valuation_types.h"
 
 namespace c3d {
@@ -228,7 +229,9 @@ std::vector<std::string> TilesetWriter::finish() {
   std::ofstream out(path);
   out << tileset.dump(1) << "\n";
   if (!out) throw std::runtime_error(path + ": cannot be written");
-  return {path};
+  std::vector<std::string> written = tiles::write_viewer_page(dir_);
+  written.insert(written.begin(), path);
+  return written;
 }
 
 }  // namespace

@@ -37,12 +37,14 @@ else
   echo "setup: all Debian packages present"
 fi
 
-# The report's 3D view is bundled at build time from npm's three.js (esbuild):
-# the build needs these, so a failure here stops the set-up.
-if [ ! -f cadastre/report/viewer/node_modules/three/package.json ] ||
-   [ ! -e cadastre/report/viewer/node_modules/.bin/esbuild ]; then
-  echo "setup: installing the report viewer's npm packages into cadastre/report/viewer/node_modules"
-  (cd cadastre/report/viewer && npm ci --no-audit --no-fund --loglevel=error)
+# The web views (the report's 3D view, the 3D Tiles page) are bundled at
+# build time from npm's three.js and 3d-tiles-renderer (esbuild): the build
+# needs these, so a failure here stops the set-up.
+if [ ! -f web/node_modules/three/package.json ] ||
+   [ ! -f web/node_modules/3d-tiles-renderer/package.json ] ||
+   [ ! -e web/node_modules/.bin/esbuild ]; then
+  echo "setup: installing the web views' npm packages into web/node_modules"
+  (cd web && npm ci --no-audit --no-fund --loglevel=error)
 fi
 
 # npm tools for independent validation of exports (CityJSON schema, IFC reader, glTF, 3D Tiles),

@@ -168,7 +168,8 @@ TEST(OutputsStream, BatchOutputsComeFromTheStoreAndAreTheSameForEveryPageSize) {
     dirs.push_back(temp_dir("out" + std::to_string(size)));
     const auto written =
         write_outputs(report, StorePages(town_store(), size), dirs.back(), default_config(), kBatchFormats);
-    EXPECT_EQ(written.exports.size(), 6u + 97u);  // one file per format (3dtiles: tileset.json), an OBJ per parcel
+    // one file per format (3dtiles: tileset.json, view.html and its script), an OBJ per parcel
+    EXPECT_EQ(written.exports.size(), 6u + 2u + 97u);
   }
   expect_same_files(dirs[0], dirs[1]);
   expect_same_files(dirs[0], dirs[2]);

@@ -5,6 +5,8 @@
 // to Earth-centred coordinates (gdaltransform).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -164,6 +166,25 @@ TEST(Tileset, ContentsStandWhereGdalPutsThem) {
   EXPECT_EQ(seen, m.results.size());  // each in one leaf
 }
 
+// tileset_view.js on the tileset in dir with options (its flags): the page
+// ready, no console error, roofs and walls drawn in their colours. Its JSON.
+json drawn(const std::string& dir, const std::string& options) {
+  int rc = -1;
+  const std::string out =
+      test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/view.png " + options + " 2>&1", &rc);
+  EXPECT_EQ(rc, 0) << out;
+  json v = json::parse(out, nullptr, false);
+  if (v.is_discarded()) {
+    ADD_FAILURE() << out;
+    return json::object();
+  }
+  EXPECT_EQ(v["state"], "ready");
+  EXPECT_TRUE(v["errors"].empty()) << v["errors"];
+  EXPECT_GT(v["pixels"]["roof"].get<int>(), 1000) << out;
+  EXPECT_GT(v["pixels"]["wall"].get<int>(), 200) << out;
+  return v;
+}
+
 // CesiumJS in headless Chromium draws the tileset: roofs and walls in their
 // colours (the attached houses' party wall stands between them, unseen), no
 // console error.
@@ -176,14 +197,43 @@ TEST(Tileset, CesiumDrawsTheElementsInTheirColours) {
   auto w = tileset_writer(fixture::sample_batch(), dir);
   w->add(fixture::sample_batch());
   w->finish();
-  int rc = -1;
-  const std::string out = test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/view.png 2>&1", &rc);
-  ASSERT_EQ(rc, 0) << out;
-  const json v = json::parse(out);
-  EXPECT_EQ(v["title"], "ready");
-  EXPECT_TRUE(v["errors"].empty()) << v["errors"];
-  EXPECT_GT(v["pixels"]["roof"].get<int>(), 1000) << out;
-  EXPECT_GT(v["pixels"]["wall"].get<int>(), 200) << out;
+  drawn(dir, "");
+}
+
+// The page the writer puts beside the tileset (view.html: three.js and
+// 3d-tiles-renderer) in headless Chromium: it draws the elements in their
+// colours, and a click on a roof names that roof's parcel and area as the
+// model holds them.
+TEST(Tileset, ItsOwnPageDrawsAndNamesAClickedRoof) {
+  C3D_NEED(tools_present() && std::filesystem::exists(kJs + "/node_modules/puppeteer-core/package.json") &&
+               !test::shell("command -v chromium").empty(),
+           "tests/js/node_modules (puppeteer-core; scripts/setup.sh) or chromium missing");
+  const std::string dir = test::temp_dir("tileset_own_view");
+  const BatchModel m = fixture::sample_batch();
+  auto w = tileset_writer(m, dir);
+  w->add(m);
+  const std::vector<std::string> written = w->finish();
+  EXPECT_EQ(written.size(), 3u);  // tileset.json, view.html, lib/c3d-tiles.js
+  const json v = drawn(dir, "--own --click");
+  ASSERT_TRUE(v["picked"].is_object()) << v;
+  const std::string parcel = v["picked"]["parcel"];
+  const double area = std::stod(v["picked"]["area"].get<std::string>());
+  std::vector<double> roofs;  // the parcel's roof areas in the model
+  for (const ParcelResult& r : m.results)
+    if (r.parcel_id == parcel)
+      for (const Building& b : r.buildings)
+        for (const Element& e : b.elements)
+          if (e.type == ElementType::Roof) roofs.push_back(e.area);
+  ASSERT_FALSE(roofs.empty()) << "no parcel " << parcel;
+  EXPECT_TRUE(std::any_of(roofs.begin(), roofs.end(), [&](double a) { return std::abs(a - area) < 1e-9 * a; }))
+      << area << " m2 is none of parcel " << parcel << "'s roofs";
+  char shown[32];  // as printed, 2 decimals (the sample's roofs are under 1,000 m2: no thousands comma)
+  std::snprintf(shown, sizeof shown, "Area %.2f", area);
+  EXPECT_NE(v["picked"]["text"].get<std::string>().find(shown), std::string::npos) << v;
+  // Opened from the file, where a browser fetches nothing, it says how to serve it.
+  const std::string note = test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/file.png --own --from-file 2>&1");
+  EXPECT_NE(note.find("\"state\":\"unavailable\""), std::string::npos) << note;
+  EXPECT_NE(note.find("serve this folder over HTTP"), std::string::npos) << note;
 }
 
 TEST(Tileset, ABatchWithoutACrsSaysSo) {

@@ -1,6 +1,6 @@
 #pragma once
 // The report's 3D view (docs/report.md, "3D view"): what its pages hold and
-// the data files its script (cadastre/report/viewer/viewer.js) draws.
+// the data files its script (web/report_viewer.js) draws.
 //   report/lib/c3d-viewer.js    three.js and viewer.js, one classic script
 //   report/3d/index.js          the summary's cells, value classes and colours
 //   report/3d/<cell>-far.js     a 250 m cell's parcels on the ground, coloured

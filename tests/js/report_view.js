@@ -1,4 +1,4 @@
-// The report's 3D view (cadastre/report/viewer) in headless Chromium, opened
+// The report's 3D view (web/report_viewer.js) in headless Chromium, opened
 // from file:// as an officer opens the report: waits until the view is ready
 // (every cell in view loaded, on the summary), takes a screenshot, counts the
 // pixels of given colours, and on a parcel page clicks where an element is

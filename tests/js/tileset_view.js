@@ -1,11 +1,16 @@
-// A minimal CesiumJS page on a 3D Tiles tileset, in headless Chromium: serves
-// the page, CesiumJS (npm `cesium`, its Build/Cesium) and the tileset over a
-// local HTTP server, waits until every tile in view is loaded, takes a
-// screenshot, and counts the pixels drawn in each element type's colour (the
-// tiles are drawn unlit for the count, so a pixel is its vertices' colour).
+// A 3D Tiles tileset in headless Chromium: a minimal CesiumJS page (npm
+// `cesium`, its Build/Cesium) or, with --own, the page the program writes
+// beside the tileset (view.html, three.js and 3d-tiles-renderer). Serves the
+// page and the tileset over a local HTTP server, waits until every tile in
+// view is loaded, takes a screenshot, and counts the pixels drawn in each
+// element type's colour (the tiles are drawn unlit for the count, so a pixel
+// is its vertices' colour). With --click (--own only) it clicks the roof
+// pixel nearest the middle and reads the page's pick panel.
 // Prints one JSON object: load_ms (page open to all tiles loaded), errors (the
-// console's and the page's), pixels per element type, the screenshot's path.
-// Usage: node tileset_view.js TILESET_DIR OUT.png [--lit]
+// console's and the page's), pixels per element type, the screenshot's path,
+// and with --click the panel's text, parcel and area. With --from-file (--own
+// only) the page is opened from the file, not served, and prints its note.
+// Usage: node tileset_view.js TILESET_DIR OUT.png [--lit] [--own [--click | --from-file]]
 const fs = require('fs');
 const http = require('http');
 const path = require('path');
@@ -13,6 +18,9 @@ const puppeteer = require('puppeteer-core');
 
 const [tilesetDir, png] = process.argv.slice(2, 4);
 const lit = process.argv.includes('--lit');
+const own = process.argv.includes('--own');
+const click = process.argv.includes('--click');
+const fromFile = process.argv.includes('--from-file');
 const cesiumDir = path.join(path.dirname(require.resolve('cesium/package.json')), 'Build', 'Cesium');
 // tile_content.cpp's element_colour, linear RGB as the glTF holds it.
 const colours = { roof: [0.71, 0.33, 0.24], wall: [0.91, 0.89, 0.82], party_wall: [0.79, 0.66, 0.30],
@@ -51,7 +59,7 @@ function serve() {
     if (url.startsWith('/Cesium/')) file = path.join(cesiumDir, url.slice(8));
     if (url.startsWith('/tiles/')) file = path.join(tilesetDir, url.slice(7));
     if (!file || !fs.existsSync(file) || fs.statSync(file).isDirectory()) { res.statusCode = 404; return res.end(); }
-    const types = { '.js': 'text/javascript', '.json': 'application/json', '.css': 'text/css', '.glb': 'model/gltf-binary' };
+    const types = { '.html': 'text/html', '.js': 'text/javascript', '.json': 'application/json', '.css': 'text/css', '.glb': 'model/gltf-binary' };
     res.setHeader('Content-Type', types[path.extname(file)] || 'application/octet-stream');
     fs.createReadStream(file).pipe(res);
   });
@@ -60,6 +68,40 @@ function serve() {
 
 // sRGB bytes of a linear colour: what an unlit glTF vertex colour is drawn as.
 const srgb = (c) => c.map((v) => Math.round(255 * (v <= 0.0031308 ? 12.92 * v : 1.055 * Math.pow(v, 1 / 2.4) - 0.055)));
+
+// Each colour's pixel count on the canvas, and where (page pixels) the roof
+// pixel nearest the canvas's middle is drawn.
+function countPixels(selector, expected) {
+  const c = document.querySelector(selector);
+  const two = document.createElement('canvas');
+  two.width = c.width, two.height = c.height;
+  const g = two.getContext('2d');
+  g.drawImage(c, 0, 0);
+  const d = g.getImageData(0, 0, c.width, c.height).data;
+  const count = Object.fromEntries(Object.keys(expected).map((k) => [k, 0]));
+  let roof = null, best = Infinity;
+  for (let i = 0; i < d.length; i += 4)
+    for (const [k, e] of Object.entries(expected))
+      if (Math.abs(d[i] - e[0]) <= 6 && Math.abs(d[i + 1] - e[1]) <= 6 && Math.abs(d[i + 2] - e[2]) <= 6) {
+        count[k]++;
+        const x = (i / 4) % c.width, y = Math.floor(i / 4 / c.width);
+        const far = Math.hypot(x - c.width / 2, y - c.height / 2);
+        if (k === 'roof' && far < best) best = far, roof = [x, y];
+      }
+  const r = c.getBoundingClientRect();
+  const at = roof && { x: r.left + (roof[0] + 0.5) * r.width / c.width, y: r.top + (roof[1] + 0.5) * r.height / c.height };
+  return { count, roof: at };
+}
+
+// Clicks at the point and returns what the page's pick panel then says.
+async function pick(tab, at) {
+  await tab.mouse.click(at.x, at.y);
+  await tab.waitForFunction(() => document.querySelector('.view3d-pick').dataset.parcel, { timeout: 10000 });
+  return tab.evaluate(() => {
+    const p = document.querySelector('.view3d-pick');
+    return { text: p.innerText, parcel: p.dataset.parcel, area: p.dataset.area };
+  });
+}
 
 async function main() {
   const server = await serve();
@@ -71,29 +113,28 @@ async function main() {
   tab.on('pageerror', (e) => errors.push(String(e)));
   await tab.setViewport({ width: 1000, height: 700 });
   const t0 = Date.now();
-  await tab.goto(`http://127.0.0.1:${server.address().port}/view.html`);
-  await tab.waitForFunction(() => document.title !== 'loading', { timeout: 120000 });
+  const base = `http://127.0.0.1:${server.address().port}`;
+  const ownPage = fromFile ? 'file://' + path.resolve(tilesetDir, 'view.html') : `${base}/tiles/view.html`;
+  await tab.goto(own ? `${ownPage}${lit ? '' : '#unlit'}` : `${base}/view.html`);
+  if (own) await tab.waitForFunction(() => ['ready', 'unavailable'].includes(document.querySelector('#view').dataset.state), { timeout: 120000 });
+  else await tab.waitForFunction(() => document.title !== 'loading', { timeout: 120000 });
   const load_ms = Date.now() - t0;
-  const title = await tab.title();
+  const state = own ? await tab.evaluate(() => document.querySelector('#view').dataset.state) : await tab.title();
   await new Promise((r) => setTimeout(r, 300));
+  if (own && state === 'unavailable') {
+    const note = await tab.evaluate(() => document.querySelector('.view3d-note').textContent);
+    console.log(JSON.stringify({ state, note, errors }));
+    await browser.close();
+    server.close();
+    return;
+  }
   const expected = Object.fromEntries(Object.entries(colours).map(([k, c]) => [k, srgb(c)]));
-  const pixels = await tab.evaluate((expected) => {
-    const c = document.querySelector('#v canvas');
-    const two = document.createElement('canvas');
-    two.width = c.width, two.height = c.height;
-    const g = two.getContext('2d');
-    g.drawImage(c, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    const count = Object.fromEntries(Object.keys(expected).map((k) => [k, 0]));
-    for (let i = 0; i < d.length; i += 4)
-      for (const [k, e] of Object.entries(expected))
-        if (Math.abs(d[i] - e[0]) <= 6 && Math.abs(d[i + 1] - e[1]) <= 6 && Math.abs(d[i + 2] - e[2]) <= 6) count[k]++;
-    return count;
-  }, expected);
+  const seen = await tab.evaluate(countPixels, own ? '#view canvas' : '#v canvas', expected);
+  const picked = own && click && seen.roof ? await pick(tab, seen.roof) : null;
   await tab.screenshot({ path: png });
-  console.log(JSON.stringify({ title, load_ms, errors, pixels, screenshot: png }));
+  console.log(JSON.stringify({ state, load_ms, errors, pixels: seen.count, picked, screenshot: png }));
   await browser.close();
   server.close();
-  process.exitCode = title === 'ready' && errors.length === 0 ? 0 : 1;
+  process.exitCode = state === 'ready' && errors.length === 0 ? 0 : 1;
 }
 main().catch((e) => { console.error(e.stack || e.message); process.exitCode = 2; });
