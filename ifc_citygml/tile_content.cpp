@@ -93,7 +93,9 @@ class Table {
     for (size_t i = 0; i < count_; ++i) v[i] = at(i);
     properties_[name] = {{"values", bin_.view(v)}};
     classes_[name] = {{"type", "SCALAR"}, {"componentType", component}};
-    if (unvalued_is_minus_one) classes_[name]["noData"] = -1;
+    // -1 is "not valued"; as the default too, so a reader that swaps noData
+    // for the default (3d-tiles-renderer: 0 without one) still reads -1.
+    if (unvalued_is_minus_one) classes_[name]["noData"] = -1, classes_[name]["default"] = -1;
   }
   json table(const std::string& cls) const { return {{"class", cls}, {"count", count_}, {"properties", properties_}}; }
   json schema_class() const { return {{"properties", classes_}}; }

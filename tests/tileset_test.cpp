@@ -202,8 +202,8 @@ TEST(Tileset, CesiumDrawsTheElementsInTheirColours) {
 
 // The page the writer puts beside the tileset (view.html: three.js and
 // 3d-tiles-renderer) in headless Chromium: it draws the elements in their
-// colours, and a click on a roof names that roof's parcel and area as the
-// model holds them.
+// colours, and a click on a roof marks it and names its parcel and area as
+// the model holds them.
 TEST(Tileset, ItsOwnPageDrawsAndNamesAClickedRoof) {
   C3D_NEED(tools_present() && std::filesystem::exists(kJs + "/node_modules/puppeteer-core/package.json") &&
                !test::shell("command -v chromium").empty(),
@@ -230,6 +230,9 @@ TEST(Tileset, ItsOwnPageDrawsAndNamesAClickedRoof) {
   char shown[32];  // as printed, 2 decimals (the sample's roofs are under 1,000 m2: no thousands comma)
   std::snprintf(shown, sizeof shown, "Area %.2f", area);
   EXPECT_NE(v["picked"]["text"].get<std::string>().find(shown), std::string::npos) << v;
+  EXPECT_GT(v["picked"]["marked"].get<int>(), 500) << "the picked roof is not marked: " << v;
+  // The sample is not valued: its -1s read as no value, not as 0.
+  EXPECT_NE(v["picked"]["text"].get<std::string>().find("Building value \u2014"), std::string::npos) << v;
   // Opened from the file, where a browser fetches nothing, it says how to serve it.
   const std::string note = test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/file.png --own --from-file 2>&1");
   EXPECT_NE(note.find("\"state\":\"unavailable\""), std::string::npos) << note;

@@ -91,13 +91,45 @@ function featureText({ building: b, element: e }) {
   return lines.join('<br>');
 }
 
+// The picked element's triangles drawn over it in a light colour: a mesh
+// of the tile's own vertices, those of the element's feature id.
+function highlight(hit, rows) {
+  const { meshFeatures } = hit.object.userData;
+  const info = meshFeatures.getFeatureInfo().find((f) => f.label === (rows.element ? 'element' : 'building'));
+  const geometry = hit.object.geometry;
+  const ids = info && 'attribute' in info ? geometry.getAttribute(`_feature_id_${info.attribute}`) : null;
+  if (!ids) return null;
+  const picked = ids.getX(geometry.index ? geometry.index.getX(3 * hit.faceIndex) : 3 * hit.faceIndex);
+  const corners = [];
+  const count = geometry.index ? geometry.index.count : ids.count;
+  for (let i = 0; i < count; i += 3) {
+    const v = [0, 1, 2].map((k) => (geometry.index ? geometry.index.getX(i + k) : i + k));
+    if (ids.getX(v[0]) === picked) corners.push(...v);
+  }
+  const mark = new THREE.BufferGeometry();
+  mark.setAttribute('position', geometry.getAttribute('position'));
+  mark.setIndex(corners);
+  const mesh = new THREE.Mesh(mark, new THREE.MeshBasicMaterial({ color: '#ffe066', side: THREE.DoubleSide,
+    polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2 }));
+  mesh.raycast = () => {};  // clicks go through to the tile
+  hit.object.add(mesh);
+  mesh.updateMatrixWorld(true);  // the tiles' matrices are not updated each frame: set it once
+  return mesh;
+}
+
 function onPick(view, tiles, info) {
+  let marked = null;
   onClick(view, () => [tiles.group], (hit) => {
+    if (marked) marked.removeFromParent(), marked.geometry.dispose(), marked = null;
     const rows = hit && featureRows(hit);
-    if (!rows) return void (info.textContent = hit ? 'This tile holds no figures.' : 'Click a building for its figures.');
-    info.innerHTML = featureText(rows);
-    info.dataset.parcel = rows.building.parcel_id;
-    info.dataset.area = rows.element ? String(rows.element.area_m2) : '';
+    if (!rows) info.textContent = hit ? 'This tile holds no figures.' : 'Click a building for its figures.';
+    else {
+      info.innerHTML = featureText(rows);
+      info.dataset.parcel = rows.building.parcel_id;
+      info.dataset.area = rows.element ? String(rows.element.area_m2) : '';
+      marked = highlight(hit, rows);
+    }
+    view.render();
   });
 }
 
@@ -113,7 +145,11 @@ function watchLoading(div, view, tiles, info, t0) {
   });
   view.listeners.push(() => {
     if (div.dataset.state === 'unavailable') return;
-    const done = framed && !tiles.isLoading && tiles.loadProgress === 1;
+    // From the counts, not isLoading (false again while tiles still come),
+    // and processNodeQueue, which readies the tiles' children between frames:
+    // until it has, a frame may find nothing to load where they come next.
+    const { queued, downloading, parsing } = tiles.stats;
+    const done = framed && queued + downloading + parsing === 0 && !tiles.processNodeQueue.running;
     if (done && div.dataset.state !== 'ready') div.dataset.loadMs = String(Math.round(performance.now() - t0));
     if (done && tiles.stats.failed) info.textContent = `${tiles.stats.failed} tile(s) could not be loaded: the browser's console names them.`;
     div.dataset.state = done ? 'ready' : 'loading';

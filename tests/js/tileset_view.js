@@ -5,12 +5,15 @@
 // view is loaded, takes a screenshot, and counts the pixels drawn in each
 // element type's colour (the tiles are drawn unlit for the count, so a pixel
 // is its vertices' colour). With --click (--own only) it clicks the roof
-// pixel nearest the middle and reads the page's pick panel.
+// pixel nearest the middle, reads the page's pick panel and counts the
+// pixels of the picked element's mark (#ffe066).
 // Prints one JSON object: load_ms (page open to all tiles loaded), errors (the
 // console's and the page's), pixels per element type, the screenshot's path,
 // and with --click the panel's text, parcel and area. With --from-file (--own
 // only) the page is opened from the file, not served, and prints its note.
-// Usage: node tileset_view.js TILESET_DIR OUT.png [--lit] [--own [--click | --from-file]]
+// With --zoom F (--own only) the camera then comes F times closer, and the
+// page is read once the tiles of that view are in (zoom_ms).
+// Usage: node tileset_view.js TILESET_DIR OUT.png [--lit] [--own [--click | --from-file] [--zoom F]]
 const fs = require('fs');
 const http = require('http');
 const path = require('path');
@@ -21,6 +24,8 @@ const lit = process.argv.includes('--lit');
 const own = process.argv.includes('--own');
 const click = process.argv.includes('--click');
 const fromFile = process.argv.includes('--from-file');
+const zoomAt = process.argv.indexOf('--zoom');
+const zoom = zoomAt > 0 ? Number(process.argv[zoomAt + 1]) : 0;
 const cesiumDir = path.join(path.dirname(require.resolve('cesium/package.json')), 'Build', 'Cesium');
 // tile_content.cpp's element_colour, linear RGB as the glTF holds it.
 const colours = { roof: [0.71, 0.33, 0.24], wall: [0.91, 0.89, 0.82], party_wall: [0.79, 0.66, 0.30],
@@ -97,10 +102,12 @@ function countPixels(selector, expected) {
 async function pick(tab, at) {
   await tab.mouse.click(at.x, at.y);
   await tab.waitForFunction(() => document.querySelector('.view3d-pick').dataset.parcel, { timeout: 10000 });
-  return tab.evaluate(() => {
+  await tab.evaluate(() => document.querySelector('#view').c3d.view.frame());  // the pick drawn
+  const marked = (await tab.evaluate(countPixels, '#view canvas', { mark: [0xff, 0xe0, 0x66] })).count.mark;
+  return tab.evaluate((marked) => {
     const p = document.querySelector('.view3d-pick');
-    return { text: p.innerText, parcel: p.dataset.parcel, area: p.dataset.area };
-  });
+    return { text: p.innerText, parcel: p.dataset.parcel, area: p.dataset.area, marked };
+  }, marked);
 }
 
 async function main() {
@@ -128,11 +135,24 @@ async function main() {
     server.close();
     return;
   }
+  let zoom_ms = null;
+  if (own && zoom > 0) {
+    const t1 = Date.now();
+    await tab.evaluate((f) => {
+      const div = document.querySelector('#view'), v = div.c3d.view;
+      v.camera.position.sub(v.controls.target).multiplyScalar(1 / f).add(v.controls.target);
+      div.dataset.state = 'loading';  // until a frame of this view finds every tile in
+      v.controls.update();
+      v.render();
+    }, zoom);
+    await tab.waitForFunction(() => document.querySelector('#view').dataset.state === 'ready', { timeout: 120000 });
+    zoom_ms = Date.now() - t1;
+  }
   const expected = Object.fromEntries(Object.entries(colours).map(([k, c]) => [k, srgb(c)]));
   const seen = await tab.evaluate(countPixels, own ? '#view canvas' : '#v canvas', expected);
   const picked = own && click && seen.roof ? await pick(tab, seen.roof) : null;
   await tab.screenshot({ path: png });
-  console.log(JSON.stringify({ state, load_ms, errors, pixels: seen.count, picked, screenshot: png }));
+  console.log(JSON.stringify({ state, load_ms, zoom_ms, errors, pixels: seen.count, picked, screenshot: png }));
   await browser.close();
   server.close();
   process.exitCode = state === 'ready' && errors.length === 0 ? 0 : 1;
