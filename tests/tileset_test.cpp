@@ -234,7 +234,10 @@ TEST(Tileset, ItsOwnPageDrawsAndNamesAClickedRoof) {
   // The sample is not valued: its -1s read as no value, not as 0.
   EXPECT_NE(v["picked"]["text"].get<std::string>().find("Building value \u2014"), std::string::npos) << v;
   // Opened from the file, where a browser fetches nothing, it says how to serve it.
-  const std::string note = test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/file.png --own --from-file 2>&1");
+  int from_file = -1;
+  const std::string note =
+      test::shell("node " + kJs + "/tileset_view.js " + dir + " " + dir + "/file.png --own --from-file 2>&1", &from_file);
+  EXPECT_EQ(from_file, 0) << note;
   EXPECT_NE(note.find("\"state\":\"unavailable\""), std::string::npos) << note;
   EXPECT_NE(note.find("serve this folder over HTTP"), std::string::npos) << note;
 }

@@ -51,16 +51,21 @@ function ownMaterials(model) {
 }
 
 // The building and element under a hit, from the tile's EXT_mesh_features
-// ids and EXT_structural_metadata tables; null where the tile has none.
+// ids and EXT_structural_metadata tables, with each one's feature (its
+// vertex attribute and id); null where the tile has none.
 function featureRows(hit) {
   const { meshFeatures, structuralMetadata } = hit.object.userData;
   if (!meshFeatures || !structuralMetadata) return null;
+  const info = meshFeatures.getFeatureInfo();
   const ids = meshFeatures.getFeatures(hit.faceIndex, hit.barycoord);
-  const tables = meshFeatures.getFeatureInfo().map((f) => f.propertyTable);
-  const rows = structuralMetadata.getPropertyTableData(tables, ids);
-  const byClass = {};
-  meshFeatures.getFeatureInfo().forEach((f, k) => { if (ids[k] != null) byClass[f.label] = rows[k]; });
-  return byClass.building ? byClass : null;
+  const rows = structuralMetadata.getPropertyTableData(info.map((f) => f.propertyTable), ids);
+  const found = { features: {} };
+  info.forEach((f, k) => {
+    if (ids[k] == null) return;
+    found[f.label] = rows[k];
+    found.features[f.label] = { attribute: f.attribute, id: ids[k] };
+  });
+  return found.building ? found : null;
 }
 
 const AREAS = [['roof_area_m2', 'roof'], ['wall_area_m2', 'wall'], ['party_wall_area_m2', 'party wall'],
@@ -91,20 +96,17 @@ function featureText({ building: b, element: e }) {
   return lines.join('<br>');
 }
 
-// The picked element's triangles drawn over it in a light colour: a mesh
-// of the tile's own vertices, those of the element's feature id.
-function highlight(hit, rows) {
-  const { meshFeatures } = hit.object.userData;
-  const info = meshFeatures.getFeatureInfo().find((f) => f.label === (rows.element ? 'element' : 'building'));
+// The picked feature's triangles (those whose vertices carry its id) drawn
+// over it in a light colour, a mesh of the tile's own vertices.
+function highlight(hit, feature) {
   const geometry = hit.object.geometry;
-  const ids = info && 'attribute' in info ? geometry.getAttribute(`_feature_id_${info.attribute}`) : null;
+  const ids = feature && feature.attribute !== undefined ? geometry.getAttribute(`_feature_id_${feature.attribute}`) : null;
   if (!ids) return null;
-  const picked = ids.getX(geometry.index ? geometry.index.getX(3 * hit.faceIndex) : 3 * hit.faceIndex);
   const corners = [];
   const count = geometry.index ? geometry.index.count : ids.count;
   for (let i = 0; i < count; i += 3) {
     const v = [0, 1, 2].map((k) => (geometry.index ? geometry.index.getX(i + k) : i + k));
-    if (ids.getX(v[0]) === picked) corners.push(...v);
+    if (ids.getX(v[0]) === feature.id) corners.push(...v);
   }
   const mark = new THREE.BufferGeometry();
   mark.setAttribute('position', geometry.getAttribute('position'));
@@ -127,7 +129,7 @@ function onPick(view, tiles, info) {
       info.innerHTML = featureText(rows);
       info.dataset.parcel = rows.building.parcel_id;
       info.dataset.area = rows.element ? String(rows.element.area_m2) : '';
-      marked = highlight(hit, rows);
+      marked = highlight(hit, rows.features.element || rows.features.building);
     }
     view.render();
   });
@@ -150,8 +152,10 @@ function watchLoading(div, view, tiles, info, t0) {
     // until it has, a frame may find nothing to load where they come next.
     const { queued, downloading, parsing } = tiles.stats;
     const done = framed && queued + downloading + parsing === 0 && !tiles.processNodeQueue.running;
-    if (done && div.dataset.state !== 'ready') div.dataset.loadMs = String(Math.round(performance.now() - t0));
-    if (done && tiles.stats.failed) info.textContent = `${tiles.stats.failed} tile(s) could not be loaded: the browser's console names them.`;
+    if (done && div.dataset.state !== 'ready') {
+      div.dataset.loadMs = String(Math.round(performance.now() - t0));
+      if (tiles.stats.failed) info.textContent = `${tiles.stats.failed} tile(s) could not be loaded: the browser's console names them.`;
+    }
     div.dataset.state = done ? 'ready' : 'loading';
   });
 }
@@ -167,8 +171,7 @@ export function open(div, url) {
   if (unlit()) view.scene.background.set('#ffffff');  // apart from every element colour, for tests that count them
   const tiles = new TilesRenderer(new URL(url, location.href).href);  // tiles resolve against it
   tiles.registerPlugin(new GLTFExtensionsPlugin({ metadata: true, rtc: true }));
-  tiles.setCamera(view.camera);
-  tiles.setResolutionFromRenderer(view.camera, view.renderer);
+  tiles.setCamera(view.camera);  // its resolution is set before each update, as the canvas may resize
   const world = new THREE.Group();  // the tileset's frame -> the view's local one
   world.matrixAutoUpdate = false;
   world.add(tiles.group);

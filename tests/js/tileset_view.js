@@ -110,17 +110,9 @@ async function pick(tab, at) {
   }, marked);
 }
 
-async function main() {
-  const server = await serve();
-  const browser = await puppeteer.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: 'new',
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'] });
-  const tab = await browser.newPage();
-  const errors = [];
-  tab.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-  tab.on('pageerror', (e) => errors.push(String(e)));
-  await tab.setViewport({ width: 1000, height: 700 });
+// The page opened, read and measured: the JSON this script prints.
+async function view(tab, base) {
   const t0 = Date.now();
-  const base = `http://127.0.0.1:${server.address().port}`;
   const ownPage = fromFile ? 'file://' + path.resolve(tilesetDir, 'view.html') : `${base}/tiles/view.html`;
   await tab.goto(own ? `${ownPage}${lit ? '' : '#unlit'}` : `${base}/view.html`);
   if (own) await tab.waitForFunction(() => ['ready', 'unavailable'].includes(document.querySelector('#view').dataset.state), { timeout: 120000 });
@@ -128,13 +120,8 @@ async function main() {
   const load_ms = Date.now() - t0;
   const state = own ? await tab.evaluate(() => document.querySelector('#view').dataset.state) : await tab.title();
   await new Promise((r) => setTimeout(r, 300));
-  if (own && state === 'unavailable') {
-    const note = await tab.evaluate(() => document.querySelector('.view3d-note').textContent);
-    console.log(JSON.stringify({ state, note, errors }));
-    await browser.close();
-    server.close();
-    return;
-  }
+  if (own && state === 'unavailable')
+    return { state, note: await tab.evaluate(() => document.querySelector('.view3d-note').textContent) };
   let zoom_ms = null;
   if (own && zoom > 0) {
     const t1 = Date.now();
@@ -152,9 +139,27 @@ async function main() {
   const seen = await tab.evaluate(countPixels, own ? '#view canvas' : '#v canvas', expected);
   const picked = own && click && seen.roof ? await pick(tab, seen.roof) : null;
   await tab.screenshot({ path: png });
-  console.log(JSON.stringify({ state, load_ms, zoom_ms, errors, pixels: seen.count, picked, screenshot: png }));
-  await browser.close();
-  server.close();
-  process.exitCode = state === 'ready' && errors.length === 0 ? 0 : 1;
+  return { state, load_ms, zoom_ms, pixels: seen.count, picked, screenshot: png };
+}
+
+async function main() {
+  const server = await serve();
+  const browser = await puppeteer.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: 'new',
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'] });
+  try {
+    const tab = await browser.newPage();
+    const errors = [];
+    tab.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+    tab.on('pageerror', (e) => errors.push(String(e)));
+    await tab.setViewport({ width: 1000, height: 700 });
+    const result = await view(tab, `http://127.0.0.1:${server.address().port}`);
+    console.log(JSON.stringify({ ...result, errors }));
+    // Opened from the file, the page is to say it cannot load the tiles.
+    const wanted = fromFile ? 'unavailable' : 'ready';
+    process.exitCode = result.state === wanted && errors.length === 0 ? 0 : 1;
+  } finally {
+    await browser.close();
+    server.close();
+  }
 }
 main().catch((e) => { console.error(e.stack || e.message); process.exitCode = 2; });
