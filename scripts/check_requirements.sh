@@ -25,9 +25,10 @@ need "xmllint (libxml2-utils)" command -v xmllint
 need "ogrinfo (gdal-bin)" command -v ogrinfo
 need "GDAL's Python (python3-gdal, python3-numpy)" /usr/bin/python3 -c 'import numpy, osgeo'
 need "Chromium (chromium)" command -v chromium
-need "node and the npm checks (tests/js/node_modules: ajv, web-ifc, laz-perf)" \
+need "node and the npm checks (tests/js/node_modules: ajv, web-ifc, laz-perf, puppeteer-core, cesium)" \
   test -f tests/js/node_modules/ajv-formats/package.json -a -f tests/js/node_modules/web-ifc/package.json \
-  -a -f tests/js/node_modules/laz-perf/package.json
+  -a -f tests/js/node_modules/laz-perf/package.json -a -f tests/js/node_modules/puppeteer-core/package.json \
+  -a -f tests/js/node_modules/cesium/package.json
 need "IFC++ (libifcplusplus-dev)" test -f /usr/include/ifcpp/reader/ReaderSTEP.h
 need "a Vulkan driver (mesa-vulkan-drivers' lavapipe)" test -f /usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 
